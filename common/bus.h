@@ -1,0 +1,67 @@
+#pragma once
+// The only thing a node knows about transport: typed publish and subscribe.
+// Implementations: LcmBus (live, any LCM URL) and ReplayBus (lockstep replay).
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace nadir {
+
+// Counts of what went wrong while delivering messages on one bus.
+struct BusErrorCounts {
+  int64_t malformed = 0;       // messages that failed to decode
+  int64_t handler_errors = 0;  // handlers that threw
+  std::string last_error;      // names the channel and the reason
+};
+
+class Bus {
+ public:
+  using RawHandler = std::function<void(const std::string& channel, const uint8_t* data, size_t size)>;
+
+  virtual ~Bus() = default;
+
+  virtual void publish_raw(const std::string& channel, const uint8_t* data, size_t size) = 0;
+  virtual void subscribe_raw(const std::string& channel, RawHandler handler) = 0;
+
+  template <class Msg>
+  void publish(const std::string& channel, const Msg& msg) {
+    std::vector<uint8_t> buffer(static_cast<size_t>(msg.getEncodedSize()));
+    msg.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
+    publish_raw(channel, buffer.data(), buffer.size());
+  }
+
+  // The handler sees only messages that decode; others are counted as
+  // malformed and reported, never passed on. A handler that throws is counted
+  // too, so one bad message cannot stop a process.
+  template <class Msg>
+  void subscribe(const std::string& channel, std::function<void(const Msg&)> handler) {
+    subscribe_raw(channel, [this, handler](const std::string& ch, const uint8_t* data, size_t size) {
+      Msg msg;
+      const int decoded = msg.decode(data, 0, static_cast<int>(size));
+      if (decoded < 0 || static_cast<size_t>(decoded) != size) {
+        note_malformed(ch, size, decoded);
+        return;
+      }
+      deliver_guarded(ch, [&] { handler(msg); });
+    });
+  }
+
+  const BusErrorCounts& error_counts() const { return errors_; }
+
+ protected:
+  void note_malformed(const std::string& channel, size_t size, int decoded);
+  void deliver_guarded(const std::string& channel, const std::function<void()>& call);
+
+ private:
+  BusErrorCounts errors_;
+};
+
+// Sensor time (utime, the first field of every nadir type) of an encoded
+// message, or nullopt-like false when the buffer is too short.
+bool encoded_utime(const uint8_t* data, size_t size, int64_t* utime);
+
+}  // namespace nadir

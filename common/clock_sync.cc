@@ -1,0 +1,105 @@
+#include "common/clock_sync.h"
+
+#include <cmath>
+
+#include "common/config.h"
+
+namespace nadir {
+
+void ClockSyncOptions::Check() const {
+  require_option(window_s >= 2.0 && window_s <= 3600.0, "clock_sync", "window_s", "must be in [2, 3600]");
+  require_option(block_s > 0.0 && block_s <= window_s / 2, "clock_sync", "block_s", "must be in (0, window_s/2]");
+  require_option(jump_threshold_us > 0.0, "clock_sync", "jump_threshold_us", "must be > 0");
+  require_option(min_delay_us >= 0.0, "clock_sync", "min_delay_us", "must be >= 0");
+}
+
+ClockSync::ClockSync(const ClockSyncOptions& options) : options_(options) { options_.Check(); }
+
+double ClockSync::predict(int64_t device_us) const {
+  return intercept_ + slope_ * static_cast<double>(device_us - reference_us_);
+}
+
+bool ClockSync::add(int64_t device_us, int64_t arrival_us) {
+  const double offset = static_cast<double>(arrival_us - device_us);
+  bool continued = true;
+  if (state_.samples > 0 && device_us <= last_device_us_) {
+    restart("device time went backwards");
+    continued = false;
+  } else if (state_.valid && offset < predict(device_us) - options_.jump_threshold_us) {
+    restart("sample arrived earlier than the clock model allows");
+    continued = false;
+  }
+  ++state_.samples;
+  last_device_us_ = device_us;
+
+  const int64_t block_us = static_cast<int64_t>(options_.block_s * 1e6);
+  if (have_current_ && device_us - current_.start_us >= block_us) {
+    // Close the block; a block whose minimum left the envelope is a jump.
+    if (state_.valid && blocks_.size() >= 2 &&
+        std::fabs(current_.offset_us - predict(current_.device_us)) > options_.jump_threshold_us) {
+      const Block moved = current_;
+      restart("clock offset stepped by " +
+              std::to_string(static_cast<int64_t>(moved.offset_us - predict(moved.device_us))) + " us");
+      continued = false;
+    } else {
+      blocks_.push_back(current_);
+    }
+    have_current_ = false;
+  }
+  if (!have_current_) {
+    current_ = Block{device_us, offset, device_us};
+    have_current_ = true;
+  } else if (offset < current_.offset_us) {
+    current_.offset_us = offset;
+    current_.device_us = device_us;
+  }
+  const int64_t window_us = static_cast<int64_t>(options_.window_s * 1e6);
+  while (!blocks_.empty() && device_us - blocks_.front().device_us > window_us) blocks_.pop_front();
+  refit();
+  return continued;
+}
+
+void ClockSync::refit() {
+  // Points: closed blocks plus the running minimum of the open one.
+  const size_t n = blocks_.size() + (have_current_ ? 1 : 0);
+  if (n == 0) {
+    state_.valid = false;
+    return;
+  }
+  reference_us_ = have_current_ ? current_.device_us : blocks_.back().device_us;
+  auto point = [&](size_t i) -> const Block& { return i < blocks_.size() ? blocks_[i] : current_; };
+  if (n < 3) {
+    double lowest = point(0).offset_us;
+    for (size_t i = 1; i < n; ++i) lowest = std::min(lowest, point(i).offset_us);
+    intercept_ = lowest;
+    slope_ = 0.0;
+  } else {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double x = static_cast<double>(point(i).device_us - reference_us_);
+      const double y = point(i).offset_us;
+      sx += x; sy += y; sxx += x * x; sxy += x * y;
+    }
+    const double denom = n * sxx - sx * sx;
+    slope_ = denom > 0 ? (n * sxy - sx * sy) / denom : 0.0;
+    intercept_ = (sy - slope_ * sx) / n;
+  }
+  state_.valid = true;
+  state_.blocks = static_cast<int>(n);
+  state_.offset_us = intercept_ - options_.min_delay_us;
+  state_.drift_ppm = slope_ * 1e6;
+}
+
+int64_t ClockSync::to_vehicle(int64_t device_us) const {
+  return device_us + static_cast<int64_t>(std::llround(predict(device_us) - options_.min_delay_us));
+}
+
+void ClockSync::restart(const std::string& why) {
+  blocks_.clear();
+  have_current_ = false;
+  state_.valid = false;
+  ++state_.jumps;
+  state_.last_jump = why;
+}
+
+}  // namespace nadir

@@ -1,0 +1,59 @@
+#include "common/config.h"
+
+namespace nadir {
+
+Config Config::load_file(const std::string& path) {
+  try {
+    return Config(YAML::LoadFile(path), path, "");
+  } catch (const YAML::BadFile&) {
+    throw ConfigError(path + ": cannot open config file");
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(path + ": YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+}
+
+Config Config::parse(const std::string& yaml_text, const std::string& source) {
+  try {
+    return Config(YAML::Load(yaml_text), source, "");
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(source + ": YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+}
+
+Config::Config(YAML::Node node, std::string source, std::string path)
+    : node_(std::move(node)), source_(std::move(source)), path_(std::move(path)) {
+  if (node_.IsNull()) node_ = YAML::Node(YAML::NodeType::Map);
+  if (!node_.IsMap()) throw ConfigError(source_ + ": " + (path_.empty() ? "top level" : "key '" + path_ + "'") + " must be a map");
+}
+
+bool Config::has(const std::string& key) const { return static_cast<bool>(node_[key]); }
+
+Config Config::section(const std::string& key) const {
+  const YAML::Node child = node_[key];
+  if (!child) throw error(key, "is missing (a section is required)");
+  if (!child.IsMap()) throw error(key, "must be a map");
+  return Config(child, source_, key_path(key));
+}
+
+Config Config::section_or_empty(const std::string& key) const {
+  if (!has(key)) return Config(YAML::Node(YAML::NodeType::Map), source_, key_path(key));
+  return section(key);
+}
+
+std::string Config::key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+ConfigError Config::error(const std::string& key, const std::string& what) const {
+  return ConfigError(source_ + ": key '" + key_path(key) + "' " + what);
+}
+
+std::string Config::dump() const {
+  YAML::Emitter out;
+  out << node_;
+  return out.c_str();
+}
+
+void require_option(bool ok, const std::string& source, const std::string& key, const std::string& what) {
+  if (!ok) throw ConfigError(source + ": key '" + key + "' " + what);
+}
+
+}  // namespace nadir

@@ -1,0 +1,61 @@
+#include "common/lcm_bus.h"
+
+#include <cstdlib>
+#include <stdexcept>
+
+#include "common/channels.h"
+#include "common/config.h"
+#include "common/time_base.h"
+
+namespace nadir {
+
+std::string default_lcm_url() {
+  const char* env = std::getenv("LCM_DEFAULT_URL");
+  if (env != nullptr && *env != '\0') return env;
+  return "udpm://239.255.76.67:7667?ttl=0";
+}
+
+void LcmBusOptions::Check() const {
+  require_option(queue_capacity >= 1 && queue_capacity <= 100000, "lcm", "queue_capacity", "must be in [1, 100000]");
+  require_option(image_queue_capacity >= 1 && image_queue_capacity <= 100000, "lcm", "image_queue_capacity",
+                 "must be in [1, 100000]");
+}
+
+struct LcmBus::Subscription {
+  LcmBus* bus;
+  RawHandler handler;
+};
+
+LcmBus::LcmBus(const LcmBusOptions& options)
+    : url_(options.url.empty() ? default_lcm_url() : options.url), lcm_(url_), options_(options) {
+  options_.Check();
+  if (!lcm_.good()) throw std::runtime_error("LCM could not start on '" + url_ + "'");
+}
+
+LcmBus::~LcmBus() = default;
+
+void LcmBus::publish_raw(const std::string& channel, const uint8_t* data, size_t size) {
+  if (channel != channels::kStatus && channel != channels::kConfig) {
+    int64_t utime = 0;
+    if (encoded_utime(data, size, &utime)) latency_.add_ms(static_cast<double>(vehicle_time_now_us() - utime) / 1000.0);
+  }
+  std::lock_guard<std::mutex> lock(publish_mutex_);
+  if (lcm_.publish(channel, data, static_cast<unsigned int>(size)) != 0) {
+    throw std::runtime_error("LCM publish on " + channel + " failed (" + url_ + ")");
+  }
+}
+
+void LcmBus::dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Subscription* sub) {
+  sub->handler(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
+}
+
+void LcmBus::subscribe_raw(const std::string& channel, RawHandler handler) {
+  subscriptions_.push_back(std::make_unique<Subscription>(Subscription{this, std::move(handler)}));
+  lcm::Subscription* sub = lcm_.subscribeFunction(channel, &LcmBus::dispatch, subscriptions_.back().get());
+  if (sub == nullptr) throw std::runtime_error("LCM could not subscribe to " + channel);
+  sub->setQueueCapacity(channel == channels::kCameraImage ? options_.image_queue_capacity : options_.queue_capacity);
+}
+
+int LcmBus::handle(int timeout_ms) { return lcm_.handleTimeout(timeout_ms); }
+
+}  // namespace nadir

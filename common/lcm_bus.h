@@ -1,0 +1,55 @@
+#pragma once
+// Bus over a real LCM instance: udpm live (TTL 0 by default), memq:// in tests.
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "common/bus.h"
+#include "common/status.h"
+
+namespace nadir {
+
+// Default live URL: multicast on the host only (TTL 0). LCM_DEFAULT_URL wins.
+std::string default_lcm_url();
+
+struct LcmBusOptions {
+  std::string url;                 // empty: default_lcm_url()
+  int queue_capacity = 100;        // per subscription
+  int image_queue_capacity = 200;  // for CAMERA_IMAGE: bursts must not drop
+  void Check() const;
+};
+
+class LcmBus : public Bus {
+ public:
+  // Throws std::runtime_error naming the URL when LCM cannot start.
+  explicit LcmBus(const LcmBusOptions& options);
+  ~LcmBus() override;
+
+  void publish_raw(const std::string& channel, const uint8_t* data, size_t size) override;
+  void subscribe_raw(const std::string& channel, RawHandler handler) override;
+
+  // Dispatches incoming messages for up to timeout_ms. Returns <0 on error.
+  int handle(int timeout_ms);
+  int fileno() { return lcm_.getFileno(); }
+
+  // Sensor time -> publish latency of everything published (not STATUS/CONFIG).
+  LatencyWindow& latency() { return latency_; }
+  const std::string& url() const { return url_; }
+
+ private:
+  struct Subscription;
+  static void dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Subscription* sub);
+
+  std::string url_;
+  lcm::LCM lcm_;
+  LcmBusOptions options_;
+  std::mutex publish_mutex_;
+  LatencyWindow latency_;
+  std::vector<std::unique_ptr<Subscription>> subscriptions_;
+};
+
+}  // namespace nadir
