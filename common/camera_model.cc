@@ -1,0 +1,70 @@
+#include "common/camera_model.h"
+
+#include <opencv2/calib3d.hpp>
+
+#include <cmath>
+
+#include "common/geometry.h"
+
+namespace nadir {
+
+CameraModel CameraModel::from_config(const Config& root) {
+  const Config c = root.section("camera");
+  CameraModel m;
+  m.width = c.get<int>("width");
+  m.height = c.get<int>("height");
+  m.fx = c.get<double>("fx");
+  m.fy = c.get<double>("fy");
+  m.cx = c.get<double>("cx");
+  m.cy = c.get<double>("cy");
+  m.distortion = c.get<std::vector<double>>("distortion", std::vector<double>{0, 0, 0, 0, 0});
+  if (m.distortion.size() != 4 && m.distortion.size() != 5) {
+    throw c.error("distortion", "must list 4 or 5 coefficients (k1, k2, p1, p2[, k3])");
+  }
+  const auto mount = c.get<std::vector<double>>("mount_rpy_deg", std::vector<double>{0, 0, 0});
+  if (mount.size() != 3) throw c.error("mount_rpy_deg", "must list roll, pitch, yaw in degrees");
+  for (int i = 0; i < 3; ++i) c.check_range("mount_rpy_deg", mount[i], -180.0, 180.0);
+  m.body_from_camera = rotation_from_rpy(deg_to_rad(mount[0]), deg_to_rad(mount[1]), deg_to_rad(mount[2]));
+  m.rate_hz = c.get_in_range<double>("rate_hz", 14.0, 0.1, 1000.0);
+  m.Check(c.source());
+  return m;
+}
+
+void CameraModel::Check(const std::string& source) const {
+  require_option(width >= 16 && width <= 16384, source, "camera.width", "must be in [16, 16384]");
+  require_option(height >= 16 && height <= 16384, source, "camera.height", "must be in [16, 16384]");
+  require_option(fx > 0 && fy > 0, source, "camera.fx/fy", "must be > 0");
+  require_option(cx >= 0 && cx <= width && cy >= 0 && cy <= height, source, "camera.cx/cy",
+                 "must lie inside the image");
+}
+
+cv::Matx33d CameraModel::camera_matrix() const { return {fx, 0, cx, 0, fy, cy, 0, 0, 1}; }
+
+cv::Mat CameraModel::distortion_coefficients() const { return cv::Mat(distortion, true).reshape(1, 1); }
+
+double CameraModel::horizontal_fov_rad() const { return 2.0 * std::atan2(width / 2.0, fx); }
+
+std::vector<cv::Point2d> CameraModel::undistort(const std::vector<cv::Point2f>& pixels) const {
+  std::vector<cv::Point2d> out;
+  if (pixels.empty()) return out;
+  std::vector<cv::Point2d> in(pixels.begin(), pixels.end());
+  // Iterative undistortion with a tight stop so points round-trip to ~1e-9.
+  cv::undistortPoints(in, out, camera_matrix(), distortion_coefficients(), cv::noArray(), cv::noArray(),
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-12));
+  return out;
+}
+
+std::vector<cv::Point2f> CameraModel::distort(const std::vector<cv::Point2d>& normalized) const {
+  std::vector<cv::Point2f> out;
+  if (normalized.empty()) return out;
+  std::vector<cv::Point3d> rays;
+  rays.reserve(normalized.size());
+  for (const auto& p : normalized) rays.emplace_back(p.x, p.y, 1.0);
+  std::vector<cv::Point2d> projected;
+  cv::projectPoints(rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera_matrix(), distortion_coefficients(),
+                    projected);
+  out.assign(projected.begin(), projected.end());
+  return out;
+}
+
+}  // namespace nadir
