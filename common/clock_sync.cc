@@ -60,13 +60,15 @@ bool ClockSync::add(int64_t device_us, int64_t arrival_us) {
 }
 
 void ClockSync::refit() {
-  // Points: closed blocks plus the running minimum of the open one.
-  const size_t n = blocks_.size() + (have_current_ ? 1 : 0);
+  // Points: closed blocks; the open block's running minimum only until two
+  // blocks have closed (a young block's minimum sits high in the jitter).
+  const bool use_current = have_current_ && blocks_.size() < 2;
+  const size_t n = blocks_.size() + (use_current ? 1 : 0);
   if (n == 0) {
     state_.valid = false;
     return;
   }
-  reference_us_ = have_current_ ? current_.device_us : blocks_.back().device_us;
+  reference_us_ = use_current ? current_.device_us : blocks_.back().device_us;
   auto point = [&](size_t i) -> const Block& { return i < blocks_.size() ? blocks_[i] : current_; };
   if (n < 3) {
     double lowest = point(0).offset_us;

@@ -96,8 +96,14 @@ bool LogReader::record_fits_at(uint64_t offset, LogEvent* event, std::string* wh
     return false;
   }
   if (end != size_ && (end + 4 > size_ || read_u32(map_ + end) != kSyncWord)) {
-    *why = "record is not followed by a sync word (lengths damaged)";
-    return false;
+    // The next record is damaged, or this one's lengths are. Lengths that
+    // reach over the next record's sync word are wrong; otherwise keep this
+    // record and let the bytes after it be reported as damage.
+    const uint64_t next_sync = find_sync(offset + kHeaderBytes);
+    if (next_sync < end) {
+      *why = "record lengths reach over the next record (lengths damaged)";
+      return false;
+    }
   }
   event->event_number = static_cast<int64_t>(read_u64(p + 4));
   event->timestamp = static_cast<int64_t>(read_u64(p + 12));

@@ -1,0 +1,78 @@
+#include "processes/tracker/tracker_options.h"
+
+#include <sstream>
+
+namespace nadir {
+
+namespace {
+
+template <class T>
+void check_range(const std::string& source, const std::string& key, T value, T lo, T hi) {
+  if (value >= lo && value <= hi) return;
+  std::ostringstream what;
+  what << "= " << value << " is out of range [" << lo << ", " << hi << "]";
+  require_option(false, source, "tracker." + key, what.str());
+}
+
+}  // namespace
+
+TrackerOptions TrackerOptions::from_config(const Config& root) {
+  const Config c = root.section_or_empty("tracker");
+  TrackerOptions o;
+  o.grid_cols = c.get<int>("grid_cols", o.grid_cols);
+  o.grid_rows = c.get<int>("grid_rows", o.grid_rows);
+  o.features_per_cell = c.get<int>("features_per_cell", o.features_per_cell);
+  o.replenish_below = c.get<int>("replenish_below", o.replenish_below);
+  o.min_distance_px = c.get<double>("min_distance_px", o.min_distance_px);
+  o.border_px = c.get<int>("border_px", o.border_px);
+  o.harris_block_size = c.get<int>("harris_block_size", o.harris_block_size);
+  o.harris_k = c.get<double>("harris_k", o.harris_k);
+  o.quality_level = c.get<double>("quality_level", o.quality_level);
+  o.min_harris_response = c.get<double>("min_harris_response", o.min_harris_response);
+  o.klt_window_px = c.get<int>("klt_window_px", o.klt_window_px);
+  o.klt_pyramid_levels = c.get<int>("klt_pyramid_levels", o.klt_pyramid_levels);
+  o.klt_max_iterations = c.get<int>("klt_max_iterations", o.klt_max_iterations);
+  o.klt_epsilon_px = c.get<double>("klt_epsilon_px", o.klt_epsilon_px);
+  o.klt_min_eig_threshold = c.get<double>("klt_min_eig_threshold", o.klt_min_eig_threshold);
+  o.fb_threshold_px = c.get<double>("fb_threshold_px", o.fb_threshold_px);
+  o.min_tracks = c.get<int>("min_tracks", o.min_tracks);
+  o.dark_level = c.get<int>("dark_level", o.dark_level);
+  o.saturated_level = c.get<int>("saturated_level", o.saturated_level);
+  o.bad_pixel_fraction = c.get<double>("bad_pixel_fraction", o.bad_pixel_fraction);
+  o.min_stddev = c.get<double>("min_stddev", o.min_stddev);
+  o.mono16_significant_bits = c.get<int>("mono16_significant_bits", o.mono16_significant_bits);
+  o.gap_factor = c.get<double>("gap_factor", o.gap_factor);
+  o.max_gap_s = c.get<double>("max_gap_s", o.max_gap_s);
+  o.Check(c.source());
+  return o;
+}
+
+void TrackerOptions::Check(const std::string& source) const {
+  check_range(source, "grid_cols", grid_cols, 1, 16);
+  check_range(source, "grid_rows", grid_rows, 1, 16);
+  check_range(source, "features_per_cell", features_per_cell, 1, 1000);
+  check_range(source, "replenish_below", replenish_below, 1, features_per_cell);
+  check_range(source, "min_distance_px", min_distance_px, 1.0, 200.0);
+  check_range(source, "border_px", border_px, 0, 200);
+  check_range(source, "harris_block_size", harris_block_size, 2, 15);
+  check_range(source, "harris_k", harris_k, 0.01, 0.25);
+  check_range(source, "quality_level", quality_level, 0.0, 1.0);
+  check_range(source, "min_harris_response", min_harris_response, 0.0, 1.0);
+  check_range(source, "klt_window_px", klt_window_px, 5, 101);
+  require_option(klt_window_px % 2 == 1, source, "tracker.klt_window_px", "must be odd");
+  check_range(source, "klt_pyramid_levels", klt_pyramid_levels, 1, 8);
+  check_range(source, "klt_max_iterations", klt_max_iterations, 1, 1000);
+  check_range(source, "klt_epsilon_px", klt_epsilon_px, 1e-6, 1.0);
+  check_range(source, "klt_min_eig_threshold", klt_min_eig_threshold, 0.0, 1.0);
+  check_range(source, "fb_threshold_px", fb_threshold_px, 0.01, 1e6);
+  check_range(source, "min_tracks", min_tracks, 0, max_features());
+  check_range(source, "dark_level", dark_level, 0, 254);
+  check_range(source, "saturated_level", saturated_level, dark_level + 1, 255);
+  check_range(source, "bad_pixel_fraction", bad_pixel_fraction, 0.01, 1.0);
+  check_range(source, "min_stddev", min_stddev, 0.0, 128.0);
+  check_range(source, "mono16_significant_bits", mono16_significant_bits, 8, 16);
+  check_range(source, "gap_factor", gap_factor, 1.01, 100.0);
+  check_range(source, "max_gap_s", max_gap_s, 0.001, 3600.0);
+}
+
+}  // namespace nadir

@@ -1,0 +1,65 @@
+#pragma once
+// Options of the feature tracker, read from the `tracker:` section of the
+// config. Every field has a default that matches the issue (450 Harris
+// corners from a 3x3 grid, 21x21 KLT window, 3 pyramid levels, 1 px
+// forward-backward threshold); Check() names the key and its allowed range.
+
+#include <string>
+
+#include "common/config.h"
+
+namespace nadir {
+
+struct TrackerOptions {
+  // --- Detection: Harris corners per grid cell ---
+  int grid_cols = 3;                // cells across the image
+  int grid_rows = 3;                // cells down the image
+  int features_per_cell = 50;       // target number of tracks per cell
+  // A cell is topped up with new corners when it holds fewer than this many
+  // tracks; below features_per_cell it saves detection work on most frames.
+  int replenish_below = 45;
+  double min_distance_px = 10.0;    // minimum spacing between any two features
+  int border_px = 8;                // no new corners this close to the image edge
+  int harris_block_size = 3;        // neighbourhood of the structure tensor
+  double harris_k = 0.04;
+  // Corners weaker than quality_level x (strongest response in the cell) are
+  // ignored, so every textured cell contributes (spatial spread)...
+  double quality_level = 0.01;
+  // ...but never weaker than this absolute response (cv::cornerHarris units,
+  // gradients normalised to [0,1]): a featureless cell yields nothing rather
+  // than noise corners.
+  double min_harris_response = 1e-7;
+
+  // --- Pyramidal Lucas-Kanade ---
+  int klt_window_px = 21;           // odd, square window
+  int klt_pyramid_levels = 3;       // levels including full resolution
+  int klt_max_iterations = 30;
+  double klt_epsilon_px = 0.01;
+  double klt_min_eig_threshold = 1e-4;  // cv::calcOpticalFlowPyrLK minEigThreshold
+  // Forward-backward check: a track survives when tracking it back from the
+  // current frame lands within this distance of where it started.
+  double fb_threshold_px = 1.0;
+
+  // --- Frame and image checks (node) ---
+  int min_tracks = 20;              // fewer published tracks -> FLAG_FEW_FEATURES
+  int dark_level = 8;               // pixel values <= this count as black
+  int saturated_level = 250;        // pixel values >= this count as saturated
+  double bad_pixel_fraction = 0.95; // this share black (or saturated) -> bad image
+  double min_stddev = 2.0;          // grey-level std below this -> featureless
+  int mono16_significant_bits = 16; // Mono16 -> 8 bit keeps the top 8 of these bits
+  // A pair is flagged FRAME_GAP when the frame counters are not consecutive or
+  // the sensor-time step exceeds gap_factor camera periods.
+  double gap_factor = 1.5;
+  // Beyond this sensor-time step the reference frame is too old to track
+  // from: the tracker restarts (FLAG_FIRST_FRAME | FLAG_FRAME_GAP).
+  double max_gap_s = 1.0;
+
+  // Reads the `tracker:` section of the whole config (absent: defaults).
+  static TrackerOptions from_config(const Config& root);
+  // Throws ConfigError naming `tracker.<key>` and the allowed range.
+  void Check(const std::string& source = "tracker options") const;
+
+  int max_features() const { return grid_cols * grid_rows * features_per_cell; }
+};
+
+}  // namespace nadir

@@ -1,0 +1,63 @@
+#include <gtest/gtest.h>
+
+#include "common/camera_model.h"
+#include "common/config.h"
+#include "common/paths.h"
+#include "tests/common/test_support.h"
+
+namespace nadir {
+namespace {
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, OutOfRangeValueNamesFileKeyAndRange) {
+  const Config c = Config::parse("tracker:\n  max_features: 99999\n", "my.yaml");
+  const std::string what = error_of([&] { c.section("tracker").get_in_range<int>("max_features", 450, 10, 5000); });
+  EXPECT_NE(what.find("my.yaml"), std::string::npos) << what;
+  EXPECT_NE(what.find("tracker.max_features"), std::string::npos) << what;
+  EXPECT_NE(what.find("[10, 5000]"), std::string::npos) << what;
+}
+
+TEST(Config, WrongTypeNamesKeyAndLine) {
+  const Config c = Config::parse("a:\n  b: hello\n", "x.yaml");
+  const std::string what = error_of([&] { c.section("a").get<double>("b"); });
+  EXPECT_NE(what.find("a.b"), std::string::npos) << what;
+  EXPECT_NE(what.find("line 2"), std::string::npos) << what;
+}
+
+TEST(Config, MissingKeyAndSyntaxErrorAreNamed) {
+  const Config c = Config::parse("a: {}\n", "x.yaml");
+  EXPECT_NE(error_of([&] { c.section("a").get<int>("n"); }).find("'a.n' is missing"), std::string::npos);
+  EXPECT_NE(error_of([&] { Config::parse("a: [1, 2\n", "y.yaml"); }).find("y.yaml: YAML syntax error"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { Config::load_file("/nonexistent.yaml"); }).find("/nonexistent.yaml"), std::string::npos);
+}
+
+TEST(Config, DefaultsApplyWhenAbsent) {
+  const Config c = Config::parse("a: {}\n", "x.yaml");
+  EXPECT_EQ(c.section_or_empty("b").get<int>("n", 7), 7);
+}
+
+TEST(Config, ShippedDefaultConfigLoadsAndHasTheCamera) {
+  const Config c = Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml");
+  const CameraModel camera = CameraModel::from_config(c);
+  EXPECT_EQ(camera.width, 612);
+  EXPECT_EQ(camera.height, 512);
+  EXPECT_NEAR(camera.horizontal_fov_rad() * 180.0 / M_PI, 75.0, 0.05);
+}
+
+TEST(Config, BadCameraValueFailsWithTheKey) {
+  const Config c = Config::parse(
+      "camera: {width: 612, height: 512, fx: 400, fy: 400, cx: 306, cy: 256, distortion: [0, 0, 0]}\n", "cam.yaml");
+  EXPECT_NE(error_of([&] { CameraModel::from_config(c); }).find("camera.distortion"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace nadir
