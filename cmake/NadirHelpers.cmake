@@ -42,6 +42,10 @@ function(nadir_test name)
   add_test(NAME ${name} COMMAND ${name} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
   set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}"
     ENVIRONMENT "NADIR_BIN_DIR=${CMAKE_BINARY_DIR}/bin")
+  # Tests on the shared udpm group must not overlap (they would hear each other).
+  if("udpm" IN_LIST ARG_LABELS)
+    set_tests_properties(${name} PROPERTIES RESOURCE_LOCK udpm)
+  endif()
 endfunction()
 
 # nadir_benchmark(nadir_bench_NAME SOURCES ... DEPS ...): Google Benchmark

@@ -1,0 +1,14 @@
+# Sourced by the launch scripts: paths, and the private network namespace.
+NADIR_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+NADIR_BUILD="${NADIR_BUILD:-$NADIR_ROOT/build}"
+NADIR_BIN="$NADIR_BUILD/bin"
+export NADIR_ROOT
+export PATH="$NADIR_BIN:$PATH"
+
+# Runs a command inside a private network namespace whose loopback carries
+# multicast: LCM udpm traffic never reaches a real network.
+nadir_in_netns() {
+  unshare -rn bash -c 'ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && export NADIR_IN_NETNS=1 && exec "$@"' _ "$@"
+}
+
+nadir_utc_stamp() { date -u +%Y%m%dT%H%M%SZ; }

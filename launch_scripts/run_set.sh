@@ -1,0 +1,158 @@
+#!/usr/bin/env bash
+# Starts a named set of processes (launch_scripts/sets/NAME, or a path to a
+# set file), prefixes each one's output with its name, restarts a process that
+# dies (backoff 1, 2, 4 ... s; gives up after --max-restarts, loudly), and
+# stops them all cleanly on Ctrl-C / SIGTERM. Optional lcm-logger capture.
+#
+# Usage: run_set.sh SET [--no-capture] [--duration S] [--max-restarts N] [--lcm-url URL]
+#
+# Set file lines (# starts a comment; ${VAR:-default} is expanded when started):
+#   require  BINARY  what it is     the set fails at once if BINARY is not built
+#   capture  NAME                   lcm-logger into logs/<UTC>-NAME/capture.lcmlog
+#   run      NAME  COMMAND...       long-running process, restarted if it dies
+#   finite   NAME  COMMAND...       runs to completion; when it ends the set stops
+set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+
+usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; }
+set_arg=""
+capture_enabled=1
+duration=""
+max_restarts=5
+grace_s=2
+while (($#)); do
+  case "$1" in
+    -h|--help) usage; exit 0 ;;
+    --no-capture) capture_enabled=0; shift ;;
+    --duration) duration="$2"; shift 2 ;;
+    --max-restarts) max_restarts="$2"; shift 2 ;;
+    --lcm-url) export LCM_DEFAULT_URL="$2"; shift 2 ;;
+    -*) echo "run_set: error: unknown option $1" >&2; exit 2 ;;
+    *) set_arg="$1"; shift ;;
+  esac
+done
+[ -n "$set_arg" ] || { usage >&2; exit 2; }
+set_file="$set_arg"
+[ -f "$set_file" ] || set_file="$NADIR_ROOT/launch_scripts/sets/$set_arg"
+[ -f "$set_file" ] || { echo "run_set: error: no set '$set_arg' (looked in launch_scripts/sets/)" >&2; exit 2; }
+set_name="$(basename "$set_file")"
+
+declare -a names=()
+declare -A cmd=() kind=() pid=() restarts=() restart_at=() gave_up=()
+capture_name=""
+line_no=0
+while IFS= read -r raw || [ -n "$raw" ]; do
+  line_no=$((line_no + 1))
+  line="${raw%%#*}"
+  [[ "$line" =~ ^[[:space:]]*$ ]] && continue
+  read -r word name rest <<<"$line"
+  case "$word" in
+    require)
+      if ! command -v "$name" >/dev/null 2>&1; then
+        echo "run_set: error: set '$set_name' needs $name (${rest:-no description}), which is not built or installed." >&2
+        exit 3
+      fi ;;
+    capture) capture_name="$(bash -c "echo $name")" ;;   # expands ${VAR:-default}
+    run|finite)
+      [ -n "$rest" ] || { echo "run_set: error: $set_file:$line_no: '$word $name' has no command" >&2; exit 2; }
+      names+=("$name"); cmd[$name]="$rest"; kind[$name]="$word"; restarts[$name]=0; gave_up[$name]=0 ;;
+    *) echo "run_set: error: $set_file:$line_no: unknown word '$word' (require, capture, run, finite)" >&2; exit 2 ;;
+  esac
+done <"$set_file"
+((${#names[@]})) || { echo "run_set: error: $set_file starts no process" >&2; exit 2; }
+
+logger_pid=""
+capture_dir=""
+if ((capture_enabled)) && [ -n "$capture_name" ]; then
+  capture_dir="$NADIR_ROOT/logs/$(nadir_utc_stamp)-$capture_name"
+  mkdir -p "$capture_dir"
+  url="${LCM_DEFAULT_URL:-udpm://239.255.76.67:7667?ttl=0}"
+  lcm-logger --quiet --lcm-url="$url" --flush-interval=200 "$capture_dir/capture.lcmlog" \
+    > >(sed -u "s/^/[lcm-logger] /") 2>&1 &
+  logger_pid=$!
+  echo "[run_set] capturing into $capture_dir/capture.lcmlog"
+  sleep 0.3
+fi
+
+start() {
+  local n="$1"
+  # shellcheck disable=SC2086
+  bash -c "exec ${cmd[$n]}" > >(sed -u "s/^/[$n] /") 2>&1 &
+  pid[$n]=$!
+  echo "[run_set] started $n (pid ${pid[$n]}): ${cmd[$n]}"
+}
+
+stopping=0
+stop_all() {
+  stopping=1
+  echo "[run_set] stopping set '$set_name'"
+  local n p i
+  for ((i = ${#names[@]} - 1; i >= 0; i--)); do
+    n="${names[$i]}"; p="${pid[$n]:-}"
+    [ -n "$p" ] && kill -TERM "$p" 2>/dev/null
+  done
+  for ((i = 0; i < 50; i++)); do
+    local alive=0
+    for n in "${names[@]}"; do p="${pid[$n]:-}"; [ -n "$p" ] && kill -0 "$p" 2>/dev/null && alive=1; done
+    ((alive)) || break
+    sleep 0.1
+  done
+  for n in "${names[@]}"; do
+    p="${pid[$n]:-}"
+    if [ -n "$p" ] && kill -0 "$p" 2>/dev/null; then
+      echo "[run_set] $n did not stop within 5 s; killing it"
+      kill -KILL "$p" 2>/dev/null
+    fi
+    [ -n "$p" ] && wait "$p" 2>/dev/null
+  done
+  if [ -n "$logger_pid" ]; then
+    sleep 0.5   # let the logger drain what the processes sent last
+    kill -INT "$logger_pid" 2>/dev/null; wait "$logger_pid" 2>/dev/null
+    echo "[run_set] capture: $capture_dir/capture.lcmlog"
+  fi
+  echo "[run_set] set '$set_name' stopped"
+}
+trap 'stop_all; exit 0' INT TERM
+
+for n in "${names[@]}"; do start "$n"; done
+start_s=$SECONDS
+status=0
+while :; do
+  sleep 0.2
+  if [ -n "$duration" ] && ((SECONDS - start_s >= duration)); then
+    echo "[run_set] --duration $duration s reached"
+    break
+  fi
+  finished=""
+  for n in "${names[@]}"; do
+    p="${pid[$n]:-}"
+    if [ -n "$p" ] && ! kill -0 "$p" 2>/dev/null; then
+      wait "$p"; code=$?
+      pid[$n]=""
+      if [ "${kind[$n]}" = finite ]; then
+        echo "[run_set] $n finished (exit $code)"
+        finished="$n"; status=$code
+        continue
+      fi
+      r=$((restarts[$n] + 1)); restarts[$n]=$r
+      if ((r > max_restarts)); then
+        echo "[run_set] !!!!!!!! GIVING UP on $n: it died $r times (last exit $code); the rest of the set keeps running !!!!!!!!" >&2
+        gave_up[$n]=1; status=1
+        continue
+      fi
+      delay=$((1 << (r - 1))); ((delay > 30)) && delay=30
+      echo "[run_set] $n died (exit $code); restart $r/$max_restarts in $delay s" >&2
+      restart_at[$n]=$((SECONDS + delay))
+    elif [ -z "$p" ] && [ "${kind[$n]}" = run ] && ((gave_up[$n] == 0)) && [ -n "${restart_at[$n]:-}" ] &&
+         ((SECONDS >= restart_at[$n])); then
+      restart_at[$n]=""
+      start "$n"
+    fi
+  done
+  if [ -n "$finished" ]; then
+    sleep "$grace_s"   # let the pipeline finish the last messages
+    break
+  fi
+done
+stop_all
+exit "$status"

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian packages nadir needs (only the missing ones), then
+# configures and builds into build/. Idempotent; quick when nothing changed.
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+
+packages=(
+  build-essential cmake pkg-config git
+  liblcm-dev liblcm-bin liblcm-java
+  libeigen3-dev libopencv-dev libyaml-cpp-dev libcli11-dev
+  libaravis-dev aravis-tools aravis-tools-cli libusb-1.0-0-dev
+  libgpiod-dev gpiod
+  libgtest-dev libgmock-dev libbenchmark-dev
+  openjdk-17-jdk-headless libjchart2d-java xvfb xauth
+  iproute2 util-linux python3 python3-matplotlib python3-numpy
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${#missing[@]} Debian package(s): ${missing[*]}"
+  sudo_cmd=()
+  [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if [ ! -f "$NADIR_BUILD/CMakeCache.txt" ]; then
+  cmake -S "$NADIR_ROOT" -B "$NADIR_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_MODULES= >/dev/null
+fi
+cmake --build "$NADIR_BUILD" -j"$(nproc)" 2>&1 | grep -vE '^\[ *[0-9]+%\] (Building|Linking|Built)' || true
+test "${PIPESTATUS[0]}" -eq 0
+echo "setup: built into $NADIR_BUILD"

@@ -1,0 +1,59 @@
+#include "processes/camera_capture/capture_options.h"
+
+namespace nadir {
+
+CaptureOptions CaptureOptions::FromConfig(const Config& c) {
+  CaptureOptions o;
+  o.camera = CameraOptions::FromConfig(c.section_or_empty("camera"));
+  const Config trigger = c.section_or_empty("trigger_input");
+  o.trigger_input = trigger.get<std::string>("source", o.trigger_input);
+  if (o.trigger_input != "gpiod" && o.trigger_input != "none" && o.trigger_input != "scripted") {
+    throw trigger.error("source", "= '" + o.trigger_input + "' is not gpiod, none or scripted");
+  }
+  o.gpiod.chip = trigger.get<std::string>("chip", o.gpiod.chip);
+  o.gpiod.line = trigger.get_in_range<int>("line", o.gpiod.line, 0, 4095);
+  o.gpiod.edge = trigger.get<std::string>("edge", o.gpiod.edge);
+  if (o.gpiod.edge != "rising" && o.gpiod.edge != "falling" && o.gpiod.edge != "both") {
+    throw trigger.error("edge", "= '" + o.gpiod.edge + "' is not rising, falling or both");
+  }
+  o.timing = ImageTimingOptions::FromConfig(c.section_or_empty("timing"));
+  o.association = AssociationOptions::FromConfig(c.section_or_empty("association"));
+  const Config sync = c.section_or_empty("clock_sync");
+  o.clock_sync.window_s = sync.get<double>("window_s", o.clock_sync.window_s);
+  o.clock_sync.block_s = sync.get<double>("block_s", o.clock_sync.block_s);
+  o.clock_sync.jump_threshold_us = sync.get<double>("jump_threshold_us", o.clock_sync.jump_threshold_us);
+  o.clock_sync.min_delay_us = sync.get<double>("min_delay_us", o.clock_sync.min_delay_us);
+  try {
+    o.clock_sync.Check();
+  } catch (const ConfigError& e) {
+    throw ConfigError(c.source() + ": camera_capture." + e.what());
+  }
+  const std::string policy = c.get<std::string>("unassociated_frames", "publish_flagged");
+  if (policy != "publish_flagged" && policy != "drop") {
+    throw c.error("unassociated_frames", "= '" + policy + "' is not publish_flagged or drop");
+  }
+  o.publish_unassociated = policy == "publish_flagged";
+  const Config reconnect = c.section_or_empty("reconnect");
+  o.reconnect_initial_backoff_s =
+      reconnect.get_in_range<double>("initial_backoff_s", o.reconnect_initial_backoff_s, 0.01, 60.0);
+  o.reconnect_max_backoff_s = reconnect.get_in_range<double>("max_backoff_s", o.reconnect_max_backoff_s,
+                                                             o.reconnect_initial_backoff_s, 600.0);
+  o.frame_timeout_s = reconnect.get_in_range<double>("frame_timeout_s", o.frame_timeout_s, 0.1, 600.0);
+  o.retry_at_start = reconnect.get<bool>("retry_at_start", o.retry_at_start);
+  o.Check();
+  return o;
+}
+
+void CaptureOptions::Check() const {
+  camera.Check();
+  association.Check();
+  clock_sync.Check();
+  const std::string s = "camera_capture";
+  require_option(trigger_input == "gpiod" || trigger_input == "none" || trigger_input == "scripted", s,
+                 "trigger_input.source", "must be gpiod, none or scripted");
+  require_option(reconnect_initial_backoff_s > 0 && reconnect_max_backoff_s >= reconnect_initial_backoff_s, s,
+                 "reconnect.max_backoff_s", "must be >= reconnect.initial_backoff_s > 0");
+  require_option(frame_timeout_s > 0, s, "reconnect.frame_timeout_s", "must be > 0");
+}
+
+}  // namespace nadir

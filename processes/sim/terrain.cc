@@ -1,0 +1,184 @@
+#include "processes/sim/terrain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "processes/sim/procedural_noise.h"
+
+namespace nadir::sim {
+namespace {
+
+// Height octaves: lattice cell (m) and amplitude (m). Gentle hills from the
+// long octaves; the ridge octave (1 - |n|)^2 gives the sharper features with
+// slopes up to ~15 degrees.
+struct Octave {
+  double cell_m;
+  double amplitude_m;
+};
+constexpr Octave kHills[] = {{1300.0, 16.0}, {470.0, 6.5}, {170.0, 2.2}};
+constexpr Octave kRidge = {140.0, 4.5};
+// Per-axis derivative bound of value_noise per lattice cell (see procedural_noise.h).
+constexpr double kNoiseSlopeBound = 3.75 * 1.41421356237;
+
+enum Layer : uint32_t {
+  kLayerHill0 = 0, kLayerHill1, kLayerHill2, kLayerRidge,
+  kLayerField, kLayerRoad, kLayerTreeCluster, kLayerTree, kLayerRock,
+  kLayerGrain0, kLayerGrain1, kLayerGrain2, kLayerPatch, kLayerCount
+};
+
+float clamp_albedo(double v) { return static_cast<float>(std::min(250.0, std::max(8.0, v))); }
+
+}  // namespace
+
+void TerrainOptions::Check() const {
+  if (!(relief_scale >= 0.0 && relief_scale <= 3.0))
+    throw std::invalid_argument("terrain.relief_scale must be in [0, 3]");
+}
+
+Terrain::Terrain(const TerrainOptions& options) : options_(options) {
+  options_.Check();
+  for (uint32_t i = 0; i < 16; ++i) salt_[i] = mix_salt(options.seed, i);
+  double slope = 0.0, amp = 0.0;
+  for (const Octave& o : kHills) {
+    slope += o.amplitude_m * kNoiseSlopeBound / o.cell_m;
+    amp += o.amplitude_m;
+  }
+  slope += kRidge.amplitude_m * 2.0 * kNoiseSlopeBound / kRidge.cell_m;
+  max_slope_ = slope * options_.relief_scale;
+  datum_ = raw_height(0.0, 0.0, nullptr, nullptr);
+  max_height_ = (amp + kRidge.amplitude_m) * options_.relief_scale - datum_;
+  min_height_ = -amp * options_.relief_scale - datum_;
+}
+
+double Terrain::raw_height(double north, double east, double* dh_dn, double* dh_de) const {
+  const double s = options_.relief_scale;
+  double h = 0.0, gn = 0.0, ge = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const Octave& o = kHills[i];
+    double dx, dy;
+    const double inv = 1.0 / o.cell_m;
+    h += o.amplitude_m * value_noise(north * inv, east * inv, salt_[kLayerHill0 + i], &dx, &dy);
+    gn += o.amplitude_m * inv * dx;
+    ge += o.amplitude_m * inv * dy;
+  }
+  {
+    double dx, dy;
+    const double inv = 1.0 / kRidge.cell_m;
+    const double n = value_noise(north * inv, east * inv, salt_[kLayerRidge], &dx, &dy);
+    const double r = 1.0 - std::fabs(n);
+    const double sign = n >= 0 ? 1.0 : -1.0;
+    h += kRidge.amplitude_m * (r * r - 0.3);
+    gn += kRidge.amplitude_m * 2.0 * r * (-sign) * dx * inv;
+    ge += kRidge.amplitude_m * 2.0 * r * (-sign) * dy * inv;
+  }
+  if (dh_dn) {
+    *dh_dn = s * gn;
+    *dh_de = s * ge;
+  }
+  return s * h;
+}
+
+double Terrain::height(double north, double east, double* dh_dn, double* dh_de) const {
+  return raw_height(north, east, dh_dn, dh_de) - datum_;
+}
+
+float Terrain::albedo(double north, double east) const {
+  // Fields: Voronoi cells of ~110 m, each with its own albedo and pattern;
+  // hedges along cell borders give long edges and corners where they meet.
+  constexpr double kFieldCell = 110.0;
+  const double fx = north / kFieldCell, fy = east / kFieldCell;
+  const int32_t cx = static_cast<int32_t>(std::floor(fx)), cy = static_cast<int32_t>(std::floor(fy));
+  double d1 = 1e9, d2 = 1e9;
+  int32_t best_x = 0, best_y = 0;
+  for (int32_t j = -1; j <= 1; ++j) {
+    for (int32_t i = -1; i <= 1; ++i) {
+      const uint32_t h = lattice_hash(cx + i, cy + j, salt_[kLayerField]);
+      const double px = cx + i + 0.1 + 0.8 * ((h & 0xffff) / 65536.0);
+      const double py = cy + j + 0.1 + 0.8 * ((h >> 16) / 65536.0);
+      const double d = (px - fx) * (px - fx) + (py - fy) * (py - fy);
+      if (d < d1) {
+        d2 = d1;
+        d1 = d;
+        best_x = cx + i;
+        best_y = cy + j;
+      } else if (d < d2) {
+        d2 = d;
+      }
+    }
+  }
+  const uint32_t field = lattice_hash(best_x, best_y, salt_[kLayerField] ^ 0x5bd1e995U);
+  const double base = 70.0 + 120.0 * ((field & 0xff) / 255.0);
+  const int pattern = static_cast<int>((field >> 8) % 5);  // 0 plain, 1-2 crop rows, 3 forest, 4 meadow
+  const double angle = ((field >> 12) & 0xff) / 255.0 * M_PI;
+  const double period = 2.5 + 5.0 * (((field >> 20) & 0xff) / 255.0);
+
+  // Large-scale and fine grain inside every field.
+  double value = base;
+  value += 18.0 * value_noise(north / 23.0, east / 23.0, salt_[kLayerGrain0]);
+  value += 12.0 * value_noise(north / 4.1, east / 4.1, salt_[kLayerGrain1]);
+  value += 9.0 * value_noise(north / 1.3, east / 1.3, salt_[kLayerGrain2]);
+  if (pattern == 1 || pattern == 2) {
+    const double along = north * std::cos(angle) + east * std::sin(angle);
+    value += (pattern == 1 ? 16.0 : 10.0) * std::sin(2.0 * M_PI * along / period);
+  } else if (pattern == 4) {
+    value += 22.0 * value_noise(north / 9.0, east / 9.0, salt_[kLayerPatch]);
+  }
+
+  // Hedge or track along field borders (distance to the bisector ~ (d2 - d1)).
+  const double border_m = (std::sqrt(d2) - std::sqrt(d1)) * kFieldCell * 0.5;
+  if (border_m < 1.6) value = 0.55 * value + 10.0;
+
+  // Roads: thin bright lines along the zero set of a slow noise field.
+  {
+    double dx, dy;
+    const double n = value_noise(north / 650.0, east / 650.0, salt_[kLayerRoad], &dx, &dy);
+    const double grad = std::sqrt(dx * dx + dy * dy) / 650.0 + 1e-9;
+    const double dist_m = std::fabs(n) / grad;
+    if (dist_m < 3.5) value = 205.0 + 10.0 * value_noise(north / 2.0, east / 2.0, salt_[kLayerGrain1]);
+    else if (dist_m < 4.5) value = 0.6 * value;
+  }
+
+  // Trees: one per 6 m cell where the cluster density allows, disc radius
+  // 1.2-2.6 m kept inside its cell, dark crown with a lit side.
+  {
+    const double density_noise = value_noise(north / 90.0, east / 90.0, salt_[kLayerTreeCluster]);
+    double density = pattern == 3 ? 0.85 : std::max(0.0, density_noise - 0.35) * 1.6;
+    if (density > 0.0) {
+      constexpr double kTreeCell = 6.0;
+      const double tx = north / kTreeCell, ty = east / kTreeCell;
+      const int32_t ix = static_cast<int32_t>(std::floor(tx)), iy = static_cast<int32_t>(std::floor(ty));
+      const uint32_t h = lattice_hash(ix, iy, salt_[kLayerTree]);
+      if ((h & 0xffff) / 65536.0 < density) {
+        const double radius = 1.2 + 1.4 * (((h >> 16) & 0xff) / 255.0);
+        const double margin = radius / kTreeCell;
+        const double px = ix + margin + (1.0 - 2.0 * margin) * (((h >> 24) & 0xf) / 15.0);
+        const double py = iy + margin + (1.0 - 2.0 * margin) * (((h >> 28) & 0xf) / 15.0);
+        const double dn = (tx - px) * kTreeCell, de = (ty - py) * kTreeCell;
+        const double r2 = dn * dn + de * de;
+        if (r2 < radius * radius) {
+          const double lit = std::max(0.0, -(dn + de) / (1.41421356 * radius));
+          value = 38.0 + 10.0 * ((h >> 8) & 0x7) + 45.0 * lit;
+        }
+      }
+    }
+  }
+
+  // Rocks: sparse small bright or dark blobs on a 13 m grid.
+  {
+    constexpr double kRockCell = 13.0;
+    const double rx = north / kRockCell, ry = east / kRockCell;
+    const int32_t ix = static_cast<int32_t>(std::floor(rx)), iy = static_cast<int32_t>(std::floor(ry));
+    const uint32_t h = lattice_hash(ix, iy, salt_[kLayerRock]);
+    if ((h & 0xff) < 70) {
+      const double radius = 0.5 + 0.9 * (((h >> 8) & 0xff) / 255.0);
+      const double px = ix + 0.2 + 0.6 * (((h >> 16) & 0xff) / 255.0);
+      const double py = iy + 0.2 + 0.6 * (((h >> 24) & 0xff) / 255.0);
+      const double dn = (rx - px) * kRockCell, de = (ry - py) * kRockCell;
+      if (dn * dn + de * de < radius * radius) value = (h & 0x100) ? 235.0 : 30.0;
+    }
+  }
+  return clamp_albedo(value);
+}
+
+}  // namespace nadir::sim

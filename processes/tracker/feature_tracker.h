@@ -1,0 +1,85 @@
+#pragma once
+// The tracker's algorithm without any transport: per frame, pyramidal KLT of
+// the existing features from the previous frame, a forward-backward
+// consistency check, then per-cell replenishment with Harris corners. Track
+// ids and ages survive replenishment. The image pyramid is built once per
+// frame and used for the forward pass, the backward pass and, as the previous
+// pyramid, for the next frame.
+//
+// Deterministic: no randomness, no clock; KLT works point by point, so the
+// result does not depend on OpenCV's thread count.
+
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <vector>
+
+#include "processes/tracker/grid_corner_detector.h"
+#include "processes/tracker/tracker_options.h"
+
+namespace nadir {
+
+// One feature followed from the previous frame into the current one.
+struct FeatureTrack {
+  int64_t id = 0;
+  int32_t age = 0;  // frames this feature has been seen in (>= 2 in a track)
+  cv::Point2f prev_px;
+  cv::Point2f curr_px;
+};
+
+struct TrackStepResult {
+  bool first_frame = false;          // no reference frame: nothing tracked
+  std::vector<FeatureTrack> tracks;  // survivors, in ascending id order
+  int attempted = 0;                 // features tracked forward
+  int klt_lost = 0;                  // KLT failed forward or backward
+  int out_of_image = 0;              // tracked outside the image
+  int fb_rejected = 0;               // forward-backward error above threshold
+  int replenished = 0;               // new corners added in this frame
+  int cells_replenished = 0;         // cells that needed new corners
+  int features_after = 0;            // features carried into the next frame
+};
+
+class FeatureTracker {
+ public:
+  explicit FeatureTracker(const TrackerOptions& options);
+
+  // Tracks from the reference frame into `image` (CV_8UC1), replenishes, and
+  // makes `image` the new reference. The first call (or after reset) only
+  // detects. Throws std::invalid_argument for an image that is not 8-bit mono.
+  TrackStepResult process(const cv::Mat& image);
+
+  // Forgets the reference frame and all features (ids keep counting up).
+  void reset();
+  bool has_reference() const { return !prev_pyramid_.empty(); }
+
+  struct Feature {
+    int64_t id;
+    int32_t age;
+    cv::Point2f px;
+  };
+  // Features carried into the next frame (tracked survivors + new corners).
+  const std::vector<Feature>& features() const { return features_; }
+  const TrackerOptions& options() const { return options_; }
+
+ private:
+  void track(TrackStepResult& result);
+  void replenish(const cv::Mat& image, TrackStepResult& result);
+
+  TrackerOptions options_;
+  GridCornerDetector detector_;
+  cv::Size win_;
+  int max_level_;
+  cv::TermCriteria criteria_;
+  int64_t next_id_ = 1;
+  std::vector<Feature> features_;
+  std::vector<cv::Mat> prev_pyramid_;
+  std::vector<cv::Mat> curr_pyramid_;
+  cv::Size image_size_;
+
+  // Buffers reused between frames.
+  std::vector<cv::Point2f> prev_pts_, curr_pts_, back_pts_;
+  std::vector<uchar> status_fwd_, status_bwd_;
+  std::vector<float> err_;
+};
+
+}  // namespace nadir

@@ -1,0 +1,188 @@
+#include "processes/tracker/tracker_node.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "common/channels.h"
+#include "nadir/status_t.hpp"
+#include "processes/tracker/image_input.h"
+
+namespace nadir {
+
+TrackerNode::TrackerNode(const Config& root, Bus& bus)
+    : bus_(bus),
+      options_(TrackerOptions::from_config(root)),
+      camera_(CameraModel::from_config(root)),
+      tracker_(options_) {
+  bus_.subscribe<image_t>(channels::kCameraImage, [this](const image_t& msg) { on_image(msg); });
+}
+
+std::vector<std::string> TrackerNode::output_channels() const { return {channels::kTracks}; }
+
+tracks_t TrackerNode::make_header(const image_t& msg) const {
+  tracks_t out{};
+  out.utime = msg.utime;
+  out.prev_utime = have_reference_ ? ref_utime_ : 0;
+  out.frame_counter = msg.frame_counter;
+  out.width = msg.width;
+  out.height = msg.height;
+  out.flags = 0;
+  out.num_tracks = 0;
+  return out;
+}
+
+int32_t TrackerNode::gap_flags(const image_t& msg, bool* too_long) const {
+  *too_long = false;
+  if (!have_reference_) return 0;
+  const double period_us = 1e6 / camera_.rate_hz;
+  const int64_t step_us = msg.utime - ref_utime_;
+  *too_long = static_cast<double>(step_us) > options_.max_gap_s * 1e6;
+  const bool counter_gap = msg.frame_counter >= 0 && ref_frame_counter_ >= 0 && msg.frame_counter != ref_frame_counter_ + 1;
+  const bool time_gap = static_cast<double>(step_us) > options_.gap_factor * period_us;
+  return (counter_gap || time_gap) ? tracks_t::FLAG_FRAME_GAP : 0;
+}
+
+void TrackerNode::publish(tracks_t& out, const std::string& problem) {
+  if (out.flags & tracks_t::FLAG_FEW_FEATURES) ++few_features_;
+  if (out.flags & tracks_t::FLAG_FRAME_GAP) ++frame_gaps_;
+  last_flags_ = out.flags;
+  last_problem_ = problem;
+  if (problem.empty() && (out.flags & tracks_t::FLAG_FEW_FEATURES)) {
+    last_problem_ = "few features: " + std::to_string(out.num_tracks) + " tracks < " + std::to_string(options_.min_tracks);
+  }
+  bus_.publish(channels::kTracks, out);
+  ++published_;
+}
+
+void TrackerNode::on_image(const image_t& msg) {
+  ++received_;
+  if (have_last_ && msg.utime <= last_utime_) {
+    ++dropped_;
+    ++out_of_order_;
+    return;
+  }
+  have_last_ = true;
+  last_utime_ = msg.utime;
+
+  tracks_t out = make_header(msg);
+  bool too_long = false;
+  out.flags |= gap_flags(msg, &too_long);
+
+  const ImageFormatCheck format = check_image_format(msg, camera_.width, camera_.height);
+  if (!format.ok) {
+    ++wrong_format_;
+    ++errors_;
+    out.flags |= tracks_t::FLAG_WRONG_FORMAT | tracks_t::FLAG_BAD_IMAGE;
+    publish(out, "CAMERA_IMAGE utime " + std::to_string(msg.utime) + ": " + format.reason);
+    return;
+  }
+  const cv::Mat gray = to_gray8(msg, options_.mono16_significant_bits, convert_buffer_);
+  const ImageQualityCheck quality = check_image_quality(gray, options_);
+  if (quality.quality != ImageQuality::kGood) {
+    ++bad_image_;
+    if (quality.quality == ImageQuality::kBlack) ++black_;
+    if (quality.quality == ImageQuality::kSaturated) ++saturated_;
+    if (quality.quality == ImageQuality::kFeatureless) ++featureless_;
+    out.flags |= tracks_t::FLAG_BAD_IMAGE;
+    publish(out, "CAMERA_IMAGE utime " + std::to_string(msg.utime) + ": " + quality.reason);
+    return;
+  }
+
+  if (too_long) {
+    // The reference is too old to track from: start again from this frame.
+    tracker_.reset();
+    have_reference_ = false;
+    out.prev_utime = 0;
+    ++restarts_;
+  }
+  const TrackStepResult step = tracker_.process(gray);
+  if (step.first_frame) out.flags |= tracks_t::FLAG_FIRST_FRAME;
+  // A first frame has no tracks by nature; it is short of features when
+  // detection found too few to track from.
+  const int usable = step.first_frame ? step.features_after : static_cast<int>(step.tracks.size());
+  if (usable < options_.min_tracks) out.flags |= tracks_t::FLAG_FEW_FEATURES;
+
+  const size_t n = step.tracks.size();
+  out.num_tracks = static_cast<int32_t>(n);
+  out.track_id.resize(n);
+  out.age.resize(n);
+  out.prev_px.resize(n);
+  out.curr_px.resize(n);
+  out.prev_norm.resize(n);
+  out.curr_norm.resize(n);
+  std::vector<cv::Point2f> prev_px(n), curr_px(n);
+  for (size_t i = 0; i < n; ++i) {
+    const FeatureTrack& t = step.tracks[i];
+    out.track_id[i] = t.id;
+    out.age[i] = t.age;
+    out.prev_px[i][0] = t.prev_px.x;
+    out.prev_px[i][1] = t.prev_px.y;
+    out.curr_px[i][0] = t.curr_px.x;
+    out.curr_px[i][1] = t.curr_px.y;
+    prev_px[i] = t.prev_px;
+    curr_px[i] = t.curr_px;
+  }
+  const std::vector<cv::Point2d> prev_norm = camera_.undistort(prev_px);
+  const std::vector<cv::Point2d> curr_norm = camera_.undistort(curr_px);
+  for (size_t i = 0; i < n; ++i) {
+    out.prev_norm[i][0] = prev_norm[i].x;
+    out.prev_norm[i][1] = prev_norm[i].y;
+    out.curr_norm[i][0] = curr_norm[i].x;
+    out.curr_norm[i][1] = curr_norm[i].y;
+  }
+
+  if (!step.first_frame) {
+    ++tracked_frames_;
+    tracks_total_ += static_cast<int64_t>(n);
+  }
+  replenished_ += step.replenished;
+  fb_rejected_ += step.fb_rejected;
+  klt_lost_ += step.klt_lost;
+  out_of_image_ += step.out_of_image;
+  last_tracks_ = static_cast<int64_t>(n);
+  have_reference_ = true;
+  ref_utime_ = msg.utime;
+  ref_frame_counter_ = msg.frame_counter;
+  publish(out, "");
+}
+
+StatusReport TrackerNode::status() const {
+  StatusReport r;
+  r.received = received_;
+  r.published = published_;
+  r.dropped = dropped_;
+  r.errors = errors_;
+  if (!last_problem_.empty()) {
+    r.state = status_t::STATE_WARN;
+    r.detail = last_problem_;
+  }
+  const double tracks_mean = tracked_frames_ > 0 ? static_cast<double>(tracks_total_) / tracked_frames_ : 0.0;
+  r.counters = {
+      {"tracks_last", static_cast<double>(last_tracks_)},
+      {"tracks_mean", tracks_mean},
+      {"tracked_frames", static_cast<double>(tracked_frames_)},
+      {"replenished", static_cast<double>(replenished_)},
+      {"fb_rejected", static_cast<double>(fb_rejected_)},
+      {"klt_lost", static_cast<double>(klt_lost_)},
+      {"out_of_image", static_cast<double>(out_of_image_)},
+      {"out_of_order", static_cast<double>(out_of_order_)},
+      {"frame_gaps", static_cast<double>(frame_gaps_)},
+      {"restarts", static_cast<double>(restarts_)},
+      {"wrong_format", static_cast<double>(wrong_format_)},
+      {"bad_image", static_cast<double>(bad_image_)},
+      {"black", static_cast<double>(black_)},
+      {"saturated", static_cast<double>(saturated_)},
+      {"featureless", static_cast<double>(featureless_)},
+      {"few_features", static_cast<double>(few_features_)},
+      {"last_flags", static_cast<double>(last_flags_)},
+  };
+  return r;
+}
+
+std::unique_ptr<Node> make_tracker_node(const Config& root, Bus& bus) {
+  return std::make_unique<TrackerNode>(root, bus);
+}
+
+void register_tracker_node(NodeRegistry& registry) { registry.add("tracker", make_tracker_node); }
+
+}  // namespace nadir

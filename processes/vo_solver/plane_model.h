@@ -1,0 +1,66 @@
+#pragma once
+// Geometry of one feature seen from two level virtual cameras over a tilted
+// ground patch (DERIVATION.md). Shared by the solver, its tests and the
+// benchmark; independent of the bus.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace nadir::vo {
+
+// Rotation level-virtual-camera <- camera for a vehicle at roll/pitch:
+// R_VC = Ry(pitch) Rx(roll) R_body_camera (the yaw is the virtual camera's own).
+Eigen::Matrix3d level_from_camera(double roll, double pitch, const Eigen::Matrix3d& body_from_camera);
+
+// Standard rotation about z (down): heading change, clockwise positive in NED.
+Eigen::Matrix3d rot_z(double angle);
+
+// Ground patch attitude <-> unit normal (pointing down, into the ground) in a
+// level frame: n = Ry(pitch) Rx(roll) e_z.
+Eigen::Vector3d normal_from_tilt(double roll, double pitch);
+void tilt_from_normal(const Eigen::Vector3d& normal, double* roll, double* pitch);
+
+// One feature in the level virtual cameras, each ray scaled to z = 1.
+struct LevelFeature {
+  Eigen::Vector3d u;  // prev (frame k-1), V^{k-1}
+  Eigen::Vector3d v;  // curr (frame k), V^k
+};
+
+// The model's state apart from the 5 unknowns: the ground plane passes through
+// the altimeter point A = range * beam (in V^k) and the virtual camera V' is
+// re-levelled by `relevel` (its z axis is the current ground normal estimate).
+struct PlaneGeometry {
+  double range_m = 0;
+  Eigen::Vector3d beam = Eigen::Vector3d::UnitZ();  // unit, in V^k
+  Eigen::Matrix3d relevel = Eigen::Matrix3d::Identity();
+};
+
+// The unknowns of eq. (9): translation dx, dy (level frame of prev), heading
+// change dyaw, and the ground tilt increments (roll, pitch) of the re-levelled
+// virtual camera, which are zero at every re-levelling.
+using Params = Eigen::Matrix<double, 5, 1>;
+using JacobianRow = Eigen::Matrix<double, 1, 5>;
+
+// Normal of the ground patch in V^k for tilt increments (roll, pitch) about
+// the re-levelled camera: relevel * Ry(pitch) Rx(roll) e_z.
+Eigen::Vector3d ground_normal(const PlaneGeometry& plane, double d_roll, double d_pitch);
+
+// The point of the ground patch seen along ray v (z = 1) of V^k, in V^k.
+// Returns false if the ray does not hit the plane in front of the camera.
+bool ground_point(const PlaneGeometry& plane, const Eigen::Vector3d& normal, const Eigen::Vector3d& v,
+                  Eigen::Vector3d* point);
+
+// Exact form of eq. (9): z-component of u x (Rz(dyaw) X^k + [dx, dy, .]),
+// which does not depend on dz. Zero for a perfect measurement. Metres.
+// If `jacobian` is given it receives d residual / d params at the given params
+// (analytic; tilt derivatives at the given increments use the exact normal).
+double plane_residual(const LevelFeature& f, const PlaneGeometry& plane, const Params& params,
+                      JacobianRow* jacobian);
+
+// Predicted point in V^{k-1} (all three coordinates) given dz too.
+bool predict_prev_point(const LevelFeature& f, const PlaneGeometry& plane, const Params& params, double dz,
+                        Eigen::Vector3d* prev_point);
+
+}  // namespace nadir::vo

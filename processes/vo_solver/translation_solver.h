@@ -1,0 +1,86 @@
+#pragma once
+// The pure frame-to-frame solver of the paper's Algorithm 1 and the variants
+// it is compared with. No bus, no time: one pair of frames in, one estimate out,
+// so it can be unit-tested and benchmarked on its own. DERIVATION.md holds the
+// geometry (plane depth, the exact form of eq. (9), eq. (7) for dz).
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace nadir::vo {
+
+enum class Variant { kPaper, kLevelGround, kHomography, kFlow };
+
+// "paper", "level_ground", "homography", "flow"; throws std::invalid_argument otherwise.
+Variant variant_from_name(const std::string& name);
+std::string variant_name(Variant variant);
+
+struct SolverOptions {
+  Variant variant = Variant::kPaper;
+  double focal_px = 398.79;            // for image reprojection errors in pixels
+  int min_features = 8;                // below this (before or after the robust fit): flagged
+  int max_robust_iterations = 20;      // outer loop of Algorithm 1 (lines 7-20)
+  int max_lm_iterations = 10;          // inner loop (lines 9-16)
+  double min_threshold_px = 2.0;       // IRE beyond which a feature is an outlier, at least
+  double threshold_mad_scale = 4.0;    // ... or this many robust sigmas of the IREs, if larger
+  double convergence_tolerance = 1e-7; // parameter change (translation / height, rad)
+  double max_residual_rms_px = 3.0;    // inlier IRE RMS above this: QUALITY_HIGH_RESIDUAL
+  double min_inlier_fraction = 0.3;    // inlier share below this: QUALITY_HIGH_RESIDUAL
+  double homography_ransac_px = 3.0;   // homography variant: RANSAC threshold
+  // Throws std::invalid_argument naming the field and the allowed range.
+  void Check() const;
+};
+
+// One pair of frames, prev (k-1) and curr (k), with everything measured at
+// each frame's own time (attitude and altimeter interpolated by the caller).
+struct FramePair {
+  std::vector<Eigen::Vector2d> prev_norm;  // undistorted normalized camera coordinates
+  std::vector<Eigen::Vector2d> curr_norm;
+  Eigen::Matrix3d body_from_camera = Eigen::Matrix3d::Identity();
+  double prev_roll = 0, prev_pitch = 0, prev_yaw = 0;  // INS, rad (yaw used only by `flow`)
+  double curr_roll = 0, curr_pitch = 0, curr_yaw = 0;
+  double prev_range_m = 0, curr_range_m = 0;  // altimeter slant ranges along the beam
+  Eigen::Vector3d prev_beam_body = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d curr_beam_body = Eigen::Vector3d::UnitZ();
+};
+
+// Quality bits, the same values as nadir::vo_delta_t::QUALITY_*.
+enum Quality : int {
+  kTooFewFeatures = 1,
+  kNoAltimeter = 2,
+  kStaleAltimeter = 4,
+  kNotConverged = 8,
+  kNoAttitude = 16,
+  kFrameGap = 32,
+  kHighResidual = 64,
+};
+
+struct Estimate {
+  // Translation of the camera from prev to curr in the level frame of prev
+  // (x forward along prev heading, y right, z down), metres.
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  double dyaw = 0;          // heading change curr - prev, rad (clockwise positive)
+  double ground_roll = 0;   // ground patch attitude in the level frame of curr, rad
+  double ground_pitch = 0;
+  double altitude_m = 0;    // vertical height of the prev camera above the ground patch
+  // dx, dy, dz, dyaw, ground_roll, ground_pitch.
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  int inliers = 0;
+  int outliers = 0;
+  double residual_rms_px = 0;  // image reprojection error RMS over the inliers
+  int iterations = 0;          // Levenberg-Marquardt iterations (or refinement steps)
+  int quality = 0;             // Quality bits; 0 = good
+  std::vector<double> weights;  // final robust weight per feature (0 = outlier)
+};
+
+// Runs the configured variant. Never throws on bad data: a degenerate input
+// gives an Estimate with quality bits set.
+Estimate solve(const FramePair& pair, const SolverOptions& options);
+
+Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt);
+Estimate solve_homography(const FramePair& pair, const SolverOptions& options);
+Estimate solve_flow(const FramePair& pair, const SolverOptions& options);
+
+}  // namespace nadir::vo

@@ -1,0 +1,105 @@
+#include "processes/yaw_fusion/pose_filter.h"
+
+#include <cmath>
+
+#include "common/geometry.h"
+
+namespace nadir {
+
+void PoseFilter::initialise(double yaw, double yaw_variance) {
+  x_.setZero();
+  p_.setZero();
+  x_(kYaw) = wrap_angle(yaw);
+  p_(kYaw, kYaw) = yaw_variance;
+  initialised_ = true;
+  terrain_initialised_ = false;
+}
+
+Eigen::Vector3d PoseFilter::predict_with_delta(const Eigen::Vector3d& translation, double dyaw,
+                                               const Eigen::Matrix4d& covariance) {
+  const double c = std::cos(x_(kYaw));
+  const double s = std::sin(x_(kYaw));
+  const Eigen::Vector3d world(c * translation.x() - s * translation.y(), s * translation.x() + c * translation.y(),
+                              translation.z());
+  x_.head<3>() += world;
+  x_(kYaw) = wrap_angle(x_(kYaw) + dyaw);
+
+  // Jacobian of the new state w.r.t. the old one: only the registration
+  // depends on the old yaw.
+  Matrix f = Matrix::Identity();
+  f(kNorth, kYaw) = -world.y();
+  f(kEast, kYaw) = world.x();
+  // Jacobian w.r.t. the delta (dx, dy, dz, dyaw).
+  Eigen::Matrix<double, kSize, 4> g = Eigen::Matrix<double, kSize, 4>::Zero();
+  g(kNorth, 0) = c;
+  g(kNorth, 1) = -s;
+  g(kEast, 0) = s;
+  g(kEast, 1) = c;
+  g(kDown, 2) = 1.0;
+  g(kYaw, 3) = 1.0;
+  p_ = f * p_ * f.transpose() + g * covariance * g.transpose();
+  p_ = 0.5 * (p_ + p_.transpose());
+  return world;
+}
+
+void PoseFilter::propagate_without_vo(const Eigen::Vector3d& displacement_ned,
+                                      const Eigen::Vector3d& position_variance_added, double yaw_variance_added) {
+  x_.head<3>() += displacement_ned;
+  for (int i = 0; i < 3; ++i) p_(i, i) += position_variance_added(i);
+  p_(kYaw, kYaw) += yaw_variance_added;
+}
+
+void PoseFilter::joseph_update(const Vector& k, const Eigen::Matrix<double, 1, kSize>& h, double r) {
+  const Matrix a = Matrix::Identity() - k * h;
+  p_ = a * p_ * a.transpose() + k * r * k.transpose();
+  p_ = 0.5 * (p_ + p_.transpose());
+}
+
+PoseFilter::UpdateResult PoseFilter::update_yaw(double measured_yaw, double variance, double gate_sigma) {
+  const double innovation = angle_difference(measured_yaw, x_(kYaw));
+  last_yaw_innovation_ = innovation;
+  const double s = p_(kYaw, kYaw) + variance;
+  if (innovation * innovation > gate_sigma * gate_sigma * s) return UpdateResult::kRejected;
+  Vector k = Vector::Zero();
+  k(kYaw) = p_(kYaw, kYaw) / s;
+  Eigen::Matrix<double, 1, kSize> h = Eigen::Matrix<double, 1, kSize>::Zero();
+  h(kYaw) = 1.0;
+  x_(kYaw) = wrap_angle(x_(kYaw) + k(kYaw) * innovation);
+  joseph_update(k, h, variance);
+  return UpdateResult::kAccepted;
+}
+
+void PoseFilter::reset_yaw(double yaw, double variance) {
+  x_(kYaw) = wrap_angle(yaw);
+  p_.row(kYaw).setZero();
+  p_.col(kYaw).setZero();
+  p_(kYaw, kYaw) = variance;
+}
+
+void PoseFilter::anchor_terrain(double height_agl, double variance) {
+  x_(kTerrain) = x_(kDown) + height_agl;
+  p_.row(kTerrain) = p_.row(kDown);
+  p_.col(kTerrain) = p_.col(kDown);
+  p_(kTerrain, kTerrain) = p_(kDown, kDown) + variance;
+  terrain_initialised_ = true;
+}
+
+PoseFilter::UpdateResult PoseFilter::update_height_agl(double height_agl, double variance, double gate_sigma) {
+  Eigen::Matrix<double, 1, kSize> h = Eigen::Matrix<double, 1, kSize>::Zero();
+  h(kDown) = -1.0;
+  h(kTerrain) = 1.0;
+  const double innovation = height_agl - (x_(kTerrain) - x_(kDown));
+  const double s = (h * p_ * h.transpose())(0, 0) + variance;
+  if (innovation * innovation > gate_sigma * gate_sigma * s) return UpdateResult::kRejected;
+  // Only the vertical states take the correction; horizontal position and yaw
+  // are not observable from a height above level ground.
+  Vector k = p_ * h.transpose() / s;
+  for (int i = 0; i < kSize; ++i) {
+    if (i != kDown && i != kTerrain) k(i) = 0.0;
+  }
+  x_ += k * innovation;
+  joseph_update(k, h, variance);
+  return UpdateResult::kAccepted;
+}
+
+}  // namespace nadir

@@ -1,0 +1,78 @@
+#pragma once
+// The estimator state of yaw fusion, independent of any bus: local NED
+// position (origin = first frame), yaw, and (level_terrain mode only) the down
+// coordinate of the terrain under the vehicle, with a full covariance.
+//
+// Prediction uses one VO delta: the translation (dx, dy) measured in the level
+// frame of the previous frame is registered in the world with the yaw held for
+// that previous frame, Rz(psi_{k-1}) * (dx, dy); the yaw then advances by the
+// VO dyaw. Each frame thus has exactly one yaw, used for the delta that starts
+// at it -- the same one-attitude-per-frame rule that makes the roll/pitch
+// errors telescope in the paper's eq. (21)-(23).
+//
+// The INS yaw update corrects the yaw only (a "consider" gain): translations
+// already registered stay where they were, but the covariance is updated with
+// the Joseph form for the gain actually used, so the reported position
+// covariance (including yaw/position cross terms) stays honest.
+
+#include <Eigen/Core>
+
+namespace nadir {
+
+class PoseFilter {
+ public:
+  static constexpr int kNorth = 0, kEast = 1, kDown = 2, kYaw = 3, kTerrain = 4, kSize = 5;
+  using Vector = Eigen::Matrix<double, kSize, 1>;
+  using Matrix = Eigen::Matrix<double, kSize, kSize>;
+
+  enum class UpdateResult { kAccepted, kRejected };
+
+  // Position at the origin (exactly known), yaw with its variance.
+  void initialise(double yaw, double yaw_variance);
+  bool initialised() const { return initialised_; }
+
+  // Integrates one VO delta. `translation` = (dx, dy, dz) in the level frame
+  // of the previous frame, `covariance` over (dx, dy, dz, dyaw). Returns the
+  // world (NED) translation that was added.
+  Eigen::Vector3d predict_with_delta(const Eigen::Vector3d& translation, double dyaw,
+                                     const Eigen::Matrix4d& covariance);
+
+  // Moves the position by a world displacement without VO (gaps) and adds
+  // independent variance to the position axes and the yaw.
+  void propagate_without_vo(const Eigen::Vector3d& displacement_ned, const Eigen::Vector3d& position_variance_added,
+                            double yaw_variance_added);
+
+  // Yaw measurement (rad) with its variance. Rejected when the squared
+  // innovation exceeds gate_sigma^2 times its variance.
+  UpdateResult update_yaw(double measured_yaw, double variance, double gate_sigma);
+  // Replaces the yaw by a measurement, dropping its correlation with position.
+  void reset_yaw(double yaw, double variance);
+  // Innovation of the last update_yaw call (rad), for diagnostics.
+  double last_yaw_innovation() const { return last_yaw_innovation_; }
+
+  // Level-terrain altitude correction. The terrain state is the down
+  // coordinate of the ground under the vehicle; a height above ground h
+  // measures terrain - down.
+  bool terrain_initialised() const { return terrain_initialised_; }
+  void anchor_terrain(double height_agl, double variance);
+  UpdateResult update_height_agl(double height_agl, double variance, double gate_sigma);
+  double terrain_down() const { return x_(kTerrain); }
+
+  Eigen::Vector3d position() const { return x_.head<3>(); }
+  double yaw() const { return x_(kYaw); }
+  double yaw_variance() const { return p_(kYaw, kYaw); }
+  Eigen::Matrix3d position_covariance() const { return p_.topLeftCorner<3, 3>(); }
+  const Matrix& covariance() const { return p_; }
+
+ private:
+  // Joseph-form covariance update for gain k on measurement row h with variance r.
+  void joseph_update(const Vector& k, const Eigen::Matrix<double, 1, kSize>& h, double r);
+
+  bool initialised_ = false;
+  bool terrain_initialised_ = false;
+  Vector x_ = Vector::Zero();
+  Matrix p_ = Matrix::Zero();
+  double last_yaw_innovation_ = 0.0;
+};
+
+}  // namespace nadir

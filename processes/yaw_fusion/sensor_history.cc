@@ -1,0 +1,106 @@
+#include "processes/yaw_fusion/sensor_history.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "common/geometry.h"
+
+namespace nadir {
+
+namespace {
+
+// Index of the first sample with utime > t.
+template <class Sample>
+size_t upper_index(const std::deque<Sample>& samples, int64_t t) {
+  const auto it = std::upper_bound(samples.begin(), samples.end(), t,
+                                   [](int64_t value, const Sample& s) { return value < s.utime; });
+  return static_cast<size_t>(it - samples.begin());
+}
+
+// Keeps the last sample at or before t (a query at t needs it) and all after.
+template <class Sample>
+void forget_samples_before(std::deque<Sample>* samples, int64_t t) {
+  while (samples->size() >= 2 && (*samples)[1].utime <= t) samples->pop_front();
+}
+
+}  // namespace
+
+bool InsHistory::add(const AttitudeSample& sample) {
+  if (!insert_sorted(&samples_, sample)) return false;
+  while (samples_.size() > capacity_) {
+    samples_.pop_front();
+    ++dropped_;
+  }
+  return true;
+}
+
+std::optional<AttitudeSample> InsHistory::at(int64_t utime, int64_t max_bracket_us) const {
+  if (samples_.empty()) return std::nullopt;
+  const size_t upper = upper_index(samples_, utime);
+  const AttitudeSample* before = upper > 0 ? &samples_[upper - 1] : nullptr;
+  const AttitudeSample* after = upper < samples_.size() ? &samples_[upper] : nullptr;
+  if (before != nullptr && before->utime == utime) return *before;
+  if (before != nullptr && after != nullptr && after->utime - before->utime <= max_bracket_us) {
+    const double f = static_cast<double>(utime - before->utime) / static_cast<double>(after->utime - before->utime);
+    AttitudeSample out;
+    out.utime = utime;
+    out.roll = before->roll + f * angle_difference(after->roll, before->roll);
+    out.pitch = before->pitch + f * angle_difference(after->pitch, before->pitch);
+    out.yaw = wrap_angle(before->yaw + f * angle_difference(after->yaw, before->yaw));
+    out.yaw_variance = (before->yaw_variance < 0.0 || after->yaw_variance < 0.0)
+                           ? -1.0
+                           : std::max(before->yaw_variance, after->yaw_variance);
+    return out;
+  }
+  const AttitudeSample* nearest = nullptr;
+  if (before != nullptr && utime - before->utime <= max_bracket_us) nearest = before;
+  if (after != nullptr && after->utime - utime <= max_bracket_us &&
+      (nearest == nullptr || after->utime - utime < utime - nearest->utime)) {
+    nearest = after;
+  }
+  if (nearest == nullptr) return std::nullopt;
+  AttitudeSample out = *nearest;
+  out.utime = utime;
+  return out;
+}
+
+void InsHistory::forget_before(int64_t utime) { forget_samples_before(&samples_, utime); }
+
+bool AltimeterHistory::add(const RangeSample& sample) {
+  note_time(sample.utime);
+  if (!insert_sorted(&samples_, sample)) return false;
+  while (samples_.size() > capacity_) {
+    samples_.pop_front();
+    ++dropped_;
+  }
+  return true;
+}
+
+double vertical_range(double range_m, const Eigen::Vector3d& beam_body, double roll, double pitch) {
+  const Eigen::Vector3d level = rotation_from_rpy(roll, pitch, 0.0) * beam_body.normalized();
+  return range_m * level.z();
+}
+
+std::optional<double> AltimeterHistory::height_agl(int64_t utime, int64_t max_age_us, double roll,
+                                                   double pitch) const {
+  if (samples_.empty()) return std::nullopt;
+  const size_t upper = upper_index(samples_, utime);
+  const RangeSample* before = upper > 0 ? &samples_[upper - 1] : nullptr;
+  const RangeSample* after = upper < samples_.size() ? &samples_[upper] : nullptr;
+  if (before != nullptr && utime - before->utime > max_age_us) before = nullptr;
+  if (after != nullptr && after->utime - utime > max_age_us) after = nullptr;
+  if (before != nullptr && after != nullptr && after->utime > before->utime) {
+    const double f = static_cast<double>(utime - before->utime) / static_cast<double>(after->utime - before->utime);
+    const double range = before->range_m + f * (after->range_m - before->range_m);
+    return vertical_range(range, before->beam_body, roll, pitch);
+  }
+  const RangeSample* nearest = before != nullptr ? before : after;
+  if (before != nullptr && after != nullptr && after->utime - utime < utime - before->utime) nearest = after;
+  if (nearest == nullptr) return std::nullopt;
+  return vertical_range(nearest->range_m, nearest->beam_body, roll, pitch);
+}
+
+void AltimeterHistory::forget_before(int64_t utime) { forget_samples_before(&samples_, utime); }
+
+}  // namespace nadir

@@ -1,0 +1,96 @@
+#pragma once
+// Time-ordered buffers of INS attitude and altimeter range, queried at frame
+// (sensor) time. Samples are kept sorted by utime whatever their arrival
+// order, so a query gives the same answer in a live run and in a replay once
+// the samples around the query time are there.
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <limits>
+#include <optional>
+
+namespace nadir {
+
+struct AttitudeSample {
+  int64_t utime = 0;
+  double roll = 0.0;
+  double pitch = 0.0;
+  double yaw = 0.0;
+  double yaw_variance = -1.0;  // < 0: this sample's yaw must not be used
+};
+
+// Inserts `value` into a deque sorted by utime; false for a duplicate utime.
+// Drops the oldest when over capacity (counted by the caller via the return).
+template <class Sample>
+bool insert_sorted(std::deque<Sample>* samples, const Sample& value) {
+  auto it = samples->end();
+  while (it != samples->begin() && std::prev(it)->utime > value.utime) --it;
+  if (it != samples->begin() && std::prev(it)->utime == value.utime) return false;
+  samples->insert(it, value);
+  return true;
+}
+
+class InsHistory {
+ public:
+  explicit InsHistory(size_t capacity = 4096) : capacity_(capacity) {}
+
+  // False for a duplicate utime (ignored).
+  bool add(const AttitudeSample& sample);
+  // Latest sample time, or INT64_MIN when empty.
+  int64_t newest_utime() const {
+    return samples_.empty() ? std::numeric_limits<int64_t>::min() : samples_.back().utime;
+  }
+  // Attitude at t: interpolated between the samples around t when they are at
+  // most max_bracket_us apart; otherwise the nearest sample within
+  // max_bracket_us of t; otherwise nothing. The yaw is usable only when both
+  // interpolated samples' yaws are (variance = the larger one).
+  std::optional<AttitudeSample> at(int64_t utime, int64_t max_bracket_us) const;
+  // Forgets samples no query at or after `utime` can need.
+  void forget_before(int64_t utime);
+  size_t size() const { return samples_.size(); }
+  int64_t dropped() const { return dropped_; }
+
+ private:
+  size_t capacity_;
+  std::deque<AttitudeSample> samples_;
+  int64_t dropped_ = 0;
+};
+
+struct RangeSample {
+  int64_t utime = 0;
+  double range_m = 0.0;
+  Eigen::Vector3d beam_body = Eigen::Vector3d::UnitZ();
+};
+
+class AltimeterHistory {
+ public:
+  explicit AltimeterHistory(size_t capacity = 4096) : capacity_(capacity) {}
+
+  // Valid ranges only. False for a duplicate utime.
+  bool add(const RangeSample& sample);
+  // Any altimeter message (valid or not) tells how far the altimeter's time has got.
+  void note_time(int64_t utime) { newest_ = std::max(newest_, utime); }
+  int64_t newest_utime() const { return newest_; }
+  // Height above (level) ground at t seen with the vehicle's roll and pitch:
+  // range along the beam rotated into the level frame, vertical component.
+  // Interpolated between the valid samples around t when both are within
+  // max_age_us of t, else the nearest within max_age_us, else nothing.
+  std::optional<double> height_agl(int64_t utime, int64_t max_age_us, double roll, double pitch) const;
+  void forget_before(int64_t utime);
+  int64_t dropped() const { return dropped_; }
+
+ private:
+  size_t capacity_;
+  std::deque<RangeSample> samples_;
+  int64_t newest_ = std::numeric_limits<int64_t>::min();
+  int64_t dropped_ = 0;
+};
+
+// Vertical component of a body-frame beam of length range_m after levelling
+// by roll and pitch (ZYX; yaw does not matter).
+double vertical_range(double range_m, const Eigen::Vector3d& beam_body, double roll, double pitch);
+
+}  // namespace nadir

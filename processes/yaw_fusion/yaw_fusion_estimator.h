@@ -1,0 +1,113 @@
+#pragma once
+// Yaw fusion without a bus: takes VO_DELTA, INS and ALTIMETER messages in any
+// arrival order, synchronises them by sensor time, runs the PoseFilter and
+// returns POSE messages in frame order.
+//
+// Order robustness: a delta is processed only once INS covering its utime is
+// there (an INS sample with utime >= the delta's) and an altimeter sample
+// covering it (or altimeter_wait_s of sensor time has passed), or once the
+// newest sensor time seen is ins_wait_s past it. Deltas are processed in utime
+// order. A live run and a lockstep replay of the same messages therefore give
+// identical poses as long as no message is later than those waits.
+//
+// VO gaps: a missing delta (prev_utime after the last frame) or a rejected one
+// (invalid values or a quality bit in reject_quality_mask) is bridged by dead
+// reckoning with the last world velocity for up to gap.max_propagation_s, then
+// by holding the position; the position variance grows as if that velocity
+// were off by gap.velocity_stddev_mps for the whole gap. While no delta comes,
+// gap poses are published at the camera rate (driven by INS sensor time).
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "nadir/altimeter_t.hpp"
+#include "nadir/ins_t.hpp"
+#include "nadir/pose_t.hpp"
+#include "nadir/vo_delta_t.hpp"
+#include "processes/yaw_fusion/pose_filter.h"
+#include "processes/yaw_fusion/sensor_history.h"
+#include "processes/yaw_fusion/yaw_fusion_options.h"
+
+namespace nadir {
+
+struct YawFusionCounters {
+  int64_t vo_deltas_received = 0;
+  int64_t vo_deltas_integrated = 0;
+  int64_t vo_deltas_invalid = 0;           // bad timing or non-finite values (named in last_problem)
+  int64_t vo_deltas_quality_rejected = 0;  // a quality bit in reject_quality_mask
+  int64_t vo_deltas_duplicate = 0;
+  int64_t vo_deltas_late = 0;              // arrived after their frame time was already published
+  int64_t vo_deltas_without_ins = 0;       // processed on timeout, INS not covering them
+  int64_t ins_received = 0;
+  int64_t ins_invalid = 0;
+  int64_t ins_duplicate = 0;
+  int64_t ins_yaw_updates = 0;
+  int64_t ins_yaw_rejected = 0;
+  int64_t ins_yaw_unusable = 0;            // no INS yaw at a frame, or its stddev too large
+  int64_t yaw_reinitialised = 0;
+  int64_t altimeter_received = 0;
+  int64_t altimeter_invalid = 0;           // validity != OK or non-finite
+  int64_t altimeter_rejected = 0;          // level_terrain: gated, terrain re-anchored
+  int64_t frames_without_altimeter = 0;
+  int64_t gap_bridges = 0;                 // times a gap was dead-reckoned before a delta
+  int64_t gap_poses = 0;                   // poses published without a delta
+  int64_t poses = 0;
+  std::string last_problem;                // names the channel, utime and reason
+};
+
+class YawFusionEstimator {
+ public:
+  explicit YawFusionEstimator(const YawFusionOptions& options);
+
+  // Each returns the poses that became ready, in frame order.
+  std::vector<pose_t> add_vo_delta(const vo_delta_t& delta);
+  std::vector<pose_t> add_ins(const ins_t& ins);
+  std::vector<pose_t> add_altimeter(const altimeter_t& altimeter);
+
+  const YawFusionCounters& counters() const { return counters_; }
+  const PoseFilter& filter() const { return filter_; }
+  size_t pending_deltas() const { return pending_.size(); }
+  bool started() const { return started_; }
+  // True while no delta has been integrated for longer than gap.max_duration_s.
+  bool vo_lost() const;
+
+ private:
+  bool delta_ready(const vo_delta_t& delta) const;
+  void pump(std::vector<pose_t>* out);
+  void start(const vo_delta_t& first, std::vector<pose_t>* out);
+  void process_delta(const vo_delta_t& delta, std::vector<pose_t>* out);
+  // Dead-reckons from the last frame to `utime` and updates yaw there; returns pose flags.
+  int32_t advance_without_vo(int64_t utime);
+  // INS yaw update at `utime`; returns pose flags; fills the attitude used.
+  int32_t update_attitude(int64_t utime);
+  int32_t update_height(int64_t utime, double fallback_height);
+  pose_t make_pose(int64_t utime, int32_t flags) const;
+  bool delta_values_valid(const vo_delta_t& delta, std::string* why) const;
+  void note_problem(const std::string& text) { counters_.last_problem = text; }
+
+  YawFusionOptions options_;
+  PoseFilter filter_;
+  InsHistory ins_;
+  AltimeterHistory altimeter_;
+  std::map<int64_t, vo_delta_t> pending_;  // by utime
+  YawFusionCounters counters_;
+
+  int64_t sensor_now_;             // newest sensor time seen on any input
+  bool started_ = false;
+  int64_t last_frame_utime_ = 0;   // time of the last published pose (frame or gap)
+  int64_t last_good_utime_ = 0;    // time of the last integrated delta (or the origin)
+  Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();  // world, from the last delta
+  Eigen::Vector3d velocity_out_ = Eigen::Vector3d::Zero();   // published velocity
+  double roll_ = 0.0, pitch_ = 0.0;  // INS attitude at the last frame
+  double height_agl_ = 0.0;
+  bool have_height_ = false;
+  bool yaw_from_ins_ = false;      // the yaw has taken at least one INS measurement
+  int consecutive_yaw_rejections_ = 0;
+  int64_t frames_ = 0;
+};
+
+}  // namespace nadir

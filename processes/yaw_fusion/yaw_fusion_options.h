@@ -1,0 +1,62 @@
+#pragma once
+// Options of the yaw fusion process (config section `yaw_fusion:`), each
+// documented where it is read. Check() throws ConfigError naming the key.
+
+#include <cstdint>
+#include <string>
+
+#include "common/config.h"
+
+namespace nadir {
+
+enum class AltitudeMode {
+  kVoDz,          // down position = sum of VO dz; the altimeter only gives height_agl_m
+  kLevelTerrain,  // also correct down with the altimeter, assuming level terrain (gated)
+};
+
+struct YawFusionOptions {
+  // INS yaw measurement.
+  double ins_yaw_stddev_deg = 0.5;       // used when the INS reports no yaw stddev
+  double max_ins_yaw_stddev_deg = 10.0;  // INS yaw with a larger reported stddev is not used
+  double ins_yaw_gate_sigma = 3.0;       // reject INS yaw whose innovation exceeds this many sigma
+  int max_consecutive_yaw_rejections = 20;  // then re-initialise yaw from the INS
+  double max_ins_bracket_s = 0.5;        // INS samples further apart are not interpolated between
+
+  // VO delta use.
+  double min_translation_stddev_m = 0.01;  // floor on dx/dy/dz stddev (solver covariance may be 0)
+  double min_dyaw_stddev_deg = 0.01;       // floor on dyaw stddev
+  int32_t reject_quality_mask = 1 | 8 | 16;  // TOO_FEW_FEATURES | NOT_CONVERGED | NO_ATTITUDE
+  double max_delta_interval_s = 5.0;     // longer deltas are invalid
+  double frame_time_tolerance_s = 0.001; // prev_utime this close to the last frame is continuous
+
+  // Order robustness (sensor time).
+  double ins_wait_s = 0.5;        // a delta waits at most this long (sensor time) for INS covering it
+  double altimeter_wait_s = 0.2;  // ... and for an altimeter sample covering it
+  int max_pending_deltas = 200;   // beyond, the oldest is processed with what is there
+
+  // Altimeter.
+  double max_altimeter_age_s = 0.25;  // altimeter samples further from the frame are not used
+  AltitudeMode altitude_mode = AltitudeMode::kVoDz;
+  double altimeter_stddev_m = 0.2;          // level_terrain: range noise, constant part
+  double altimeter_stddev_fraction = 0.005; // level_terrain: range noise, proportional part
+  double altimeter_gate_sigma = 3.0;        // level_terrain: beyond this the terrain is re-anchored
+
+  // VO gaps.
+  double frame_rate_hz = 14.0;             // camera.rate_hz: gap poses are published at this rate
+  double gap_velocity_stddev_mps = 2.0;    // error of the last velocity used to dead-reckon a gap
+  double gap_yaw_rate_stddev_dps = 2.0;    // unknown yaw rate during a gap
+  double gap_max_propagation_s = 5.0;      // dead-reckon with the last velocity this long, then hold
+  double gap_max_duration_s = 30.0;        // stop publishing gap poses after this long without VO
+
+  // Reads `yaw_fusion:` (and camera.rate_hz) from the whole config.
+  static YawFusionOptions from_config(const Config& root);
+  void Check() const;  // throws ConfigError naming the key and allowed range
+
+  int64_t ins_wait_us() const { return static_cast<int64_t>(ins_wait_s * 1e6); }
+  int64_t altimeter_wait_us() const { return static_cast<int64_t>(altimeter_wait_s * 1e6); }
+  int64_t frame_period_us() const { return static_cast<int64_t>(1e6 / frame_rate_hz); }
+};
+
+std::string altitude_mode_name(AltitudeMode mode);
+
+}  // namespace nadir

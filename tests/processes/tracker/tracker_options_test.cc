@@ -1,0 +1,54 @@
+#include "processes/tracker/tracker_options.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace nadir {
+namespace {
+
+std::string error_of(const std::string& yaml) {
+  try {
+    TrackerOptions::from_config(Config::parse(yaml, "test.yaml"));
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TrackerOptions, DefaultConfigGivesTheIssueDefaults) {
+  const TrackerOptions o = TrackerOptions::from_config(Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml"));
+  EXPECT_EQ(o.max_features(), 450);
+  EXPECT_EQ(o.grid_cols, 3);
+  EXPECT_EQ(o.grid_rows, 3);
+  EXPECT_EQ(o.klt_window_px, 21);
+  EXPECT_EQ(o.klt_pyramid_levels, 3);
+  EXPECT_DOUBLE_EQ(o.fb_threshold_px, 1.0);
+}
+
+TEST(TrackerOptions, MissingSectionMeansDefaults) {
+  const TrackerOptions o = TrackerOptions::from_config(Config::parse("camera: {}", "test.yaml"));
+  EXPECT_EQ(o.features_per_cell, 50);
+}
+
+TEST(TrackerOptions, BadValuesNameTheKeyAndTheRange) {
+  const std::string even = error_of("tracker: {klt_window_px: 20}");
+  EXPECT_NE(even.find("test.yaml"), std::string::npos) << even;
+  EXPECT_NE(even.find("tracker.klt_window_px"), std::string::npos) << even;
+  EXPECT_NE(even.find("odd"), std::string::npos) << even;
+
+  const std::string range = error_of("tracker: {fb_threshold_px: -1}");
+  EXPECT_NE(range.find("tracker.fb_threshold_px"), std::string::npos) << range;
+  EXPECT_NE(range.find("out of range"), std::string::npos) << range;
+
+  const std::string above = error_of("tracker: {features_per_cell: 40, replenish_below: 45}");
+  EXPECT_NE(above.find("tracker.replenish_below"), std::string::npos) << above;
+  EXPECT_NE(above.find("[1, 40]"), std::string::npos) << above;
+
+  const std::string type = error_of("tracker: {grid_cols: many}");
+  EXPECT_NE(type.find("tracker.grid_cols"), std::string::npos) << type;
+  EXPECT_NE(type.find("wrong type"), std::string::npos) << type;
+}
+
+}  // namespace
+}  // namespace nadir
