@@ -103,10 +103,13 @@ TEST(TrackerNode, PublishesTracksWithBothUtimesAndNormalizedCoordinates) {
     EXPECT_EQ(t.height, 512);
     EXPECT_GT(t.num_tracks, 380);
     ASSERT_EQ(t.track_id.size(), static_cast<size_t>(t.num_tracks));
+    int from_first_frame = 0;
     for (int i = 0; i < t.num_tracks; ++i) {
-      EXPECT_EQ(t.age[i], k + 1 - 0) << "all features were born in frame 0 or later";
-      if (t.age[i] != k + 1) break;
+      EXPECT_GE(t.age[i], 2);
+      EXPECT_LE(t.age[i], k + 1) << "no feature is older than the sequence";
+      from_first_frame += t.age[i] == k + 1;
     }
+    EXPECT_GT(from_first_frame, 300);
     // Normalized coordinates are the camera model's undistortion of the pixels.
     std::vector<cv::Point2f> prev_px, curr_px;
     for (int i = 0; i < t.num_tracks; ++i) {
@@ -214,9 +217,7 @@ TEST(TrackerNode, FewFeaturesAreFlagged) {
   Harness h;
   // Texture only in a small window: fewer corners than min_tracks (20).
   cv::Mat sparse(kFrame, CV_8UC1, cv::Scalar(100));
-  scene().texture()(cv::Rect(0, 0, 40, 40)).copyTo(sparse(cv::Rect(280, 230, 40, 40)));
-  cv::Mat noisy = sparse.clone();
-  cv::randu(noisy, 0, 1);
+  scene().texture()(cv::Rect(0, 0, 30, 30)).copyTo(sparse(cv::Rect(280, 230, 30, 30)));
   h.send(make_image_msg(sparse, kStartUs, 0));
   h.send(make_image_msg(sparse, kStartUs + kPeriodUs, 1));
   ASSERT_EQ(h.tracks.size(), 2u);
