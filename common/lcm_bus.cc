@@ -12,7 +12,9 @@ namespace nadir {
 std::string default_lcm_url() {
   const char* env = std::getenv("LCM_DEFAULT_URL");
   if (env != nullptr && *env != '\0') return env;
-  return "udpm://239.255.76.67:7667?ttl=0";
+  // TTL 0: nothing leaves the host. A 4 MB kernel receive buffer holds a
+  // burst of full-size images (lcm-logger loses most of them without it).
+  return "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
 }
 
 void LcmBusOptions::Check() const {

@@ -4,6 +4,9 @@ NADIR_BUILD="${NADIR_BUILD:-$NADIR_ROOT/build}"
 NADIR_BIN="$NADIR_BUILD/bin"
 export NADIR_ROOT
 export PATH="$NADIR_BIN:$PATH"
+# The live LCM URL: multicast with TTL 0 (stays on the host) and a 4 MB
+# receive buffer for image bursts. Set LCM_DEFAULT_URL to override.
+export LCM_DEFAULT_URL="${LCM_DEFAULT_URL:-udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304}"
 
 # Runs a command inside a private network namespace whose loopback carries
 # multicast: LCM udpm traffic never reaches a real network.

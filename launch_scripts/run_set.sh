@@ -66,7 +66,7 @@ capture_dir=""
 if ((capture_enabled)) && [ -n "$capture_name" ]; then
   capture_dir="$NADIR_ROOT/logs/$(nadir_utc_stamp)-$capture_name"
   mkdir -p "$capture_dir"
-  url="${LCM_DEFAULT_URL:-udpm://239.255.76.67:7667?ttl=0}"
+  url="$LCM_DEFAULT_URL"
   lcm-logger --quiet --lcm-url="$url" --flush-interval=200 "$capture_dir/capture.lcmlog" \
     > >(sed -u "s/^/[lcm-logger] /") 2>&1 &
   logger_pid=$!

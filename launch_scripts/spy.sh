@@ -4,7 +4,7 @@
 # Usage: spy.sh [--lcm-url URL]
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
-url="${LCM_DEFAULT_URL:-udpm://239.255.76.67:7667?ttl=0}"
+url="$LCM_DEFAULT_URL"
 while (($#)); do
   case "$1" in
     -h|--help) sed -n '2,4p' "$0"; exit 0 ;;

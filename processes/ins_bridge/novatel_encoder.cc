@@ -1,5 +1,6 @@
 #include "processes/ins_bridge/novatel_encoder.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "processes/ins_bridge/crc32.h"

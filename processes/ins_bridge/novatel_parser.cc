@@ -1,6 +1,7 @@
 #include "processes/ins_bridge/novatel_parser.h"
 
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <string_view>
 

@@ -2,6 +2,7 @@
 
 #include <opencv2/video/tracking.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -46,31 +47,72 @@ TrackStepResult FeatureTracker::process(const cv::Mat& image) {
   return result;
 }
 
+int FeatureTracker::usable_levels(const cv::Point2f& p) const {
+  // A KLT window that runs off the image reads the pyramid's reflected
+  // border, whose content moves against the scene; near the edge such a point
+  // can lock onto its mirror image consistently in both directions, so the
+  // forward-backward check does not catch it. Each level is used only where
+  // its window (half_win pixels there, half_win * 2^L at full resolution)
+  // stays inside the image.
+  const float d = std::min(std::min(p.x, p.y), std::min(image_size_.width - 1 - p.x, image_size_.height - 1 - p.y));
+  const float half_win = static_cast<float>(win_.width / 2);
+  int level = 0;
+  while (level < max_level_ && d >= half_win * static_cast<float>(2 << level)) ++level;
+  return level;
+}
+
 void FeatureTracker::track(TrackStepResult& result) {
-  result.attempted = static_cast<int>(features_.size());
-  if (features_.empty()) return;
-  prev_pts_.clear();
-  for (const Feature& f : features_) prev_pts_.push_back(f.px);
+  const size_t n = features_.size();
+  result.attempted = static_cast<int>(n);
+  if (n == 0) return;
+  prev_pts_.resize(n);
+  curr_pts_.resize(n);
+  back_pts_.resize(n);
+  status_fwd_.assign(n, 0);
+  status_bwd_.assign(n, 0);
 
-  cv::calcOpticalFlowPyrLK(prev_pyramid_, curr_pyramid_, prev_pts_, curr_pts_, status_fwd_, err_, win_, max_level_,
-                           criteria_, 0, options_.klt_min_eig_threshold);
-  // Backward pass starts from the original positions: a consistent track
-  // returns there in a few iterations.
-  back_pts_ = prev_pts_;
-  cv::calcOpticalFlowPyrLK(curr_pyramid_, prev_pyramid_, curr_pts_, back_pts_, status_bwd_, err_, win_, max_level_,
-                           criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, options_.klt_min_eig_threshold);
+  // Group the features by how many pyramid levels they can use; most use all.
+  for (int levels = 0; levels <= max_level_; ++levels) {
+    group_index_.clear();
+    group_prev_.clear();
+    for (size_t i = 0; i < n; ++i) {
+      if (usable_levels(features_[i].px) != levels) continue;
+      group_index_.push_back(i);
+      group_prev_.push_back(features_[i].px);
+    }
+    if (group_index_.empty()) continue;
+    cv::calcOpticalFlowPyrLK(prev_pyramid_, curr_pyramid_, group_prev_, group_curr_, group_status_fwd_, err_, win_,
+                             levels, criteria_, 0, options_.klt_min_eig_threshold);
+    // Backward pass starts from the original positions: a consistent track
+    // returns there in a few iterations.
+    group_back_ = group_prev_;
+    cv::calcOpticalFlowPyrLK(curr_pyramid_, prev_pyramid_, group_curr_, group_back_, group_status_bwd_, err_, win_,
+                             levels, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, options_.klt_min_eig_threshold);
+    for (size_t g = 0; g < group_index_.size(); ++g) {
+      const size_t i = group_index_[g];
+      prev_pts_[i] = group_prev_[g];
+      curr_pts_[i] = group_curr_[g];
+      back_pts_[i] = group_back_[g];
+      status_fwd_[i] = group_status_fwd_[g];
+      status_bwd_[i] = group_status_bwd_[g];
+    }
+  }
 
-  const float w = static_cast<float>(image_size_.width), h = static_cast<float>(image_size_.height);
+  // Tracks must end where new corners may start: at least border_px inside,
+  // so their level-0 window is (almost) all real pixels.
+  const float b = static_cast<float>(options_.border_px);
+  const float x_max = static_cast<float>(image_size_.width - 1) - b;
+  const float y_max = static_cast<float>(image_size_.height - 1) - b;
   const double fb_sq = options_.fb_threshold_px * options_.fb_threshold_px;
   std::vector<Feature> survivors;
-  survivors.reserve(features_.size());
-  for (size_t i = 0; i < features_.size(); ++i) {
+  survivors.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
     if (!status_fwd_[i] || !status_bwd_[i]) {
       ++result.klt_lost;
       continue;
     }
     const cv::Point2f& c = curr_pts_[i];
-    if (!(c.x >= 0.0f && c.y >= 0.0f && c.x <= w - 1.0f && c.y <= h - 1.0f)) {
+    if (!(c.x >= b && c.y >= b && c.x <= x_max && c.y <= y_max)) {
       ++result.out_of_image;
       continue;
     }

@@ -32,7 +32,7 @@ struct TrackStepResult {
   std::vector<FeatureTrack> tracks;  // survivors, in ascending id order
   int attempted = 0;                 // features tracked forward
   int klt_lost = 0;                  // KLT failed forward or backward
-  int out_of_image = 0;              // tracked outside the image
+  int out_of_image = 0;              // tracked to within border_px of the edge or beyond
   int fb_rejected = 0;               // forward-backward error above threshold
   int replenished = 0;               // new corners added in this frame
   int cells_replenished = 0;         // cells that needed new corners
@@ -63,6 +63,9 @@ class FeatureTracker {
 
  private:
   void track(TrackStepResult& result);
+  // Pyramid levels above full resolution whose KLT window around `p` stays
+  // inside the image (0..max_level_).
+  int usable_levels(const cv::Point2f& p) const;
   void replenish(const cv::Mat& image, TrackStepResult& result);
 
   TrackerOptions options_;
@@ -80,6 +83,9 @@ class FeatureTracker {
   std::vector<cv::Point2f> prev_pts_, curr_pts_, back_pts_;
   std::vector<uchar> status_fwd_, status_bwd_;
   std::vector<float> err_;
+  std::vector<size_t> group_index_;
+  std::vector<cv::Point2f> group_prev_, group_curr_, group_back_;
+  std::vector<uchar> group_status_fwd_, group_status_bwd_;
 };
 
 }  // namespace nadir

@@ -106,10 +106,11 @@ void TrackerNode::on_image(const image_t& msg) {
   out.num_tracks = static_cast<int32_t>(n);
   out.track_id.resize(n);
   out.age.resize(n);
-  out.prev_px.resize(n);
-  out.curr_px.resize(n);
-  out.prev_norm.resize(n);
-  out.curr_norm.resize(n);
+  // LCM's C++ type holds [n][2] arrays as vectors of 2-element vectors.
+  out.prev_px.assign(n, std::vector<float>(2));
+  out.curr_px.assign(n, std::vector<float>(2));
+  out.prev_norm.assign(n, std::vector<double>(2));
+  out.curr_norm.assign(n, std::vector<double>(2));
   std::vector<cv::Point2f> prev_px(n), curr_px(n);
   for (size_t i = 0; i < n; ++i) {
     const FeatureTrack& t = step.tracks[i];

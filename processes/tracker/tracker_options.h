@@ -19,7 +19,9 @@ struct TrackerOptions {
   // tracks; below features_per_cell it saves detection work on most frames.
   int replenish_below = 45;
   double min_distance_px = 10.0;    // minimum spacing between any two features
-  int border_px = 8;                // no new corners this close to the image edge
+  // No new corners this close to the image edge, and tracks that come this
+  // close end: about half the KLT window, so the window reads real pixels.
+  int border_px = 10;
   int harris_block_size = 3;        // neighbourhood of the structure tensor
   double harris_k = 0.04;
   // Corners weaker than quality_level x (strongest response in the cell) are

@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <thread>
 
 #include "common/channels.h"
@@ -24,7 +25,7 @@ namespace {
 TEST(Capture, LcmLoggerKeepsEveryImageAt14HzFor60s) {
   if (!testing::in_private_netns()) GTEST_SKIP() << "udpm runs only inside test.sh's private network namespace";
   testing::TempDir dir("capture");
-  const std::string url = "udpm://239.255.76.67:7667?ttl=0";
+  const std::string url = default_lcm_url();
   const std::string log = dir.file("capture.lcmlog");
   const std::string url_arg = "--lcm-url=" + url;
   const char* argv[] = {"lcm-logger", "--quiet", url_arg.c_str(), log.c_str(), nullptr};
@@ -42,7 +43,7 @@ TEST(Capture, LcmLoggerKeepsEveryImageAt14HzFor60s) {
   image.pixel_format = image_t::PIXEL_MONO8;
   image.size = 612 * 512;
   image.data.resize(image.size);
-  const int frames = 14 * 60;
+  const int frames = 14 * (std::getenv("NADIR_CAPTURE_SECONDS") ? std::atoi(std::getenv("NADIR_CAPTURE_SECONDS")) : 60);
   const auto start = std::chrono::steady_clock::now();
   for (int i = 0; i < frames; ++i) {
     std::this_thread::sleep_until(start + std::chrono::microseconds(static_cast<int64_t>(i * 1e6 / 14.0)));

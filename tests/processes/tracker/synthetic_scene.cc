@@ -40,6 +40,9 @@ SyntheticScene::SyntheticScene(cv::Size size, uint64_t seed) {
     cv::rectangle(fields, cv::Rect(corner, extent), cv::Scalar(rng.uniform(-1.5, 1.5)), cv::FILLED);
   }
   accum += fields;
+  // Band-limit the whole texture (as a lens does) so that views at any
+  // sub-pixel offset are faithful samples of the same continuous image.
+  cv::GaussianBlur(accum, accum, cv::Size(), 1.0);
   accum.convertTo(texture_, CV_8U, 30.0, 128.0);
 }
 
@@ -47,7 +50,7 @@ cv::Mat SyntheticScene::render(const ViewPose& pose, cv::Size frame_size, double
                                uint64_t noise_seed) const {
   cv::Mat frame;
   cv::warpAffine(texture_, frame, frame_to_texture(pose, frame_size), frame_size,
-                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REFLECT_101);
+                 cv::INTER_LANCZOS4 | cv::WARP_INVERSE_MAP, cv::BORDER_REFLECT_101);
   if (noise_sigma > 0.0) {
     cv::RNG rng(noise_seed);
     cv::Mat noise(frame_size, CV_32F);

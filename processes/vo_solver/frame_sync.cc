@@ -1,0 +1,147 @@
+#include "processes/vo_solver/frame_sync.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "common/geometry.h"
+
+namespace nadir::vo {
+
+void SyncOptions::Check() const {
+  auto require = [](bool ok, const std::string& field, const std::string& range) {
+    if (!ok) throw std::invalid_argument("sync option " + field + " must be " + range);
+  };
+  require(max_ins_gap_us > 0 && max_ins_gap_us <= 10000000, "max_ins_gap_us", "in (0, 10 s]");
+  require(max_ins_extrapolation_us >= 0 && max_ins_extrapolation_us <= 1000000, "max_ins_extrapolation_us",
+          "in [0, 1 s]");
+  require(altimeter_staleness_us > 0 && altimeter_staleness_us <= 60000000, "altimeter_staleness_us",
+          "in (0, 60 s]");
+  require(altimeter_wait_us >= 0 && altimeter_wait_us <= 10000000, "altimeter_wait_us", "in [0, 10 s]");
+  require(max_frame_interval_us > 0 && max_frame_interval_us <= 60000000, "max_frame_interval_us", "in (0, 60 s]");
+  require(max_pending_frames >= 1 && max_pending_frames <= 10000, "max_pending_frames", "in [1, 10000]");
+  require(max_ins_samples >= 2 && max_ins_samples <= 1000000, "max_ins_samples", "in [2, 1e6]");
+  require(max_altimeter_samples >= 2 && max_altimeter_samples <= 1000000, "max_altimeter_samples", "in [2, 1e6]");
+  require(max_cached_frames >= 2 && max_cached_frames <= 100000, "max_cached_frames", "in [2, 1e5]");
+}
+
+FrameSync::FrameSync(const SyncOptions& options, const Eigen::Vector3d& default_beam_body)
+    : options_(options), default_beam_body_(default_beam_body.normalized()) {}
+
+void FrameSync::add_ins(const ins_t& ins) {
+  if (!std::isfinite(ins.roll) || !std::isfinite(ins.pitch) || !std::isfinite(ins.yaw)) return;
+  ins_[ins.utime] = Attitude{ins.roll, ins.pitch, ins.yaw};
+  while (static_cast<int>(ins_.size()) > options_.max_ins_samples) {
+    ins_.erase(ins_.begin());
+    ++dropped_samples_;
+  }
+}
+
+void FrameSync::add_altimeter(const altimeter_t& altimeter) {
+  Range range{altimeter.validity == altimeter_t::VALID_OK && std::isfinite(altimeter.range_m) &&
+                  altimeter.range_m > 0,
+              altimeter.range_m, default_beam_body_};
+  const Eigen::Vector3d beam(altimeter.beam_body[0], altimeter.beam_body[1], altimeter.beam_body[2]);
+  if (beam.allFinite() && beam.norm() > 0.5) range.beam_body = beam.normalized();
+  if (!range.valid) ++invalid_altimeter_;
+  altimeter_[altimeter.utime] = range;
+  while (static_cast<int>(altimeter_.size()) > options_.max_altimeter_samples) {
+    altimeter_.erase(altimeter_.begin());
+    ++dropped_samples_;
+  }
+}
+
+bool FrameSync::ready(int64_t utime) const {
+  if (cache_.count(utime)) return true;
+  if (ins_.empty() || ins_.rbegin()->first < utime) return false;
+  if (!altimeter_.empty() && altimeter_.rbegin()->first >= utime) return true;
+  return ins_.rbegin()->first >= utime + options_.altimeter_wait_us;
+}
+
+const FrameState& FrameSync::frame_state(int64_t utime) {
+  auto it = cache_.find(utime);
+  if (it != cache_.end()) return it->second;
+  it = cache_.emplace(utime, compute(utime)).first;
+  while (static_cast<int>(cache_.size()) > options_.max_cached_frames) {
+    // Drop the oldest frame, never the one just added.
+    if (cache_.begin()->first == utime) break;
+    cache_.erase(cache_.begin());
+  }
+  return it->second;
+}
+
+FrameState FrameSync::compute(int64_t utime) const {
+  FrameState state;
+  attitude_at(utime, &state);
+  range_at(utime, &state);
+  return state;
+}
+
+void FrameSync::attitude_at(int64_t utime, FrameState* state) const {
+  auto upper = ins_.lower_bound(utime);  // first sample at or after the frame
+  const bool has_upper = upper != ins_.end();
+  const bool has_lower = upper != ins_.begin();
+  auto set = [state](double roll, double pitch, double yaw) {
+    state->has_attitude = true;
+    state->roll = roll;
+    state->pitch = pitch;
+    state->yaw = yaw;
+  };
+  if (has_upper && upper->first == utime) {
+    set(upper->second.roll, upper->second.pitch, upper->second.yaw);
+    return;
+  }
+  if (has_upper && has_lower) {
+    auto lower = std::prev(upper);
+    if (upper->first - lower->first > options_.max_ins_gap_us) return;
+    const double f = static_cast<double>(utime - lower->first) / static_cast<double>(upper->first - lower->first);
+    // Slerp between the two attitudes: no wrap problems at +-180 deg yaw.
+    const Eigen::Quaterniond qa(rotation_from_rpy(lower->second.roll, lower->second.pitch, lower->second.yaw));
+    const Eigen::Quaterniond qb(rotation_from_rpy(upper->second.roll, upper->second.pitch, upper->second.yaw));
+    const Eigen::Vector3d rpy = rpy_from_rotation(qa.slerp(f, qb).toRotationMatrix());
+    set(rpy.x(), rpy.y(), rpy.z());
+    return;
+  }
+  if (has_upper && upper->first - utime <= options_.max_ins_extrapolation_us) {
+    set(upper->second.roll, upper->second.pitch, upper->second.yaw);
+  } else if (has_lower && utime - std::prev(upper)->first <= options_.max_ins_extrapolation_us) {
+    const auto& a = std::prev(upper)->second;
+    set(a.roll, a.pitch, a.yaw);
+  }
+}
+
+void FrameSync::range_at(int64_t utime, FrameState* state) const {
+  // Nearest valid samples on each side of the frame.
+  auto after = altimeter_.lower_bound(utime);
+  while (after != altimeter_.end() && !after->second.valid) ++after;
+  auto before = altimeter_.lower_bound(utime);
+  bool has_before = false;
+  while (before != altimeter_.begin()) {
+    --before;
+    if (before->second.valid) {
+      has_before = true;
+      break;
+    }
+  }
+  const bool has_after = after != altimeter_.end();
+  if (!has_before && !has_after) return;
+  const int64_t dt_before = has_before ? utime - before->first : INT64_MAX;
+  const int64_t dt_after = has_after ? after->first - utime : INT64_MAX;
+  const int64_t limit = options_.altimeter_staleness_us;
+  state->has_range = true;
+  if (dt_before <= limit && dt_after <= limit && dt_after > 0) {
+    const double span = static_cast<double>(after->first - before->first);
+    const double f = span > 0 ? static_cast<double>(dt_before) / span : 0.0;
+    state->range_m = before->second.range_m + f * (after->second.range_m - before->second.range_m);
+    state->beam_body = (f < 0.5 ? before : after)->second.beam_body;
+    return;
+  }
+  const auto& nearest = dt_before <= dt_after ? before->second : after->second;
+  state->range_m = nearest.range_m;
+  state->beam_body = nearest.beam_body;
+  state->range_stale = std::min(dt_before, dt_after) > limit;
+}
+
+}  // namespace nadir::vo

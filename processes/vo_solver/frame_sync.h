@@ -1,0 +1,83 @@
+#pragma once
+// Synchronises INS attitude and altimeter range to frame times by sensor time
+// only (DESIGN.md "Runtime"). Each frame time gets one attitude and one range,
+// computed once and cached, so a frame has the same attitude in both pairs it
+// belongs to (that is what makes roll/pitch errors telescope, paper eq. 21-23).
+// Bounded buffers; independent of the bus.
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <map>
+
+#include "nadir/altimeter_t.hpp"
+#include "nadir/ins_t.hpp"
+
+namespace nadir::vo {
+
+struct SyncOptions {
+  int64_t max_ins_gap_us = 100000;           // bracketing INS samples farther apart: no attitude
+  int64_t max_ins_extrapolation_us = 20000;  // one-sided INS sample at most this far: used as is
+  int64_t altimeter_staleness_us = 200000;   // nearest valid range farther than this: stale
+  int64_t altimeter_wait_us = 300000;        // INS time to wait for an altimeter sample after a frame
+  int64_t max_frame_interval_us = 250000;    // prev -> curr longer than this: frame gap
+  int max_pending_frames = 64;               // TRACKS waiting for INS; the oldest is flushed flagged
+  int max_ins_samples = 3000;                // buffer sizes (oldest by utime dropped first)
+  int max_altimeter_samples = 2000;
+  int max_cached_frames = 256;
+  // Throws std::invalid_argument naming the field and the allowed range.
+  void Check() const;
+};
+
+struct FrameState {
+  bool has_attitude = false;
+  double roll = 0, pitch = 0, yaw = 0;
+  bool has_range = false;   // a valid range was found (maybe stale)
+  bool range_stale = false;
+  double range_m = 0;
+  Eigen::Vector3d beam_body = Eigen::Vector3d::UnitZ();
+};
+
+class FrameSync {
+ public:
+  FrameSync(const SyncOptions& options, const Eigen::Vector3d& default_beam_body);
+
+  void add_ins(const ins_t& ins);
+  void add_altimeter(const altimeter_t& altimeter);
+
+  // True once the inputs for a frame at `utime` are final: an INS sample at
+  // or after it exists, and an altimeter sample at or after it exists or the
+  // INS has run altimeter_wait_us past it.
+  bool ready(int64_t utime) const;
+
+  // The frame's attitude and range, computed on first use and then cached.
+  const FrameState& frame_state(int64_t utime);
+
+  size_t ins_samples() const { return ins_.size(); }
+  size_t altimeter_samples() const { return altimeter_.size(); }
+  int64_t invalid_altimeter_samples() const { return invalid_altimeter_; }
+  int64_t dropped_samples() const { return dropped_samples_; }
+
+ private:
+  struct Attitude {
+    double roll, pitch, yaw;
+  };
+  struct Range {
+    bool valid;
+    double range_m;
+    Eigen::Vector3d beam_body;
+  };
+  FrameState compute(int64_t utime) const;
+  void attitude_at(int64_t utime, FrameState* state) const;
+  void range_at(int64_t utime, FrameState* state) const;
+
+  SyncOptions options_;
+  Eigen::Vector3d default_beam_body_;
+  std::map<int64_t, Attitude> ins_;
+  std::map<int64_t, Range> altimeter_;
+  std::map<int64_t, FrameState> cache_;
+  int64_t invalid_altimeter_ = 0;
+  int64_t dropped_samples_ = 0;
+};
+
+}  // namespace nadir::vo

@@ -1,0 +1,363 @@
+#include "processes/vo_solver/translation_solver.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "processes/vo_solver/plane_model.h"
+#include "processes/vo_solver/solver_support.h"
+
+namespace nadir::vo {
+
+Variant variant_from_name(const std::string& name) {
+  if (name == "paper") return Variant::kPaper;
+  if (name == "level_ground") return Variant::kLevelGround;
+  if (name == "homography") return Variant::kHomography;
+  if (name == "flow") return Variant::kFlow;
+  throw std::invalid_argument("unknown solver variant '" + name + "' (allowed: paper, level_ground, homography, flow)");
+}
+
+std::string variant_name(Variant variant) {
+  switch (variant) {
+    case Variant::kPaper: return "paper";
+    case Variant::kLevelGround: return "level_ground";
+    case Variant::kHomography: return "homography";
+    case Variant::kFlow: return "flow";
+  }
+  return "unknown";
+}
+
+namespace {
+void require(bool ok, const std::string& field, const std::string& range) {
+  if (!ok) throw std::invalid_argument("solver option " + field + " must be " + range);
+}
+}  // namespace
+
+void SolverOptions::Check() const {
+  require(focal_px > 1 && focal_px < 1e5, "focal_px", "in (1, 1e5)");
+  require(min_features >= 5 && min_features <= 10000, "min_features", "in [5, 10000]");
+  require(max_robust_iterations >= 1 && max_robust_iterations <= 100, "max_robust_iterations", "in [1, 100]");
+  require(max_lm_iterations >= 1 && max_lm_iterations <= 100, "max_lm_iterations", "in [1, 100]");
+  require(min_threshold_px > 0 && min_threshold_px <= 100, "min_threshold_px", "in (0, 100]");
+  require(threshold_mad_scale >= 1 && threshold_mad_scale <= 20, "threshold_mad_scale", "in [1, 20]");
+  require(convergence_tolerance > 0 && convergence_tolerance <= 1e-2, "convergence_tolerance", "in (0, 1e-2]");
+  require(max_residual_rms_px > 0 && max_residual_rms_px <= 100, "max_residual_rms_px", "in (0, 100]");
+  require(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, "min_inlier_fraction", "in [0, 1]");
+  require(homography_ransac_px > 0 && homography_ransac_px <= 100, "homography_ransac_px", "in (0, 100]");
+}
+
+Estimate solve(const FramePair& pair, const SolverOptions& options) {
+  switch (options.variant) {
+    case Variant::kPaper: return solve_paper(pair, options, true);
+    case Variant::kLevelGround: return solve_paper(pair, options, false);
+    case Variant::kHomography: return solve_homography(pair, options);
+    case Variant::kFlow: return solve_flow(pair, options);
+  }
+  return solve_paper(pair, options, true);
+}
+
+namespace {
+
+// Everything Algorithm 1 iterates on.
+struct PaperProblem {
+  std::vector<LevelFeature> features;
+  std::vector<int> index;  // feature -> index in the input pair
+  std::vector<Eigen::Vector2d> prev_measured;
+  Eigen::Matrix3d prev_level_from_camera;
+  PlaneGeometry plane;
+  double height = 0;  // nominal vertical height (range * beam.z), scales residuals
+  int num_params = 5;
+};
+
+// Weighted normal equations of the scaled residuals r / height.
+double accumulate(const PaperProblem& problem, const Params& params, const std::vector<double>& w,
+                  Eigen::Matrix<double, 5, 5>* h, Eigen::Matrix<double, 5, 1>* g) {
+  const double scale = 1.0 / problem.height;
+  double cost = 0;
+  if (h) h->setZero();
+  if (g) g->setZero();
+  JacobianRow row;
+  for (size_t i = 0; i < problem.features.size(); ++i) {
+    if (w[i] <= 0) continue;
+    const double r = scale * plane_residual(problem.features[i], problem.plane, params, h ? &row : nullptr);
+    cost += w[i] * r * r;
+    if (h) {
+      row *= scale;
+      h->selfadjointView<Eigen::Upper>().rankUpdate(row.transpose(), w[i]);
+      *g += w[i] * r * row.transpose();
+    }
+  }
+  if (h) *h = h->selfadjointView<Eigen::Upper>();
+  return cost;
+}
+
+// dz from eq. (7): each feature's depth in V^{k-1} (least squares along its
+// ray) minus its rotated depth in V^k; weighted mean with the robust weights
+// times |u_xy|^2 (a feature at the nadir says nothing about dz).
+double estimate_dz(const PaperProblem& problem, const Params& p, const std::vector<double>& w, double* variance) {
+  const Eigen::Matrix3d rz = rot_z(p(2));
+  const Eigen::Vector3d normal = ground_normal(problem.plane, p(3), p(4));
+  double sum_v = 0, sum_vz = 0, sum_v2 = 0;
+  std::vector<std::pair<double, double>> samples;
+  samples.reserve(problem.features.size());
+  for (size_t i = 0; i < problem.features.size(); ++i) {
+    if (w[i] <= 0) continue;
+    const LevelFeature& f = problem.features[i];
+    Eigen::Vector3d point;
+    if (!ground_point(problem.plane, normal, f.v, &point)) continue;
+    const Eigen::Vector3d q = rz * point;
+    const double ux = f.u.x(), uy = f.u.y();
+    const double uu = ux * ux + uy * uy;
+    if (uu < 1e-12) continue;
+    const double depth_prev = (ux * (q.x() + p(0)) + uy * (q.y() + p(1))) / uu;
+    const double dz_i = depth_prev - q.z();
+    const double v = w[i] * uu;
+    sum_v += v;
+    sum_vz += v * dz_i;
+    sum_v2 += v * v;
+    samples.emplace_back(v, dz_i);
+  }
+  if (sum_v <= 0) {
+    if (variance) *variance = std::numeric_limits<double>::infinity();
+    return 0.0;
+  }
+  const double dz = sum_vz / sum_v;
+  if (variance) {
+    double spread = 0;
+    for (const auto& [v, dz_i] : samples) spread += v * v * (dz_i - dz) * (dz_i - dz);
+    const double n = static_cast<double>(samples.size());
+    *variance = n > 1 ? spread / (sum_v * sum_v) * n / (n - 1) : std::numeric_limits<double>::infinity();
+  }
+  return dz;
+}
+
+// Image reprojection error (pixels) of each feature in the prev image.
+void reprojection_errors(const PaperProblem& problem, const Params& p, double dz, double focal_px,
+                         std::vector<double>* ire) {
+  ire->resize(problem.features.size());
+  const Eigen::Matrix3d camera_from_level = problem.prev_level_from_camera.transpose();
+  for (size_t i = 0; i < problem.features.size(); ++i) {
+    Eigen::Vector3d prev_point;
+    (*ire)[i] = std::numeric_limits<double>::infinity();
+    if (!predict_prev_point(problem.features[i], problem.plane, p, dz, &prev_point)) continue;
+    const Eigen::Vector3d cam = camera_from_level * prev_point;
+    if (!(cam.z() > 1e-9)) continue;
+    (*ire)[i] = focal_px * (cam.head<2>() / cam.z() - problem.prev_measured[i]).norm();
+  }
+}
+
+// Linear method (eq. 13): tilt 0, yaw linearized; SVD least squares on m x 3.
+bool linear_initialization(const PaperProblem& problem, Params* params) {
+  const int m = static_cast<int>(problem.features.size());
+  const double d = problem.plane.range_m * problem.plane.beam.z();
+  Eigen::MatrixXd a(m, 3);
+  Eigen::VectorXd b(m);
+  for (int i = 0; i < m; ++i) {
+    const LevelFeature& f = problem.features[i];
+    a(i, 0) = -f.u.y();
+    a(i, 1) = f.u.x();
+    a(i, 2) = d * (f.u.x() * f.v.x() + f.u.y() * f.v.y());
+    b(i) = -d * (f.u.x() * f.v.y() - f.u.y() * f.v.x());
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const auto& sv = svd.singularValues();
+  if (!(sv(2) > 1e-9 * sv(0))) return false;
+  const Eigen::Vector3d x = svd.solve(b);
+  params->setZero();
+  params->head<3>() = x;
+  return x.allFinite();
+}
+
+// One Levenberg-Marquardt run (eq. 15) at fixed weights; re-levels the
+// virtual camera after every accepted step (Algorithm 1 lines 10-12).
+int levenberg_marquardt(PaperProblem* problem, Params* params, const std::vector<double>& w,
+                        const SolverOptions& options, bool* degenerate) {
+  const int np = problem->num_params;
+  double lambda = 1e-3;
+  int iterations = 0;
+  Eigen::Matrix<double, 5, 5> h;
+  Eigen::Matrix<double, 5, 1> g;
+  double cost = accumulate(*problem, *params, w, &h, &g);
+  for (int it = 0; it < options.max_lm_iterations; ++it) {
+    Eigen::MatrixXd a = h.topLeftCorner(np, np);
+    a.diagonal() *= (1.0 + lambda);
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(a);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
+      *degenerate = true;
+      return iterations;
+    }
+    const Eigen::VectorXd step = ldlt.solve(-g.head(np));
+    if (!step.allFinite()) {
+      *degenerate = true;
+      return iterations;
+    }
+    Params trial = *params;
+    trial.head(np) += step;
+    PlaneGeometry saved = problem->plane;
+    if (np == 5) {
+      // Re-level: fold the tilt increment into the virtual camera, restart it at 0.
+      problem->plane.relevel = ground_relevel(problem->plane, trial(3), trial(4));
+      trial(3) = trial(4) = 0;
+    }
+    const double trial_cost = accumulate(*problem, trial, w, nullptr, nullptr);
+    if (trial_cost <= cost) {
+      *params = trial;
+      ++iterations;
+      lambda = std::max(lambda * 0.1, 1e-12);
+      const double change = std::max(step.head<2>().cwiseAbs().maxCoeff() / problem->height,
+                                     step.tail(np - 2).cwiseAbs().maxCoeff());
+      cost = accumulate(*problem, *params, w, &h, &g);
+      if (change < options.convergence_tolerance * 1e-3) break;
+    } else {
+      problem->plane = saved;
+      lambda *= 10.0;
+      if (lambda > 1e10) break;  // at a minimum to machine precision
+    }
+  }
+  return iterations;
+}
+
+}  // namespace
+
+Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
+  Estimate est;
+  const size_t n = pair.prev_norm.size();
+  est.weights.assign(n, 0.0);
+  if (pair.curr_norm.size() != n) {
+    est.quality |= kTooFewFeatures;
+    return est;
+  }
+  PaperProblem problem;
+  problem.num_params = estimate_tilt ? 5 : 3;
+  problem.prev_level_from_camera = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
+  const Eigen::Matrix3d curr_level_from_camera =
+      level_from_camera(pair.curr_roll, pair.curr_pitch, pair.body_from_camera);
+  const Eigen::Matrix3d curr_level_from_body = level_from_camera(pair.curr_roll, pair.curr_pitch,
+                                                                 Eigen::Matrix3d::Identity());
+  problem.plane.range_m = pair.curr_range_m;
+  problem.plane.beam = (curr_level_from_body * pair.curr_beam_body).normalized();
+  problem.height = pair.curr_range_m * problem.plane.beam.z();
+  if (!(pair.curr_range_m > 0) || !std::isfinite(pair.curr_range_m) || !(problem.height > 0) ||
+      !problem.plane.beam.allFinite()) {
+    est.quality |= kNoAltimeter;
+    return est;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d u = problem.prev_level_from_camera * pair.prev_norm[i].homogeneous();
+    const Eigen::Vector3d v = curr_level_from_camera * pair.curr_norm[i].homogeneous();
+    if (!u.allFinite() || !v.allFinite() || u.z() < 1e-6 || v.z() < 1e-6) continue;
+    problem.features.push_back({u / u.z(), v / v.z()});
+    problem.index.push_back(static_cast<int>(i));
+    problem.prev_measured.push_back(pair.prev_norm[i]);
+  }
+  const int m = static_cast<int>(problem.features.size());
+  if (m < std::max(options.min_features, problem.num_params)) {
+    est.quality |= kTooFewFeatures;
+    est.outliers = static_cast<int>(n);
+    return est;
+  }
+
+  Params params;
+  if (!linear_initialization(problem, &params)) {
+    est.quality |= kNotConverged;
+    return est;
+  }
+  std::vector<double> w(m, 1.0), ire;
+  double dz = estimate_dz(problem, params, w, nullptr);
+  bool converged = false, degenerate = false;
+  for (int outer = 0; outer < options.max_robust_iterations && !degenerate; ++outer) {
+    // Line 8: weights from the image reprojection errors (Tukey biweight,
+    // zero beyond a threshold that shrinks with the robust spread of the IREs).
+    reprojection_errors(problem, params, dz, options.focal_px, &ire);
+    const double threshold =
+        std::max(options.min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
+    int used = 0;
+    for (int i = 0; i < m; ++i) {
+      const double e = ire[i] / threshold;
+      w[i] = e < 1.0 ? (1 - e * e) * (1 - e * e) : 0.0;
+      used += w[i] > 0;
+    }
+    if (used < std::max(options.min_features, problem.num_params)) break;
+    const Params before = params;
+    const Eigen::Vector3d normal_before = ground_normal(problem.plane, 0, 0);
+    est.iterations += levenberg_marquardt(&problem, &params, w, options, &degenerate);
+    dz = estimate_dz(problem, params, w, nullptr);
+    const double change = std::max({(params.head<2>() - before.head<2>()).cwiseAbs().maxCoeff() / problem.height,
+                                    std::abs(params(2) - before(2)),
+                                    (ground_normal(problem.plane, 0, 0) - normal_before).cwiseAbs().maxCoeff()});
+    if (change < options.convergence_tolerance) {
+      converged = true;
+      break;
+    }
+  }
+
+  // Outputs from the final weights.
+  double dz_variance = 0;
+  dz = estimate_dz(problem, params, w, &dz_variance);
+  reprojection_errors(problem, params, dz, options.focal_px, &ire);
+  double sum_sq = 0;
+  for (int i = 0; i < m; ++i) {
+    est.weights[problem.index[i]] = w[i];
+    if (w[i] > 0) {
+      ++est.inliers;
+      sum_sq += ire[i] * ire[i];
+    }
+  }
+  est.outliers = static_cast<int>(n) - est.inliers;
+  est.residual_rms_px = est.inliers > 0 ? std::sqrt(sum_sq / est.inliers) : 0.0;
+  est.translation = Eigen::Vector3d(params(0), params(1), dz);
+  est.dyaw = params(2);
+  const Eigen::Vector3d normal = ground_normal(problem.plane, 0, 0);
+  tilt_from_normal(normal, &est.ground_roll, &est.ground_pitch);
+  est.altitude_m = prev_vertical_height(normal, problem.plane.range_m * normal.dot(problem.plane.beam), est.dyaw,
+                                        est.translation);
+
+  // Covariance: sigma^2 (J^T W J)^-1 for the fitted unknowns, mapped to the
+  // output order; dz from the spread of its weighted mean.
+  Eigen::Matrix<double, 5, 5> h;
+  Eigen::Matrix<double, 5, 1> g;
+  const double cost = accumulate(problem, params, w, &h, &g);
+  const int np = problem.num_params;
+  double sum_w = 0;
+  for (double wi : w) sum_w += wi;
+  Eigen::MatrixXd cov_p = Eigen::MatrixXd::Zero(np, np);
+  if (est.inliers > np) {
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(h.topLeftCorner(np, np));
+    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+      const double sigma2 = cost / sum_w * est.inliers / (est.inliers - np);
+      cov_p = sigma2 * ldlt.solve(Eigen::MatrixXd::Identity(np, np));
+    } else {
+      degenerate = true;
+    }
+  }
+  Eigen::Matrix<double, 6, 5> map = Eigen::Matrix<double, 6, 5>::Zero();
+  map(0, 0) = 1;
+  map(1, 1) = 1;
+  map(3, 2) = 1;
+  if (np == 5) {
+    const Eigen::Vector3d dn_droll = -problem.plane.relevel.col(1);
+    const Eigen::Vector3d dn_dpitch = problem.plane.relevel.col(0);
+    const double xz = normal.x() * normal.x() + normal.z() * normal.z();
+    const double root = std::sqrt(std::max(1e-12, 1 - normal.y() * normal.y()));
+    map(4, 3) = -dn_droll.y() / root;
+    map(4, 4) = -dn_dpitch.y() / root;
+    map(5, 3) = (normal.z() * dn_droll.x() - normal.x() * dn_droll.z()) / xz;
+    map(5, 4) = (normal.z() * dn_dpitch.x() - normal.x() * dn_dpitch.z()) / xz;
+  }
+  est.covariance = map.leftCols(np) * cov_p * map.leftCols(np).transpose();
+  est.covariance(2, 2) = dz_variance;
+
+  if (!converged || degenerate) est.quality |= kNotConverged;
+  if (est.inliers < std::max(options.min_features, np)) est.quality |= kTooFewFeatures;
+  if (est.residual_rms_px > options.max_residual_rms_px ||
+      est.inliers < options.min_inlier_fraction * static_cast<double>(n)) {
+    est.quality |= kHighResidual;
+  }
+  if (!est.translation.allFinite() || !std::isfinite(est.dyaw)) est.quality |= kNotConverged;
+  return est;
+}
+
+}  // namespace nadir::vo

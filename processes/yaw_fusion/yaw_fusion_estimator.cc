@@ -1,0 +1,406 @@
+#include "processes/yaw_fusion/yaw_fusion_estimator.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "common/geometry.h"
+
+namespace nadir {
+
+namespace {
+
+constexpr double kUnknownYawVariance = M_PI * M_PI;  // no INS yaw at the first frame
+constexpr int64_t kPreStartInsKeepUs = 10'000'000;   // INS kept before the first delta
+
+double square(double v) { return v * v; }
+
+bool all_finite(const vo_delta_t& d) {
+  return std::isfinite(d.dx) && std::isfinite(d.dy) && std::isfinite(d.dz) && std::isfinite(d.dyaw);
+}
+
+std::string utime_label(const char* channel, int64_t utime) {
+  std::ostringstream text;
+  text << channel << " utime " << utime << ": ";
+  return text.str();
+}
+
+}  // namespace
+
+YawFusionEstimator::YawFusionEstimator(const YawFusionOptions& options)
+    : options_(options), sensor_now_(std::numeric_limits<int64_t>::min()) {
+  options_.Check();
+}
+
+bool YawFusionEstimator::vo_lost() const {
+  return started_ && sensor_now_ - last_good_utime_ > static_cast<int64_t>(options_.gap_max_duration_s * 1e6);
+}
+
+std::vector<pose_t> YawFusionEstimator::add_vo_delta(const vo_delta_t& delta) {
+  ++counters_.vo_deltas_received;
+  std::vector<pose_t> out;
+  const int64_t interval = delta.utime - delta.prev_utime;
+  if (delta.prev_utime <= 0 || interval <= 0 || interval > static_cast<int64_t>(options_.max_delta_interval_s * 1e6)) {
+    ++counters_.vo_deltas_invalid;
+    note_problem(utime_label("VO_DELTA", delta.utime) + "prev_utime " + std::to_string(delta.prev_utime) +
+                 " gives an interval outside (0, max_delta_interval_s]");
+    return out;
+  }
+  if (started_ && delta.utime <= last_frame_utime_) {
+    ++counters_.vo_deltas_late;
+    note_problem(utime_label("VO_DELTA", delta.utime) + "arrived after that frame time was published");
+    return out;
+  }
+  if (!pending_.emplace(delta.utime, delta).second) {
+    ++counters_.vo_deltas_duplicate;
+    note_problem(utime_label("VO_DELTA", delta.utime) + "duplicate frame time, ignored");
+    return out;
+  }
+  sensor_now_ = std::max(sensor_now_, delta.utime);
+  pump(&out);
+  return out;
+}
+
+std::vector<pose_t> YawFusionEstimator::add_ins(const ins_t& ins) {
+  ++counters_.ins_received;
+  std::vector<pose_t> out;
+  if (ins.utime <= 0 || !std::isfinite(ins.roll) || !std::isfinite(ins.pitch) || !std::isfinite(ins.yaw) ||
+      std::abs(ins.roll) > M_PI || std::abs(ins.pitch) > M_PI_2 || std::abs(ins.yaw) > 2.0 * M_PI) {
+    ++counters_.ins_invalid;
+    note_problem(utime_label("INS", ins.utime) + "non-finite or out-of-range attitude (or utime <= 0)");
+    return out;
+  }
+  AttitudeSample sample;
+  sample.utime = ins.utime;
+  sample.roll = ins.roll;
+  sample.pitch = ins.pitch;
+  sample.yaw = wrap_angle(ins.yaw);
+  double stddev = deg_to_rad(options_.ins_yaw_stddev_deg);
+  if (ins.has_stddev && std::isfinite(ins.attitude_stddev[2]) && ins.attitude_stddev[2] > 0.0) {
+    stddev = ins.attitude_stddev[2];
+  }
+  sample.yaw_variance = stddev > deg_to_rad(options_.max_ins_yaw_stddev_deg) ? -1.0 : square(stddev);
+  if (!ins_.add(sample)) {
+    ++counters_.ins_duplicate;
+    return out;
+  }
+  sensor_now_ = std::max(sensor_now_, ins.utime);
+  pump(&out);
+  return out;
+}
+
+std::vector<pose_t> YawFusionEstimator::add_altimeter(const altimeter_t& altimeter) {
+  ++counters_.altimeter_received;
+  std::vector<pose_t> out;
+  if (altimeter.utime <= 0) {
+    ++counters_.altimeter_invalid;
+    note_problem(utime_label("ALTIMETER", altimeter.utime) + "utime <= 0");
+    return out;
+  }
+  const Eigen::Vector3d beam(altimeter.beam_body[0], altimeter.beam_body[1], altimeter.beam_body[2]);
+  const bool usable = altimeter.validity == altimeter_t::VALID_OK && std::isfinite(altimeter.range_m) &&
+                      altimeter.range_m > 0.0 && beam.allFinite() && beam.norm() > 0.5 && beam.norm() < 1.5;
+  if (usable) {
+    RangeSample sample;
+    sample.utime = altimeter.utime;
+    sample.range_m = altimeter.range_m;
+    sample.beam_body = beam.normalized();
+    altimeter_.add(sample);
+  } else {
+    ++counters_.altimeter_invalid;
+    altimeter_.note_time(altimeter.utime);
+  }
+  sensor_now_ = std::max(sensor_now_, altimeter.utime);
+  pump(&out);
+  return out;
+}
+
+bool YawFusionEstimator::delta_ready(const vo_delta_t& delta) const {
+  if (sensor_now_ >= delta.utime + options_.ins_wait_us()) return true;
+  if (static_cast<int>(pending_.size()) > options_.max_pending_deltas) return true;
+  if (ins_.newest_utime() < delta.utime) return false;
+  return altimeter_.newest_utime() >= delta.utime || sensor_now_ >= delta.utime + options_.altimeter_wait_us();
+}
+
+void YawFusionEstimator::pump(std::vector<pose_t>* out) {
+  const size_t poses_before = out->size();
+  const int64_t period = options_.frame_period_us();
+  const int64_t tolerance = static_cast<int64_t>(options_.frame_time_tolerance_s * 1e6);
+  const int64_t max_gap = static_cast<int64_t>(options_.gap_max_duration_s * 1e6);
+  // A gap pose at t is due when no delta covers t: deltas arrive in order on
+  // their own channel, so only the first pending one can.
+  auto gap_due = [&](int64_t t) {
+    if (t - last_good_utime_ > max_gap) return false;
+    return pending_.empty() || pending_.begin()->second.prev_utime > t + period / 2;
+  };
+  auto emit_gap_pose = [&](int64_t t) {
+    int32_t flags = pose_t::FLAG_VO_GAP | advance_without_vo(t);
+    const double fallback = have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN();
+    flags |= update_height(t, fallback);
+    out->push_back(make_pose(t, flags));
+    ++counters_.gap_poses;
+  };
+  while (true) {
+    if (!pending_.empty()) {
+      const vo_delta_t& next = pending_.begin()->second;
+      if (started_ && (next.utime <= last_frame_utime_ || next.prev_utime < last_frame_utime_ - tolerance)) {
+        ++counters_.vo_deltas_late;
+        note_problem(utime_label("VO_DELTA", next.utime) + "overlaps poses already published, dropped");
+        pending_.erase(pending_.begin());
+        continue;
+      }
+      if (delta_ready(next)) {
+        if (started_ && gap_due(last_frame_utime_ + period)) {
+          emit_gap_pose(last_frame_utime_ + period);
+          continue;
+        }
+        const vo_delta_t delta = next;
+        pending_.erase(pending_.begin());
+        if (!started_) start(delta, out);
+        process_delta(delta, out);
+        continue;
+      }
+      if (!started_) break;
+    }
+    if (started_) {
+      const int64_t t = last_frame_utime_ + period;
+      if (gap_due(t) && sensor_now_ >= t + options_.ins_wait_us()) {
+        emit_gap_pose(t);
+        continue;
+      }
+    }
+    break;
+  }
+  counters_.poses += static_cast<int64_t>(out->size() - poses_before);
+  if (started_) {
+    ins_.forget_before(last_frame_utime_);
+    altimeter_.forget_before(last_frame_utime_ - static_cast<int64_t>(options_.max_altimeter_age_s * 1e6));
+  } else {
+    ins_.forget_before(sensor_now_ - kPreStartInsKeepUs);
+    altimeter_.forget_before(sensor_now_ - kPreStartInsKeepUs);
+  }
+}
+
+void YawFusionEstimator::start(const vo_delta_t& first, std::vector<pose_t>* out) {
+  const int64_t t0 = first.prev_utime;
+  const auto attitude = ins_.at(t0, static_cast<int64_t>(options_.max_ins_bracket_s * 1e6));
+  if (attitude && attitude->yaw_variance >= 0.0) {
+    filter_.initialise(attitude->yaw, attitude->yaw_variance);
+    yaw_from_ins_ = true;
+  } else {
+    // Heading unknown: integrate in an arbitrary frame, flagged initialising,
+    // until an INS yaw arrives (it passes any gate against this variance).
+    filter_.initialise(0.0, kUnknownYawVariance);
+    ++counters_.ins_yaw_unusable;
+  }
+  if (attitude) {
+    roll_ = attitude->roll;
+    pitch_ = attitude->pitch;
+  }
+  started_ = true;
+  last_frame_utime_ = t0;
+  last_good_utime_ = t0;
+  const int32_t flags = pose_t::FLAG_INITIALIZING | update_height(t0, std::numeric_limits<double>::quiet_NaN());
+  out->push_back(make_pose(t0, flags));
+}
+
+bool YawFusionEstimator::delta_values_valid(const vo_delta_t& delta, std::string* why) const {
+  if (!all_finite(delta)) {
+    *why = "non-finite dx/dy/dz/dyaw";
+    return false;
+  }
+  if (std::abs(delta.dyaw) >= M_PI_2) {
+    *why = "dyaw beyond +-90 deg between frames";
+    return false;
+  }
+  Eigen::Matrix4d cov;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) cov(r, c) = delta.covariance[r][c];
+  }
+  if (!cov.allFinite()) {
+    *why = "non-finite covariance";
+    return false;
+  }
+  const Eigen::Matrix4d sym = 0.5 * (cov + cov.transpose());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(sym, Eigen::EigenvaluesOnly);
+  const double largest = std::max(1e-30, eig.eigenvalues().cwiseAbs().maxCoeff());
+  if (eig.eigenvalues().minCoeff() < -1e-9 * largest) {
+    *why = "covariance over (dx, dy, dz, dyaw) is not positive semi-definite";
+    return false;
+  }
+  return true;
+}
+
+void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose_t>* out) {
+  int32_t flags = 0;
+  const int64_t tolerance = static_cast<int64_t>(options_.frame_time_tolerance_s * 1e6);
+  if (delta.prev_utime > last_frame_utime_ + tolerance) {
+    // The delta(s) before this one are missing: dead-reckon to its start so
+    // it is registered with the yaw at its own previous frame.
+    flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.prev_utime);
+    ++counters_.gap_bridges;
+  }
+  std::string why;
+  const bool valid = delta_values_valid(delta, &why);
+  const bool quality_ok = (delta.quality & options_.reject_quality_mask) == 0;
+  if (!valid) {
+    ++counters_.vo_deltas_invalid;
+    note_problem(utime_label("VO_DELTA", delta.utime) + why);
+  } else if (!quality_ok) {
+    ++counters_.vo_deltas_quality_rejected;
+  }
+  if (!valid || !quality_ok) {
+    flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.utime);
+    const double fallback = have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN();
+    flags |= update_height(delta.utime, fallback);
+    out->push_back(make_pose(delta.utime, flags));
+    return;
+  }
+  if (ins_.newest_utime() < delta.utime) ++counters_.vo_deltas_without_ins;
+
+  Eigen::Matrix4d cov;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) cov(r, c) = 0.5 * (delta.covariance[r][c] + delta.covariance[c][r]);
+  }
+  for (int i = 0; i < 3; ++i) cov(i, i) = std::max(cov(i, i), square(options_.min_translation_stddev_m));
+  cov(3, 3) = std::max(cov(3, 3), square(deg_to_rad(options_.min_dyaw_stddev_deg)));
+
+  const Eigen::Vector3d world =
+      filter_.predict_with_delta(Eigen::Vector3d(delta.dx, delta.dy, delta.dz), delta.dyaw, cov);
+  const double dt = static_cast<double>(delta.utime - delta.prev_utime) * 1e-6;
+  last_velocity_ = world / dt;
+  velocity_out_ = last_velocity_;
+  last_frame_utime_ = delta.utime;
+  last_good_utime_ = delta.utime;
+  ++frames_;
+  ++counters_.vo_deltas_integrated;
+
+  flags |= update_attitude(delta.utime);
+  double fallback = std::numeric_limits<double>::quiet_NaN();
+  if (std::isfinite(delta.altitude_m) && delta.altitude_m > 0.0) {
+    fallback = delta.altitude_m - delta.dz;  // height at the previous frame, minus the descent
+  } else if (have_height_) {
+    fallback = height_agl_ - world.z();
+  }
+  flags |= update_height(delta.utime, fallback);
+  out->push_back(make_pose(delta.utime, flags));
+}
+
+int32_t YawFusionEstimator::advance_without_vo(int64_t utime) {
+  if (utime <= last_frame_utime_) return 0;
+  const double max_prop = options_.gap_max_propagation_s;
+  const double e0 = static_cast<double>(last_frame_utime_ - last_good_utime_) * 1e-6;
+  const double e1 = static_cast<double>(utime - last_good_utime_) * 1e-6;
+  const double dead_reckoned = std::max(0.0, std::min(e1, max_prop) - e0);
+  const Eigen::Vector3d displacement = last_velocity_ * dead_reckoned;
+  // Position error after e seconds of gap: the last velocity off by
+  // sigma_v for the dead-reckoned part, then by |v| + sigma_v while holding.
+  const double sigma_v = options_.gap_velocity_stddev_mps;
+  const double sigma_hold = sigma_v + last_velocity_.norm();
+  auto position_sigma = [&](double e) {
+    return e <= max_prop ? sigma_v * e : sigma_v * max_prop + sigma_hold * (e - max_prop);
+  };
+  const double position_var = square(position_sigma(e1)) - square(position_sigma(e0));
+  const double yaw_rate_sigma = deg_to_rad(options_.gap_yaw_rate_stddev_dps);
+  const double yaw_var = square(yaw_rate_sigma) * (e1 * e1 - e0 * e0);
+  filter_.propagate_without_vo(displacement, Eigen::Vector3d::Constant(position_var), yaw_var);
+  velocity_out_ = e1 <= max_prop ? last_velocity_ : Eigen::Vector3d::Zero();
+  last_frame_utime_ = utime;
+  return update_attitude(utime);
+}
+
+int32_t YawFusionEstimator::update_attitude(int64_t utime) {
+  const auto attitude = ins_.at(utime, static_cast<int64_t>(options_.max_ins_bracket_s * 1e6));
+  if (!attitude) {
+    ++counters_.ins_yaw_unusable;  // roll/pitch held from the last frame
+    return 0;
+  }
+  roll_ = attitude->roll;
+  pitch_ = attitude->pitch;
+  if (attitude->yaw_variance < 0.0) {
+    ++counters_.ins_yaw_unusable;
+    return 0;
+  }
+  if (!yaw_from_ins_) {
+    filter_.reset_yaw(attitude->yaw, attitude->yaw_variance);
+    yaw_from_ins_ = true;
+    ++counters_.ins_yaw_updates;
+    return 0;
+  }
+  const auto result = filter_.update_yaw(attitude->yaw, attitude->yaw_variance, options_.ins_yaw_gate_sigma);
+  if (result == PoseFilter::UpdateResult::kAccepted) {
+    ++counters_.ins_yaw_updates;
+    consecutive_yaw_rejections_ = 0;
+    return 0;
+  }
+  ++counters_.ins_yaw_rejected;
+  ++consecutive_yaw_rejections_;
+  if (consecutive_yaw_rejections_ >= options_.max_consecutive_yaw_rejections) {
+    // The INS has disagreed for too long to be an outlier: trust it again.
+    std::ostringstream text;
+    text << utime_label("INS", utime) << "yaw re-initialised after " << consecutive_yaw_rejections_
+         << " rejections (innovation " << rad_to_deg(filter_.last_yaw_innovation()) << " deg)";
+    note_problem(text.str());
+    filter_.reset_yaw(attitude->yaw, attitude->yaw_variance);
+    ++counters_.yaw_reinitialised;
+    consecutive_yaw_rejections_ = 0;
+  }
+  return pose_t::FLAG_INS_YAW_REJECTED;
+}
+
+int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height) {
+  const auto height =
+      altimeter_.height_agl(utime, static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_);
+  const bool level_terrain = options_.altitude_mode == AltitudeMode::kLevelTerrain;
+  if (!height) {
+    ++counters_.frames_without_altimeter;
+    if (level_terrain && filter_.terrain_initialised()) {
+      height_agl_ = filter_.terrain_down() - filter_.position().z();
+      have_height_ = true;
+    } else if (std::isfinite(fallback_height)) {
+      height_agl_ = fallback_height;
+      have_height_ = true;
+    }
+    return pose_t::FLAG_NO_ALTIMETER;
+  }
+  height_agl_ = *height;
+  have_height_ = true;
+  if (level_terrain) {
+    const double variance = square(options_.altimeter_stddev_m + options_.altimeter_stddev_fraction * *height);
+    if (!filter_.terrain_initialised()) {
+      filter_.anchor_terrain(*height, variance);
+    } else if (filter_.update_height_agl(*height, variance, options_.altimeter_gate_sigma) ==
+               PoseFilter::UpdateResult::kRejected) {
+      // The ground under the beam stepped (slope, building, cliff): the level
+      // terrain assumption broke here; keep the altitude, re-anchor the terrain.
+      ++counters_.altimeter_rejected;
+      filter_.anchor_terrain(*height, variance);
+    }
+  }
+  return 0;
+}
+
+pose_t YawFusionEstimator::make_pose(int64_t utime, int32_t flags) const {
+  pose_t pose{};
+  pose.utime = utime;
+  const Eigen::Vector3d p = filter_.position();
+  const Eigen::Matrix3d pc = filter_.position_covariance();
+  for (int i = 0; i < 3; ++i) {
+    pose.position_ned[i] = p(i);
+    pose.velocity_ned[i] = velocity_out_(i);
+    for (int j = 0; j < 3; ++j) pose.position_covariance[i][j] = pc(i, j);
+  }
+  pose.roll = roll_;
+  pose.pitch = pitch_;
+  pose.yaw = filter_.yaw();
+  pose.height_agl_m = have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN();
+  pose.yaw_variance = filter_.yaw_variance();
+  pose.flags = flags | (yaw_from_ins_ ? 0 : pose_t::FLAG_INITIALIZING);
+  pose.frames = frames_;
+  return pose;
+}
+
+}  // namespace nadir

@@ -1,0 +1,92 @@
+#include "processes/yaw_fusion/yaw_fusion_node.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "common/channels.h"
+#include "common/geometry.h"
+#include "processes/yaw_fusion/yaw_fusion_estimator.h"
+
+namespace nadir {
+
+namespace {
+
+class YawFusionNode : public Node {
+ public:
+  YawFusionNode(const YawFusionOptions& options, Bus& bus) : bus_(bus), estimator_(options) {
+    bus_.subscribe<vo_delta_t>(channels::kVoDelta,
+                               [this](const vo_delta_t& msg) { publish(estimator_.add_vo_delta(msg)); });
+    bus_.subscribe<ins_t>(channels::kIns, [this](const ins_t& msg) { publish(estimator_.add_ins(msg)); });
+    bus_.subscribe<altimeter_t>(channels::kAltimeter,
+                                [this](const altimeter_t& msg) { publish(estimator_.add_altimeter(msg)); });
+  }
+
+  std::string name() const override { return "yaw_fusion"; }
+  std::vector<std::string> output_channels() const override { return {channels::kPose}; }
+
+  StatusReport status() const override {
+    const YawFusionCounters& c = estimator_.counters();
+    StatusReport report;
+    report.received = c.vo_deltas_received + c.ins_received + c.altimeter_received;
+    report.published = published_;
+    report.dropped = c.vo_deltas_late + c.vo_deltas_duplicate;
+    report.errors = c.vo_deltas_invalid + c.ins_invalid;
+    if (!estimator_.started()) {
+      report.state = status_t::STATE_STARTING;
+      report.detail = "waiting for the first VO_DELTA with INS covering it";
+    } else if (estimator_.vo_lost()) {
+      report.state = status_t::STATE_WARN;
+      report.detail = "no usable VO_DELTA for longer than gap.max_duration_s; gap poses stopped";
+    } else if (!c.last_problem.empty() && report.errors > 0) {
+      report.detail = c.last_problem;
+    }
+    const PoseFilter& f = estimator_.filter();
+    report.counters = {
+        {"vo_deltas_integrated", static_cast<double>(c.vo_deltas_integrated)},
+        {"vo_deltas_invalid", static_cast<double>(c.vo_deltas_invalid)},
+        {"vo_deltas_quality_rejected", static_cast<double>(c.vo_deltas_quality_rejected)},
+        {"vo_deltas_duplicate", static_cast<double>(c.vo_deltas_duplicate)},
+        {"vo_deltas_late", static_cast<double>(c.vo_deltas_late)},
+        {"vo_deltas_without_ins", static_cast<double>(c.vo_deltas_without_ins)},
+        {"vo_deltas_pending", static_cast<double>(estimator_.pending_deltas())},
+        {"ins_invalid", static_cast<double>(c.ins_invalid)},
+        {"ins_duplicate", static_cast<double>(c.ins_duplicate)},
+        {"ins_yaw_updates", static_cast<double>(c.ins_yaw_updates)},
+        {"ins_yaw_rejected", static_cast<double>(c.ins_yaw_rejected)},
+        {"ins_yaw_unusable", static_cast<double>(c.ins_yaw_unusable)},
+        {"yaw_reinitialised", static_cast<double>(c.yaw_reinitialised)},
+        {"altimeter_invalid", static_cast<double>(c.altimeter_invalid)},
+        {"altimeter_rejected", static_cast<double>(c.altimeter_rejected)},
+        {"frames_without_altimeter", static_cast<double>(c.frames_without_altimeter)},
+        {"gap_bridges", static_cast<double>(c.gap_bridges)},
+        {"gap_poses", static_cast<double>(c.gap_poses)},
+        {"yaw_stddev_deg", f.initialised() ? rad_to_deg(std::sqrt(f.yaw_variance())) : 0.0},
+        {"position_stddev_h_m",
+         f.initialised() ? std::sqrt(f.position_covariance()(0, 0) + f.position_covariance()(1, 1)) : 0.0},
+    };
+    return report;
+  }
+
+ private:
+  void publish(const std::vector<pose_t>& poses) {
+    for (const pose_t& pose : poses) {
+      bus_.publish(channels::kPose, pose);
+      ++published_;
+    }
+  }
+
+  Bus& bus_;
+  YawFusionEstimator estimator_;
+  int64_t published_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Node> make_yaw_fusion_node(const Config& root, Bus& bus) {
+  return std::make_unique<YawFusionNode>(YawFusionOptions::from_config(root), bus);
+}
+
+void register_yaw_fusion_node(NodeRegistry& registry) { registry.add("yaw_fusion", make_yaw_fusion_node); }
+
+}  // namespace nadir

@@ -1,0 +1,16 @@
+#pragma once
+// The yaw fusion process: VO_DELTA + INS + ALTIMETER in, POSE out
+// (see yaw_fusion_estimator.h for the synchronisation and README.md for the filter).
+
+#include <memory>
+
+#include "common/bus.h"
+#include "common/config.h"
+#include "common/node.h"
+
+namespace nadir {
+
+std::unique_ptr<nadir::Node> make_yaw_fusion_node(const nadir::Config& root, nadir::Bus& bus);
+void register_yaw_fusion_node(nadir::NodeRegistry& registry);
+
+}  // namespace nadir
