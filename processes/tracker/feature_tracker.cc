@@ -61,6 +61,42 @@ int FeatureTracker::usable_levels(const cv::Point2f& p) const {
   return level;
 }
 
+bool FeatureTracker::fit_motion(double fb_sq, cv::Matx23d* motion) const {
+  // Least-squares affine prev -> curr over the tracks tracked so far that
+  // pass the forward-backward check, refitted once without the points it
+  // explains worst (moving objects, parallax). Plain sums: deterministic.
+  std::vector<size_t> use;
+  for (size_t i = 0; i < status_fwd_.size(); ++i) {
+    if (!status_fwd_[i] || !status_bwd_[i]) continue;
+    const double dx = back_pts_[i].x - prev_pts_[i].x, dy = back_pts_[i].y - prev_pts_[i].y;
+    if (dx * dx + dy * dy <= fb_sq) use.push_back(i);
+  }
+  for (int round = 0; round < 2; ++round) {
+    if (use.size() < 6) return false;
+    cv::Matx33d ata = cv::Matx33d::zeros();
+    cv::Vec3d atx(0, 0, 0), aty(0, 0, 0);
+    for (size_t i : use) {
+      const cv::Vec3d a(prev_pts_[i].x, prev_pts_[i].y, 1.0);
+      ata += a * a.t();
+      atx += a * static_cast<double>(curr_pts_[i].x);
+      aty += a * static_cast<double>(curr_pts_[i].y);
+    }
+    cv::Vec3d row_x, row_y;
+    if (!cv::solve(ata, atx, row_x, cv::DECOMP_CHOLESKY) || !cv::solve(ata, aty, row_y, cv::DECOMP_CHOLESKY)) return false;
+    *motion = cv::Matx23d(row_x[0], row_x[1], row_x[2], row_y[0], row_y[1], row_y[2]);
+    if (round == 1) break;
+    std::vector<size_t> kept;
+    for (size_t i : use) {
+      const cv::Point2f& p = prev_pts_[i];
+      const double ex = (*motion)(0, 0) * p.x + (*motion)(0, 1) * p.y + (*motion)(0, 2) - curr_pts_[i].x;
+      const double ey = (*motion)(1, 0) * p.x + (*motion)(1, 1) * p.y + (*motion)(1, 2) - curr_pts_[i].y;
+      if (ex * ex + ey * ey <= 9.0) kept.push_back(i);
+    }
+    use = std::move(kept);
+  }
+  return true;
+}
+
 void FeatureTracker::track(TrackStepResult& result) {
   const size_t n = features_.size();
   result.attempted = static_cast<int>(n);
@@ -71,18 +107,29 @@ void FeatureTracker::track(TrackStepResult& result) {
   status_fwd_.assign(n, 0);
   status_bwd_.assign(n, 0);
 
-  // Group the features by how many pyramid levels they can use; most use all.
-  for (int levels = 0; levels <= max_level_; ++levels) {
+  // Group the features by how many pyramid levels they can use; most use
+  // all. The full-pyramid group goes first: an affine motion fitted to its
+  // tracks predicts where the near-edge features went, so that their few
+  // levels only need to refine a good first guess.
+  const double fb_sq = options_.fb_threshold_px * options_.fb_threshold_px;
+  bool have_motion = false;
+  cv::Matx23d motion;
+  for (int levels = max_level_; levels >= 0; --levels) {
     group_index_.clear();
     group_prev_.clear();
+    group_curr_.clear();
     for (size_t i = 0; i < n; ++i) {
       if (usable_levels(features_[i].px) != levels) continue;
       group_index_.push_back(i);
-      group_prev_.push_back(features_[i].px);
+      const cv::Point2f& p = features_[i].px;
+      group_prev_.push_back(p);
+      group_curr_.push_back(have_motion ? cv::Point2f(static_cast<float>(motion(0, 0) * p.x + motion(0, 1) * p.y + motion(0, 2)),
+                                                      static_cast<float>(motion(1, 0) * p.x + motion(1, 1) * p.y + motion(1, 2)))
+                                        : p);
     }
     if (group_index_.empty()) continue;
     cv::calcOpticalFlowPyrLK(prev_pyramid_, curr_pyramid_, group_prev_, group_curr_, group_status_fwd_, err_, win_,
-                             levels, criteria_, 0, options_.klt_min_eig_threshold);
+                             levels, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, options_.klt_min_eig_threshold);
     // Backward pass starts from the original positions: a consistent track
     // returns there in a few iterations.
     group_back_ = group_prev_;
@@ -96,6 +143,7 @@ void FeatureTracker::track(TrackStepResult& result) {
       status_fwd_[i] = group_status_fwd_[g];
       status_bwd_[i] = group_status_bwd_[g];
     }
+    if (!have_motion) have_motion = fit_motion(fb_sq, &motion);
   }
 
   // Tracks must end where new corners may start: at least border_px inside,
@@ -103,7 +151,6 @@ void FeatureTracker::track(TrackStepResult& result) {
   const float b = static_cast<float>(options_.border_px);
   const float x_max = static_cast<float>(image_size_.width - 1) - b;
   const float y_max = static_cast<float>(image_size_.height - 1) - b;
-  const double fb_sq = options_.fb_threshold_px * options_.fb_threshold_px;
   std::vector<Feature> survivors;
   survivors.reserve(n);
   for (size_t i = 0; i < n; ++i) {

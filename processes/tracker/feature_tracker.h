@@ -66,6 +66,8 @@ class FeatureTracker {
   // Pyramid levels above full resolution whose KLT window around `p` stays
   // inside the image (0..max_level_).
   int usable_levels(const cv::Point2f& p) const;
+  // Affine image motion from the tracks found so far; false when too few.
+  bool fit_motion(double fb_sq, cv::Matx23d* motion) const;
   void replenish(const cv::Mat& image, TrackStepResult& result);
 
   TrackerOptions options_;

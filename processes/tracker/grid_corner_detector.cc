@@ -43,8 +43,12 @@ cv::Rect GridCornerDetector::cell_rect(cv::Size size, int col, int row) const {
 }
 
 int GridCornerDetector::cell_index(cv::Size size, const cv::Point2f& p) const {
-  const int col = std::clamp(static_cast<int>(p.x * options_.grid_cols / size.width), 0, options_.grid_cols - 1);
-  const int row = std::clamp(static_cast<int>(p.y * options_.grid_rows / size.height), 0, options_.grid_rows - 1);
+  // The inverse of cell_rect's integer split: column c starts at
+  // floor(width * c / cols), so pixel x is in column floor((cols * (x + 1) - 1) / width).
+  const int x = std::clamp(static_cast<int>(std::floor(p.x)), 0, size.width - 1);
+  const int y = std::clamp(static_cast<int>(std::floor(p.y)), 0, size.height - 1);
+  const int col = (options_.grid_cols * (x + 1) - 1) / size.width;
+  const int row = (options_.grid_rows * (y + 1) - 1) / size.height;
   return row * options_.grid_cols + col;
 }
 

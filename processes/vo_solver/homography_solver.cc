@@ -4,6 +4,7 @@
 // scale. The INS is used only to pick the decomposition whose normal points
 // down and to express the result in the level frame.
 
+#include <Eigen/Core>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 

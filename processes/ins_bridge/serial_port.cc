@@ -1,0 +1,91 @@
+#include "processes/ins_bridge/serial_port.h"
+
+#include <fcntl.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace nadir::ins_bridge {
+
+bool baud_to_speed(int baud, unsigned* speed) {
+  switch (baud) {
+    case 1200: *speed = B1200; return true;
+    case 2400: *speed = B2400; return true;
+    case 4800: *speed = B4800; return true;
+    case 9600: *speed = B9600; return true;
+    case 19200: *speed = B19200; return true;
+    case 38400: *speed = B38400; return true;
+    case 57600: *speed = B57600; return true;
+    case 115200: *speed = B115200; return true;
+    case 230400: *speed = B230400; return true;
+    case 460800: *speed = B460800; return true;
+    case 500000: *speed = B500000; return true;
+    case 576000: *speed = B576000; return true;
+    case 921600: *speed = B921600; return true;
+    case 1000000: *speed = B1000000; return true;
+    case 2000000: *speed = B2000000; return true;
+    case 4000000: *speed = B4000000; return true;
+    default: return false;
+  }
+}
+
+bool SerialPort::open(std::string* error) {
+  close();
+  const int fd = ::open(options_.device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    *error = options_.device + ": open: " + std::strerror(errno);
+    return false;
+  }
+  termios tio{};
+  if (tcgetattr(fd, &tio) != 0) {
+    *error = options_.device + ": not a terminal: " + std::strerror(errno);
+    ::close(fd);
+    return false;
+  }
+  cfmakeraw(&tio);
+  unsigned speed = 0;
+  baud_to_speed(options_.baud, &speed);  // checked by SerialOptions::Check
+  cfsetispeed(&tio, speed);
+  cfsetospeed(&tio, speed);
+  tio.c_cflag |= CLOCAL | CREAD;
+  tio.c_cflag &= ~static_cast<tcflag_t>(CSIZE);
+  tio.c_cflag |= options_.data_bits == 5 ? CS5 : options_.data_bits == 6 ? CS6 : options_.data_bits == 7 ? CS7 : CS8;
+  tio.c_cflag &= ~static_cast<tcflag_t>(PARENB | PARODD | CSTOPB | CRTSCTS);
+  if (options_.parity != "none") tio.c_cflag |= PARENB;
+  if (options_.parity == "odd") tio.c_cflag |= PARODD;
+  if (options_.stop_bits == 2) tio.c_cflag |= CSTOPB;
+  if (options_.flow_control == "rtscts") tio.c_cflag |= CRTSCTS;
+  if (options_.flow_control == "xonxoff") tio.c_iflag |= IXON | IXOFF;
+  // Parity errors arrive as bytes the parsers reject by CRC/syntax.
+  if (options_.parity != "none") tio.c_iflag |= INPCK;
+  tio.c_cc[VMIN] = 0;
+  tio.c_cc[VTIME] = 0;
+  if (tcsetattr(fd, TCSANOW, &tio) != 0) {
+    *error = options_.device + ": tcsetattr: " + std::strerror(errno);
+    ::close(fd);
+    return false;
+  }
+  fd_ = fd;
+  return true;
+}
+
+void SerialPort::close() {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+}
+
+SerialPort::ReadResult SerialPort::read_some(uint8_t* buffer, size_t capacity, size_t* got, std::string* error) {
+  *got = 0;
+  const ssize_t n = ::read(fd_, buffer, capacity);
+  if (n > 0) {
+    *got = static_cast<size_t>(n);
+    return ReadResult::kData;
+  }
+  if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return ReadResult::kNothing;
+  *error = options_.device + (n == 0 ? ": end of file (device gone)" : std::string(": read: ") + std::strerror(errno));
+  return ReadResult::kHangup;
+}
+
+}  // namespace nadir::ins_bridge

@@ -1,0 +1,210 @@
+// nadir_sim: the simulated vehicle. Writes an LCM log (fixed epoch, byte-
+// identical for the same profile and seed) or publishes live in scaled real
+// time, on exactly the channels of the real camera and INS/altimeter drivers
+// plus GROUND_TRUTH.
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "common/channels.h"
+#include "common/config.h"
+#include "common/json_writer.h"
+#include "common/lcm_bus.h"
+#include "common/log_file.h"
+#include "common/paths.h"
+#include "common/progress.h"
+#include "common/shutdown.h"
+#include "common/status.h"
+#include "common/time_base.h"
+#include "processes/sim/simulator.h"
+
+namespace {
+
+struct Arguments {
+  std::string profile;
+  uint64_t seed = 1;
+  double duration_s = -1.0;
+  std::string out;
+  bool live = false;
+  double rate = 1.0;
+  std::string lcm_url;
+  std::string config_path;
+  std::string sensors_path;
+  std::string sensor_set = "standard";
+  std::optional<double> roll_pitch_noise_deg, yaw_noise_deg, altimeter_noise_pct;
+  bool json = false;
+};
+
+void print_summary(const Arguments& args, const nadir::sim::Simulator& sim, double wall_s) {
+  const auto& c = sim.counts();
+  const double fps = wall_s > 0 ? c.images / wall_s : 0.0;
+  if (args.json) {
+    nadir::JsonWriter j;
+    j.begin_object()
+        .field("profile", args.profile)
+        .field("seed", static_cast<int64_t>(args.seed))
+        .field("out", args.live ? std::string("live") : args.out)
+        .field("sim_seconds", sim.sim_time_s())
+        .field("wall_seconds", wall_s)
+        .field("realtime_factor", wall_s > 0 ? sim.sim_time_s() / wall_s : 0.0)
+        .field("rendered_frames_per_s", fps)
+        .field("triggers", c.frames)
+        .field("images", c.images)
+        .field("dropped_frames", c.dropped_frames)
+        .field("ins", c.ins)
+        .field("altimeter", c.altimeter)
+        .field("altimeter_dropouts", c.altimeter_dropouts)
+        .field("ground_truth", c.ground_truth)
+        .field("occlusion_marched_pixels", c.marched_pixels)
+        .end_object();
+    std::printf("%s\n", j.str().c_str());
+  }
+  std::fprintf(stderr,
+               "nadir_sim: %.1f s simulated in %.1f s (%.2fx real time, %.1f rendered frames/s): %lld images "
+               "(%lld dropped), %lld INS, %lld altimeter (%lld dropouts), %lld ground truth\n",
+               sim.sim_time_s(), wall_s, wall_s > 0 ? sim.sim_time_s() / wall_s : 0.0, fps,
+               static_cast<long long>(c.images), static_cast<long long>(c.dropped_frames),
+               static_cast<long long>(c.ins), static_cast<long long>(c.altimeter),
+               static_cast<long long>(c.altimeter_dropouts), static_cast<long long>(c.ground_truth));
+}
+
+int run_log(const Arguments& args, nadir::sim::Simulator& sim) {
+  nadir::LogWriter writer(args.out);
+  nadir::ProgressBar progress("sim " + args.profile, sim.duration_s(), nadir::stderr_is_terminal());
+  nadir::sim::SimEvent event;
+  const auto start = std::chrono::steady_clock::now();
+  nadir::install_shutdown_handlers();
+  while (!nadir::shutdown_requested() && sim.next(&event)) {
+    writer.write(event.utime, event.channel, event.data.data(), event.data.size());
+    progress.update(sim.sim_time_s());
+  }
+  writer.flush();
+  progress.finish();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  print_summary(args, sim, wall);
+  if (nadir::shutdown_requested()) {
+    std::fprintf(stderr, "nadir_sim: interrupted; %s holds the first %.1f s\n", args.out.c_str(), sim.sim_time_s());
+    return 130;
+  }
+  std::fprintf(stderr, "nadir_sim: wrote %lld events to %s\n", static_cast<long long>(writer.events()),
+               args.out.c_str());
+  return 0;
+}
+
+int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us) {
+  nadir::LcmBusOptions bus_options;
+  bus_options.url = args.lcm_url;
+  nadir::LcmBus bus(bus_options);
+  nadir::install_shutdown_handlers();
+  std::fprintf(stderr, "nadir_sim: live on %s at %.2fx real time\n", bus.url().c_str(), args.rate);
+  const int64_t start_mono = nadir::monotonic_now_us();
+  int64_t next_status = start_mono;
+  int64_t published = 0;
+  auto send_status = [&](int8_t state) {
+    nadir::StatusReport report;
+    report.state = state;
+    report.published = published;
+    report.dropped = sim.counts().dropped_frames;
+    report.counters = {{"sim_time_s", sim.sim_time_s()},
+                       {"images", static_cast<double>(sim.counts().images)},
+                       {"ins", static_cast<double>(sim.counts().ins)},
+                       {"altimeter", static_cast<double>(sim.counts().altimeter)},
+                       {"rate", args.rate}};
+    nadir::status_t msg = nadir::make_status_message("sim", static_cast<int32_t>(getpid()),
+                                                     nadir::vehicle_time_now_us(), report, bus.error_counts());
+    bus.latency().take(&msg.latency_p50_ms, &msg.latency_p99_ms, &msg.latency_max_ms);
+    bus.publish(nadir::channels::kStatus, msg);
+  };
+  nadir::sim::SimEvent event;
+  while (!nadir::shutdown_requested() && sim.next(&event)) {
+    const int64_t due = start_mono + static_cast<int64_t>((event.utime - epoch_us) / args.rate);
+    for (;;) {
+      const int64_t now = nadir::monotonic_now_us();
+      if (now >= next_status) {
+        send_status(nadir::status_t::STATE_OK);
+        next_status += 1000000;
+      }
+      if (now >= due || nadir::shutdown_requested()) break;
+      std::this_thread::sleep_for(std::chrono::microseconds(std::min<int64_t>(due - now, next_status - now)));
+    }
+    bus.publish_raw(event.channel, event.data.data(), event.data.size());
+    ++published;
+    bus.handle(0);
+  }
+  send_status(nadir::status_t::STATE_STOPPING);
+  print_summary(args, sim, (nadir::monotonic_now_us() - start_mono) * 1e-6);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Arguments args;
+  CLI::App app{
+      "Flight simulator: procedural terrain rendered by the downward camera, INS, laser altimeter and trigger "
+      "models, and ground truth. Writes an LCM log (--out) or publishes live (--live) on CAMERA_IMAGE, "
+      "CAMERA_TRIGGER, INS, ALTIMETER, GROUND_TRUTH, CONFIG (and STATUS when live).",
+      "nadir_sim"};
+  app.add_option("--profile", args.profile, "flight profile: NAME (config/profiles/NAME.yaml) or a YAML file")
+      ->required();
+  app.add_option("--seed", args.seed, "random seed (terrain, motion oscillations, sensor noise)");
+  app.add_option("--duration", args.duration_s, "seconds to simulate (default: the whole profile)")
+      ->check(CLI::PositiveNumber);
+  auto* out = app.add_option("--out", args.out, "LCM log file to write");
+  auto* live = app.add_flag("--live", args.live, "publish live in (scaled) real time instead of writing a log");
+  out->excludes(live);
+  app.add_option("--rate", args.rate, "live mode: simulated seconds per wall second")->check(CLI::Range(0.01, 100.0));
+  app.add_option("--lcm-url", args.lcm_url, "live mode: LCM URL (default: $LCM_DEFAULT_URL or udpm with TTL 0)");
+  app.add_option("--config", args.config_path, "config with the camera: section (default: config/default.yaml)");
+  app.add_option("--sensors", args.sensors_path, "sensor model file (default: config/sim_sensors.yaml)");
+  app.add_option("--sensor-set", args.sensor_set, "sensor set in that file (default: standard)");
+  app.add_option("--roll-pitch-noise-deg", args.roll_pitch_noise_deg, "override INS roll/pitch white noise sigma");
+  app.add_option("--yaw-noise-deg", args.yaw_noise_deg, "override INS yaw white noise sigma");
+  app.add_option("--altimeter-noise-pct", args.altimeter_noise_pct, "override altimeter noise, percent of range");
+  app.add_flag("--json", args.json, "print a machine-readable summary on stdout at the end");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  if (!args.live && args.out.empty()) {
+    std::fprintf(stderr, "nadir_sim: give --out FILE.lcmlog or --live\n");
+    return 2;
+  }
+  try {
+    const std::string config_path = args.config_path.empty() ? nadir::default_config_path() : args.config_path;
+    const nadir::Config config = nadir::Config::load_file(config_path);
+    const nadir::sim::SimCamera camera = nadir::sim::SimCamera::from_config(config);
+    const std::string sensors_path =
+        args.sensors_path.empty() ? nadir::checkout_root() + "/config/sim_sensors.yaml" : args.sensors_path;
+    nadir::sim::SensorOptions sensors =
+        nadir::sim::SensorOptions::from_config(nadir::Config::load_file(sensors_path), args.sensor_set);
+    if (args.roll_pitch_noise_deg) sensors.ins.roll_pitch_noise_deg = *args.roll_pitch_noise_deg;
+    if (args.yaw_noise_deg) sensors.ins.yaw_noise_deg = *args.yaw_noise_deg;
+    if (args.altimeter_noise_pct) sensors.altimeter.noise_pct = *args.altimeter_noise_pct;
+    if (args.roll_pitch_noise_deg || args.yaw_noise_deg || args.altimeter_noise_pct) sensors.source = "command line";
+    sensors.Check();
+    const nadir::sim::FlightProfile profile =
+        nadir::sim::FlightProfile::load(nadir::sim::FlightProfile::resolve(args.profile));
+
+    nadir::sim::SimulatorOptions options;
+    options.seed = args.seed;
+    options.duration_s = args.duration_s;
+    options.camera_yaml = config.section("camera").dump();
+    options.epoch_us = args.live ? nadir::vehicle_time_now_us() : nadir::sim::kLogEpochUs;
+    nadir::sim::Simulator sim(profile, camera, sensors, options);
+    std::fprintf(stderr, "nadir_sim: profile %s (%s), %.1f s, seed %llu, sensors %s:%s\n", profile.name.c_str(),
+                 profile.source.c_str(), sim.duration_s(), static_cast<unsigned long long>(args.seed),
+                 sensors_path.c_str(), args.sensor_set.c_str());
+    return args.live ? run_live(args, sim, options.epoch_us) : run_log(args, sim);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "nadir_sim: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,192 @@
+#include "processes/vo_solver/vo_solver_node.h"
+
+#include <cmath>
+#include <string>
+
+#include "common/channels.h"
+
+namespace nadir {
+
+namespace {
+const char* const kQualityNames[7] = {"too_few_features", "no_altimeter",  "stale_altimeter", "not_converged",
+                                      "no_attitude",      "frame_gap",     "high_residual"};
+}  // namespace
+
+VoSolverNode::VoSolverNode(const VoSolverOptions& options, Bus& bus)
+    : options_(options), bus_(bus), sync_(options.sync, options.default_beam_body) {
+  bus_.subscribe<tracks_t>(channels::kTracks, [this](const tracks_t& m) { on_tracks(m); });
+  bus_.subscribe<ins_t>(channels::kIns, [this](const ins_t& m) { on_ins(m); });
+  bus_.subscribe<altimeter_t>(channels::kAltimeter, [this](const altimeter_t& m) { on_altimeter(m); });
+}
+
+std::vector<std::string> VoSolverNode::output_channels() const { return {channels::kVoDelta}; }
+
+void VoSolverNode::on_ins(const ins_t& ins) {
+  ++received_;
+  sync_.add_ins(ins);
+  process_ready();
+}
+
+void VoSolverNode::on_altimeter(const altimeter_t& altimeter) {
+  ++received_;
+  sync_.add_altimeter(altimeter);
+  process_ready();
+}
+
+void VoSolverNode::on_tracks(const tracks_t& tracks) {
+  ++received_;
+  if (pending_.count(tracks.utime)) {
+    ++duplicate_tracks_;  // the same frame twice: keep the first
+    return;
+  }
+  if (tracks.utime <= last_published_utime_) ++late_tracks_;
+  pending_.emplace(tracks.utime, tracks);
+  // Bounded queue: without INS the oldest frame is flushed as a flagged message.
+  while (static_cast<int>(pending_.size()) > options_.sync.max_pending_frames) {
+    auto oldest = pending_.begin();
+    ++dropped_;
+    publish(solve_frame(oldest->second, true));
+    pending_.erase(oldest);
+  }
+  process_ready();
+}
+
+void VoSolverNode::process_ready() {
+  // In utime order; readiness only grows with utime, so stop at the first wait.
+  while (!pending_.empty()) {
+    auto first = pending_.begin();
+    if (!sync_.ready(first->first)) break;
+    publish(solve_frame(first->second, false));
+    pending_.erase(first);
+  }
+}
+
+vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
+  vo_delta_t out{};
+  out.utime = tracks.utime;
+  out.prev_utime = tracks.prev_utime;
+  out.variant = vo::variant_name(options_.solver.variant);
+  int quality = 0;
+  const bool first_frame = (tracks.flags & tracks_t::FLAG_FIRST_FRAME) || tracks.prev_utime >= tracks.utime;
+  if ((tracks.flags & tracks_t::FLAG_FRAME_GAP) ||
+      (!first_frame && tracks.utime - tracks.prev_utime > options_.sync.max_frame_interval_us)) {
+    quality |= vo::kFrameGap;
+  }
+  if (flush) {
+    // Never got its INS: keep the frame's time but say why there is no estimate.
+    out.quality = quality | vo::kNoAttitude;
+    return out;
+  }
+  const vo::FrameState curr = sync_.frame_state(tracks.utime);  // cached for the next pair too
+  if (first_frame || tracks.num_tracks <= 0) {
+    out.quality = quality | vo::kTooFewFeatures;
+    out.outliers = std::max(0, tracks.num_tracks);
+    return out;
+  }
+  const vo::FrameState prev = sync_.frame_state(tracks.prev_utime);
+  if (!prev.has_attitude || !curr.has_attitude) quality |= vo::kNoAttitude;
+  if (!curr.has_range) quality |= vo::kNoAltimeter;
+  if (curr.range_stale) quality |= vo::kStaleAltimeter;
+  if (options_.solver.variant == vo::Variant::kFlow) {
+    if (!prev.has_range) quality |= vo::kNoAltimeter;
+    if (prev.range_stale) quality |= vo::kStaleAltimeter;
+  }
+  if (quality & (vo::kNoAttitude | vo::kNoAltimeter)) {
+    out.quality = quality;
+    out.outliers = tracks.num_tracks;
+    return out;
+  }
+
+  vo::FramePair pair;
+  pair.body_from_camera = options_.body_from_camera;
+  pair.prev_roll = prev.roll;
+  pair.prev_pitch = prev.pitch;
+  pair.prev_yaw = prev.yaw;
+  pair.curr_roll = curr.roll;
+  pair.curr_pitch = curr.pitch;
+  pair.curr_yaw = curr.yaw;
+  pair.prev_range_m = prev.range_m;
+  pair.curr_range_m = curr.range_m;
+  pair.prev_beam_body = prev.beam_body;
+  pair.curr_beam_body = curr.beam_body;
+  const int n = std::min<int>(tracks.num_tracks, static_cast<int>(std::min(tracks.prev_norm.size(), tracks.curr_norm.size())));
+  pair.prev_norm.reserve(n);
+  pair.curr_norm.reserve(n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d p(tracks.prev_norm[i][0], tracks.prev_norm[i][1]);
+    const Eigen::Vector2d c(tracks.curr_norm[i][0], tracks.curr_norm[i][1]);
+    if (!p.allFinite() || !c.allFinite()) {
+      ++bad_features_;
+      continue;
+    }
+    pair.prev_norm.push_back(p);
+    pair.curr_norm.push_back(c);
+  }
+  const vo::Estimate est = vo::solve(pair, options_.solver);
+  out.dx = est.translation.x();
+  out.dy = est.translation.y();
+  out.dz = est.translation.z();
+  out.dyaw = est.dyaw;
+  out.ground_roll = est.ground_roll;
+  out.ground_pitch = est.ground_pitch;
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) out.covariance[r][c] = est.covariance(r, c);
+  out.altitude_m = est.altitude_m;
+  out.inliers = est.inliers;
+  out.outliers = est.outliers + (tracks.num_tracks - static_cast<int>(pair.prev_norm.size()));
+  out.residual_rms_px = est.residual_rms_px;
+  out.iterations = est.iterations;
+  out.quality = quality | est.quality;
+  return out;
+}
+
+void VoSolverNode::publish(const vo_delta_t& delta) {
+  bus_.publish(channels::kVoDelta, delta);
+  ++published_;
+  last_published_utime_ = std::max(last_published_utime_, delta.utime);
+  last_quality_ = delta.quality;
+  last_inliers_ = delta.inliers;
+  last_residual_px_ = delta.residual_rms_px;
+  if (delta.quality != 0) ++flagged_;
+  for (int bit = 0; bit < 7; ++bit) {
+    if (delta.quality & (1 << bit)) ++quality_counts_[bit];
+  }
+}
+
+StatusReport VoSolverNode::status() const {
+  StatusReport r;
+  r.received = received_;
+  r.published = published_;
+  r.dropped = dropped_ + sync_.dropped_samples();
+  r.errors = errors_;
+  if (last_quality_ != 0) {
+    r.state = status_t::STATE_WARN;
+    std::string why;
+    for (int bit = 0; bit < 7; ++bit) {
+      if (last_quality_ & (1 << bit)) why += std::string(why.empty() ? "" : ", ") + kQualityNames[bit];
+    }
+    r.detail = "last VO_DELTA flagged: " + why;
+  }
+  r.counters = {{"pending_frames", static_cast<double>(pending_.size())},
+                {"ins_buffered", static_cast<double>(sync_.ins_samples())},
+                {"altimeter_buffered", static_cast<double>(sync_.altimeter_samples())},
+                {"altimeter_invalid", static_cast<double>(sync_.invalid_altimeter_samples())},
+                {"flagged", static_cast<double>(flagged_)},
+                {"late_tracks", static_cast<double>(late_tracks_)},
+                {"duplicate_tracks", static_cast<double>(duplicate_tracks_)},
+                {"nonfinite_features", static_cast<double>(bad_features_)},
+                {"last_inliers", static_cast<double>(last_inliers_)},
+                {"last_residual_px", last_residual_px_}};
+  for (int bit = 0; bit < 7; ++bit) {
+    r.counters.emplace_back(std::string("quality_") + kQualityNames[bit], static_cast<double>(quality_counts_[bit]));
+  }
+  return r;
+}
+
+std::unique_ptr<Node> make_vo_solver_node(const Config& root, Bus& bus) {
+  return std::make_unique<VoSolverNode>(VoSolverOptions::from_config(root), bus);
+}
+
+void register_vo_solver_node(NodeRegistry& registry) { registry.add("vo_solver", make_vo_solver_node); }
+
+}  // namespace nadir

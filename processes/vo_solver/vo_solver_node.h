@@ -1,0 +1,53 @@
+#pragma once
+// The vo_solver process: TRACKS + INS + ALTIMETER in, VO_DELTA out.
+// Inputs are buffered and synchronised by sensor time (FrameSync), frames are
+// solved in utime order once their INS (and altimeter) inputs are final, so a
+// live run and a lockstep replay give the same VO_DELTA.
+
+#include <map>
+#include <memory>
+
+#include "common/bus.h"
+#include "common/config.h"
+#include "common/node.h"
+#include "nadir/tracks_t.hpp"
+#include "nadir/vo_delta_t.hpp"
+#include "processes/vo_solver/frame_sync.h"
+#include "processes/vo_solver/vo_solver_options.h"
+
+namespace nadir {
+
+class VoSolverNode : public Node {
+ public:
+  VoSolverNode(const VoSolverOptions& options, Bus& bus);
+
+  std::string name() const override { return "vo_solver"; }
+  std::vector<std::string> output_channels() const override;
+  StatusReport status() const override;
+
+  void on_tracks(const tracks_t& tracks);
+  void on_ins(const ins_t& ins);
+  void on_altimeter(const altimeter_t& altimeter);
+
+ private:
+  void process_ready();
+  vo_delta_t solve_frame(const tracks_t& tracks, bool flush);
+  void publish(const vo_delta_t& delta);
+
+  VoSolverOptions options_;
+  Bus& bus_;
+  vo::FrameSync sync_;
+  std::map<int64_t, tracks_t> pending_;  // by utime
+  int64_t last_published_utime_ = INT64_MIN;
+  int64_t received_ = 0, published_ = 0, dropped_ = 0, errors_ = 0;
+  int64_t flagged_ = 0, late_tracks_ = 0, duplicate_tracks_ = 0, bad_features_ = 0;
+  int64_t quality_counts_[7] = {};
+  int last_inliers_ = 0;
+  double last_residual_px_ = 0;
+  int last_quality_ = 0;
+};
+
+std::unique_ptr<Node> make_vo_solver_node(const Config& root, Bus& bus);
+void register_vo_solver_node(NodeRegistry& registry);
+
+}  // namespace nadir

@@ -1,0 +1,67 @@
+#include "processes/vo_solver/vo_solver_options.h"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "common/camera_model.h"
+
+namespace nadir {
+
+namespace {
+int64_t ms_to_us(double ms) { return static_cast<int64_t>(ms * 1000.0 + (ms >= 0 ? 0.5 : -0.5)); }
+}  // namespace
+
+VoSolverOptions VoSolverOptions::from_config(const Config& root) {
+  VoSolverOptions o;
+  const CameraModel camera = CameraModel::from_config(root);
+  o.body_from_camera = camera.body_from_camera;
+  o.solver.focal_px = camera.fx;
+
+  const Config altimeter = root.section_or_empty("altimeter");
+  const auto beam = altimeter.get<std::vector<double>>("beam_body", std::vector<double>{0, 0, 1});
+  if (beam.size() != 3) throw altimeter.error("beam_body", "must list x, y, z in the body frame");
+  o.default_beam_body = Eigen::Vector3d(beam[0], beam[1], beam[2]);
+  if (!(o.default_beam_body.norm() > 0.5 && o.default_beam_body.norm() < 2.0)) {
+    throw altimeter.error("beam_body", "must be a unit vector");
+  }
+  o.default_beam_body.normalize();
+
+  const Config c = root.section_or_empty("vo_solver");
+  const std::string variant = c.get<std::string>("variant", "paper");
+  try {
+    o.solver.variant = vo::variant_from_name(variant);
+  } catch (const std::invalid_argument& e) {
+    throw c.error("variant", "= '" + variant + "' is not one of paper, level_ground, homography, flow");
+  }
+  auto& s = o.solver;
+  s.min_features = c.get_in_range("min_features", s.min_features, 5, 10000);
+  s.max_robust_iterations = c.get_in_range("max_robust_iterations", s.max_robust_iterations, 1, 100);
+  s.max_lm_iterations = c.get_in_range("max_lm_iterations", s.max_lm_iterations, 1, 100);
+  s.min_threshold_px = c.get_in_range("min_threshold_px", s.min_threshold_px, 0.01, 100.0);
+  s.threshold_mad_scale = c.get_in_range("threshold_mad_scale", s.threshold_mad_scale, 1.0, 20.0);
+  s.convergence_tolerance = c.get_in_range("convergence_tolerance", s.convergence_tolerance, 1e-15, 1e-2);
+  s.max_residual_rms_px = c.get_in_range("max_residual_rms_px", s.max_residual_rms_px, 0.01, 100.0);
+  s.min_inlier_fraction = c.get_in_range("min_inlier_fraction", s.min_inlier_fraction, 0.0, 1.0);
+  s.homography_ransac_px = c.get_in_range("homography_ransac_px", s.homography_ransac_px, 0.01, 100.0);
+
+  const Config y = c.section_or_empty("sync");
+  auto& t = o.sync;
+  t.max_ins_gap_us = ms_to_us(y.get_in_range("max_ins_gap_ms", 100.0, 0.001, 10000.0));
+  t.max_ins_extrapolation_us = ms_to_us(y.get_in_range("max_ins_extrapolation_ms", 20.0, 0.0, 1000.0));
+  t.altimeter_staleness_us = ms_to_us(y.get_in_range("altimeter_staleness_ms", 200.0, 0.001, 60000.0));
+  t.altimeter_wait_us = ms_to_us(y.get_in_range("altimeter_wait_ms", 300.0, 0.0, 10000.0));
+  t.max_frame_interval_us = ms_to_us(y.get_in_range("max_frame_interval_ms", 250.0, 0.001, 60000.0));
+  t.max_pending_frames = y.get_in_range("max_pending_frames", t.max_pending_frames, 1, 10000);
+  t.max_ins_samples = y.get_in_range("max_ins_samples", t.max_ins_samples, 2, 1000000);
+  t.max_altimeter_samples = y.get_in_range("max_altimeter_samples", t.max_altimeter_samples, 2, 1000000);
+  try {
+    o.solver.Check();
+    o.sync.Check();
+  } catch (const std::invalid_argument& e) {
+    throw c.error("", e.what());
+  }
+  return o;
+}
+
+}  // namespace nadir

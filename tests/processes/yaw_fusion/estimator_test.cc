@@ -1,0 +1,361 @@
+// YawFusionEstimator on synthetic flights with known truth.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "common/channels.h"
+#include "common/geometry.h"
+#include "processes/yaw_fusion/yaw_fusion_estimator.h"
+#include "synthetic_flight.h"
+
+namespace nadir {
+namespace {
+
+using test::FlightSpec;
+using test::SyntheticFlight;
+using test::TimedMessage;
+
+std::vector<pose_t> run(YawFusionEstimator& estimator, const std::vector<TimedMessage>& messages) {
+  std::vector<pose_t> poses;
+  auto append = [&](std::vector<pose_t> more) { poses.insert(poses.end(), more.begin(), more.end()); };
+  for (const TimedMessage& m : messages) {
+    if (m.channel == channels::kVoDelta) {
+      vo_delta_t msg;
+      EXPECT_GT(msg.decode(m.bytes.data(), 0, static_cast<int>(m.bytes.size())), 0);
+      append(estimator.add_vo_delta(msg));
+    } else if (m.channel == channels::kIns) {
+      ins_t msg;
+      EXPECT_GT(msg.decode(m.bytes.data(), 0, static_cast<int>(m.bytes.size())), 0);
+      append(estimator.add_ins(msg));
+    } else if (m.channel == channels::kAltimeter) {
+      altimeter_t msg;
+      EXPECT_GT(msg.decode(m.bytes.data(), 0, static_cast<int>(m.bytes.size())), 0);
+      append(estimator.add_altimeter(msg));
+    }
+  }
+  return poses;
+}
+
+std::vector<pose_t> run_flight(const SyntheticFlight& flight, const YawFusionOptions& options,
+                               YawFusionCounters* counters = nullptr) {
+  YawFusionEstimator estimator(options);
+  auto poses = run(estimator, test::arrival_order(flight, 80'000, 2'000, 5'000));
+  if (counters != nullptr) *counters = estimator.counters();
+  return poses;
+}
+
+std::map<int64_t, const test::TruthFrame*> truth_by_time(const SyntheticFlight& flight) {
+  std::map<int64_t, const test::TruthFrame*> out;
+  for (const auto& f : flight.truth) out[f.utime] = &f;
+  return out;
+}
+
+TEST(YawFusionEstimator, RecoversPositionExactlyFromNoiseFreeInputs) {
+  FlightSpec spec;
+  spec.frames = 600;  // 43 s: two turns, heading crosses +-180 deg
+  const SyntheticFlight flight = test::make_flight(spec);
+  YawFusionCounters counters;
+  const auto poses = run_flight(flight, YawFusionOptions{}, &counters);
+  ASSERT_EQ(poses.size(), flight.truth.size());
+  const auto truth = truth_by_time(flight);
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const pose_t& p = poses[i];
+    ASSERT_EQ(truth.count(p.utime), 1u);
+    const test::TruthFrame& t = *truth.at(p.utime);
+    const Eigen::Vector3d expected = t.position - origin;
+    EXPECT_NEAR(p.position_ned[0], expected.x(), 1e-6) << "frame " << i;
+    EXPECT_NEAR(p.position_ned[1], expected.y(), 1e-6) << "frame " << i;
+    EXPECT_NEAR(p.position_ned[2], expected.z(), 1e-6) << "frame " << i;
+    EXPECT_NEAR(angle_difference(p.yaw, t.yaw), 0.0, 1e-9) << "frame " << i;
+    EXPECT_NEAR(p.roll, t.roll, 1e-12);
+    EXPECT_NEAR(p.pitch, t.pitch, 1e-12);
+    EXPECT_NEAR(p.height_agl_m, spec.height_agl_m - t.position.z(), 1e-6);
+    EXPECT_EQ(p.frames, static_cast<int64_t>(i));
+    EXPECT_EQ(p.flags, i == 0 ? pose_t::FLAG_INITIALIZING : 0) << "frame " << i;
+  }
+  // Velocity of the last frame: the last delta over its interval.
+  const auto& a = flight.truth[flight.truth.size() - 2];
+  const auto& b = flight.truth.back();
+  const Eigen::Vector3d v = (b.position - a.position) / (static_cast<double>(b.utime - a.utime) * 1e-6);
+  EXPECT_NEAR(poses.back().velocity_ned[0], v.x(), 1e-6);
+  EXPECT_NEAR(poses.back().velocity_ned[1], v.y(), 1e-6);
+  EXPECT_NEAR(poses.back().velocity_ned[2], -spec.climb_rate_mps, 1e-6);
+  // The flight did cross the wrap and went somewhere.
+  EXPECT_GT(std::hypot(poses.back().position_ned[0], poses.back().position_ned[1]), 800.0);
+  EXPECT_EQ(counters.vo_deltas_integrated, spec.frames - 1);
+  EXPECT_EQ(counters.ins_yaw_rejected, 0);
+  EXPECT_EQ(counters.vo_deltas_without_ins, 0);
+  EXPECT_EQ(counters.poses, static_cast<int64_t>(poses.size()));
+}
+
+TEST(YawFusionEstimator, GatesInsYawOutliers) {
+  FlightSpec spec;
+  spec.frames = 400;
+  spec.ins_yaw_stddev_deg = 0.3;
+  spec.dyaw_stddev_deg = 0.05;
+  SyntheticFlight flight = test::make_flight(spec);
+  // Spikes of 15 deg on the INS around some frames (every INS sample within 30 ms).
+  std::vector<int64_t> spiked_frames;
+  for (size_t k = 20; k < flight.truth.size(); k += 37) spiked_frames.push_back(flight.truth[k].utime);
+  for (auto& ins : flight.ins) {
+    for (int64_t t : spiked_frames) {
+      if (std::abs(ins.utime - t) <= 30'000) ins.yaw = wrap_angle(ins.yaw + deg_to_rad(15.0));
+    }
+  }
+  YawFusionCounters counters;
+  const auto poses = run_flight(flight, YawFusionOptions{}, &counters);
+  ASSERT_EQ(poses.size(), flight.truth.size());
+  const auto truth = truth_by_time(flight);
+  int flagged = 0;
+  double worst_yaw_error = 0.0;
+  for (const pose_t& p : poses) {
+    const bool spiked = std::find(spiked_frames.begin(), spiked_frames.end(), p.utime) != spiked_frames.end();
+    if (spiked) EXPECT_TRUE(p.flags & pose_t::FLAG_INS_YAW_REJECTED) << p.utime;
+    if (p.flags & pose_t::FLAG_INS_YAW_REJECTED) ++flagged;
+    worst_yaw_error = std::max(worst_yaw_error, std::abs(angle_difference(p.yaw, truth.at(p.utime)->yaw)));
+  }
+  EXPECT_EQ(flagged, static_cast<int>(spiked_frames.size()));  // and no good sample rejected
+  EXPECT_EQ(counters.ins_yaw_rejected, static_cast<int64_t>(spiked_frames.size()));
+  EXPECT_LT(rad_to_deg(worst_yaw_error), 0.6);
+
+  // Without the gate the same spikes pull the yaw several degrees.
+  YawFusionOptions no_gate;
+  no_gate.ins_yaw_gate_sigma = 100.0;
+  const auto ungated = run_flight(flight, no_gate);
+  double worst_ungated = 0.0;
+  for (const pose_t& p : ungated) {
+    worst_ungated = std::max(worst_ungated, std::abs(angle_difference(p.yaw, truth.at(p.utime)->yaw)));
+  }
+  EXPECT_GT(rad_to_deg(worst_ungated), 2.0);
+}
+
+TEST(YawFusionEstimator, FusedYawIsLessNoisyThanInsYaw) {
+  FlightSpec spec;
+  spec.frames = 800;
+  spec.ins_yaw_stddev_deg = 0.5;
+  spec.reported_ins_yaw_stddev_deg = 0.5;
+  spec.dyaw_stddev_deg = 0.02;
+  spec.covariance_dyaw_stddev_deg = 0.02;
+  const SyntheticFlight flight = test::make_flight(spec);
+  const auto poses = run_flight(flight, YawFusionOptions{});
+  const auto truth = truth_by_time(flight);
+  double sum_sq = 0.0;
+  int n = 0;
+  for (size_t i = 100; i < poses.size(); ++i) {
+    const double e = angle_difference(poses[i].yaw, truth.at(poses[i].utime)->yaw);
+    sum_sq += e * e;
+    ++n;
+  }
+  const double rms_deg = rad_to_deg(std::sqrt(sum_sq / n));
+  EXPECT_LT(rms_deg, 0.25);  // INS alone: 0.5 deg
+  // The reported variance is consistent with the error (within a factor 2 in sigma).
+  const double reported_deg = rad_to_deg(std::sqrt(poses.back().yaw_variance));
+  EXPECT_GT(reported_deg, rms_deg / 2.0);
+  EXPECT_LT(reported_deg, rms_deg * 2.0);
+}
+
+TEST(YawFusionEstimator, YawVarianceBoundedWithInsAndGrowingWithout) {
+  FlightSpec spec;
+  spec.frames = 500;
+  SyntheticFlight flight = test::make_flight(spec);
+  {
+    const auto poses = run_flight(flight, YawFusionOptions{});
+    const double ins_var = std::pow(deg_to_rad(spec.reported_ins_yaw_stddev_deg), 2);
+    for (const pose_t& p : poses) EXPECT_LE(p.yaw_variance, ins_var * (1.0 + 1e-9));
+    EXPECT_NEAR(poses[300].yaw_variance, poses.back().yaw_variance, 1e-3 * ins_var);  // steady state
+  }
+  // After frame 100 the INS reports a yaw stddev above max_ins_yaw_stddev_deg: no yaw updates.
+  const int64_t cutoff = flight.truth[100].utime;
+  for (auto& ins : flight.ins) {
+    if (ins.utime > cutoff - 20'000) ins.attitude_stddev[2] = deg_to_rad(45.0);
+  }
+  YawFusionCounters counters;
+  const auto poses = run_flight(flight, YawFusionOptions{}, &counters);
+  ASSERT_EQ(poses.size(), flight.truth.size());
+  for (size_t i = 101; i < poses.size(); ++i) {
+    EXPECT_GT(poses[i].yaw_variance, poses[i - 1].yaw_variance) << i;
+    EXPECT_GE(poses[i].position_covariance[0][0] + poses[i].position_covariance[1][1],
+              poses[i - 1].position_covariance[0][0] + poses[i - 1].position_covariance[1][1]);
+  }
+  EXPECT_GE(counters.ins_yaw_unusable, static_cast<int64_t>(poses.size()) - 102);
+  // Pure VO yaw integration stays exact on noise-free deltas.
+  EXPECT_NEAR(angle_difference(poses.back().yaw, flight.truth.back().yaw), 0.0, 1e-9);
+}
+
+TEST(YawFusionEstimator, VoGapsAreFlaggedDeadReckonedAndSurvived) {
+  FlightSpec spec;
+  spec.frames = 300;
+  spec.turn_rate_dps = 0.0;  // straight: dead reckoning with the last velocity is exact
+  spec.climb_rate_mps = 0.0;
+  SyntheticFlight flight = test::make_flight(spec);
+  // Deltas 100..119 are lost (frames 101..120 missing), delta 150 is flagged.
+  std::vector<vo_delta_t> kept;
+  for (size_t k = 0; k < flight.deltas.size(); ++k) {
+    if (k >= 100 && k < 120) continue;
+    kept.push_back(flight.deltas[k]);
+  }
+  for (auto& d : kept) {
+    if (d.utime == flight.truth[151].utime) d.quality = vo_delta_t::QUALITY_TOO_FEW_FEATURES;
+  }
+  flight.deltas = kept;
+  YawFusionCounters counters;
+  const auto poses = run_flight(flight, YawFusionOptions{}, &counters);
+  const Eigen::Vector3d origin = flight.truth.front().position;
+
+  int gap_poses = 0;
+  double cov_before_gap = 0.0;
+  double cov_in_gap = 0.0;
+  for (const pose_t& p : poses) {
+    if (p.utime < flight.truth[101].utime) cov_before_gap = p.position_covariance[0][0];
+    if (p.flags & pose_t::FLAG_VO_GAP) {
+      ++gap_poses;
+      cov_in_gap = std::max(cov_in_gap, p.position_covariance[0][0]);
+    }
+  }
+  // Synthetic gap poses at the camera rate for the missing frames 101..119,
+  // the frame 120 pose (its delta 120 starts after the gap), and the flagged frame 151.
+  EXPECT_EQ(counters.gap_poses, 19);
+  EXPECT_EQ(gap_poses, 19 + 1 + 1);
+  EXPECT_EQ(counters.vo_deltas_quality_rejected, 1);
+  EXPECT_GT(cov_in_gap, cov_before_gap + 1.0);
+  // Through the gap the straight flight is dead-reckoned to within a frame's trigger jitter.
+  const pose_t& last = poses.back();
+  const Eigen::Vector3d expected = flight.truth.back().position - origin;
+  EXPECT_NEAR(last.position_ned[0], expected.x(), 0.2);
+  EXPECT_NEAR(last.position_ned[1], expected.y(), 0.2);
+  EXPECT_EQ(last.frames, static_cast<int64_t>(kept.size()) - 1);
+  EXPECT_EQ(last.flags, 0);
+  // Poses keep increasing in time.
+  for (size_t i = 1; i < poses.size(); ++i) EXPECT_GT(poses[i].utime, poses[i - 1].utime);
+}
+
+TEST(YawFusionEstimator, LongGapHoldsPositionAfterMaxPropagation) {
+  FlightSpec spec;
+  spec.frames = 200;
+  spec.turn_rate_dps = 0.0;
+  SyntheticFlight flight = test::make_flight(spec);
+  flight.deltas.resize(50);  // VO stops at frame 50; INS goes on for ~10 s
+  YawFusionOptions options;
+  options.gap_max_propagation_s = 2.0;
+  options.gap_max_duration_s = 5.0;
+  YawFusionEstimator estimator(options);
+  const auto poses = run(estimator, test::arrival_order(flight, 80'000, 2'000, 5'000));
+  ASSERT_GT(poses.size(), 51u);
+  const pose_t& last_good = poses[50];
+  const pose_t& last = poses.back();
+  EXPECT_EQ(last_good.flags, 0);
+  EXPECT_NEAR(static_cast<double>(last.utime - last_good.utime) * 1e-6, 5.0, 0.08);
+  const double moved = std::hypot(last.position_ned[0] - last_good.position_ned[0],
+                                  last.position_ned[1] - last_good.position_ned[1]);
+  EXPECT_NEAR(moved, spec.speed_mps * 2.0, 0.5);  // 2 s of dead reckoning, then held
+  EXPECT_EQ(last.velocity_ned[0], 0.0);
+  EXPECT_TRUE(estimator.vo_lost());
+}
+
+TEST(YawFusionEstimator, ArrivalOrderDoesNotChangePoses) {
+  FlightSpec spec;
+  spec.frames = 300;
+  spec.ins_yaw_stddev_deg = 0.3;
+  spec.dyaw_stddev_deg = 0.05;
+  spec.translation_stddev_m = 0.05;
+  SyntheticFlight flight = test::make_flight(spec);
+  flight.deltas.erase(flight.deltas.begin() + 100, flight.deltas.begin() + 110);  // and a gap
+  YawFusionEstimator a{YawFusionOptions{}};
+  YawFusionEstimator b{YawFusionOptions{}};
+  YawFusionEstimator c{YawFusionOptions{}};
+  const auto pa = run(a, test::arrival_order(flight, 80'000, 2'000, 5'000));
+  const auto pb = run(b, test::arrival_order(flight, 0, 300'000, 150'000));   // INS 300 ms late
+  const auto pc = run(c, test::arrival_order(flight, 0, 0, 0, 99, 250'000));   // random interleaving
+  ASSERT_EQ(pa.size(), pb.size());
+  ASSERT_EQ(pa.size(), pc.size());
+  for (size_t i = 0; i < pa.size(); ++i) {
+    EXPECT_EQ(test::encode(pa[i]), test::encode(pb[i])) << "pose " << i;
+    EXPECT_EQ(test::encode(pa[i]), test::encode(pc[i])) << "pose " << i;
+  }
+}
+
+TEST(YawFusionEstimator, MalformedValuesAreCountedAndSurvived) {
+  FlightSpec spec;
+  spec.frames = 120;
+  SyntheticFlight flight = test::make_flight(spec);
+  flight.deltas[30].dx = std::nan("");
+  flight.deltas[40].covariance[0][0] = -1.0;
+  flight.deltas[50].prev_utime = flight.deltas[50].utime;  // zero interval
+  flight.ins[500].yaw = std::numeric_limits<double>::infinity();
+  flight.ins[600].pitch = 4.0;
+  flight.altimeter[20].validity = altimeter_t::VALID_NO_RETURN;
+  flight.altimeter[21].range_m = std::nan("");
+  YawFusionCounters counters;
+  const auto poses = run_flight(flight, YawFusionOptions{}, &counters);
+  EXPECT_EQ(counters.vo_deltas_invalid, 3);
+  EXPECT_EQ(counters.ins_invalid, 2);
+  EXPECT_EQ(counters.altimeter_invalid, 2);
+  EXPECT_FALSE(counters.last_problem.empty());
+  // Frames 31 and 41 become flagged gap frames; frame 51 (zero-interval delta
+  // dropped) is bridged when delta 51 arrives.
+  EXPECT_EQ(poses.size(), flight.truth.size());
+  int gaps = 0;
+  for (const pose_t& p : poses) gaps += (p.flags & pose_t::FLAG_VO_GAP) ? 1 : 0;
+  EXPECT_EQ(gaps, 3);
+  for (const pose_t& p : poses) {
+    for (double v : p.position_ned) EXPECT_TRUE(std::isfinite(v));
+    EXPECT_TRUE(std::isfinite(p.yaw));
+  }
+  EXPECT_NEAR(poses.back().position_ned[0], flight.truth.back().position.x() - flight.truth.front().position.x(), 1.0);
+}
+
+TEST(YawFusionEstimator, LevelTerrainModeBoundsVerticalDriftOverLevelGround) {
+  FlightSpec spec;
+  spec.frames = 700;
+  spec.dz_bias_m = 0.02;  // a biased dz: 14 m of drift over the flight
+  spec.dz_stddev_m = 0.05;
+  const SyntheticFlight flight = test::make_flight(spec);
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  const double truth_down = flight.truth.back().position.z() - origin.z();
+
+  const auto vo_only = run_flight(flight, YawFusionOptions{});
+  YawFusionOptions level;
+  level.altitude_mode = AltitudeMode::kLevelTerrain;
+  YawFusionCounters counters;
+  const auto corrected = run_flight(flight, level, &counters);
+  EXPECT_GT(std::abs(vo_only.back().position_ned[2] - truth_down), 10.0);
+  EXPECT_LT(std::abs(corrected.back().position_ned[2] - truth_down), 1.0);
+  EXPECT_LT(corrected.back().position_covariance[2][2], vo_only.back().position_covariance[2][2]);
+  EXPECT_EQ(counters.altimeter_rejected, 0);
+
+  // A 30 m terrain step is detected and not taken as a 30 m altitude change.
+  FlightSpec step = spec;
+  step.dz_bias_m = 0.0;
+  step.terrain_step_m = 30.0;
+  step.terrain_step_frame = 300;
+  const SyntheticFlight stepped = test::make_flight(step);
+  YawFusionCounters step_counters;
+  const auto step_poses = run_flight(stepped, level, &step_counters);
+  EXPECT_GE(step_counters.altimeter_rejected, 1);
+  const double step_truth_down = stepped.truth.back().position.z() - stepped.truth.front().position.z();
+  EXPECT_LT(std::abs(step_poses.back().position_ned[2] - step_truth_down), 1.0);
+}
+
+TEST(YawFusionOptions, BadConfigNamesTheKey) {
+  const Config root = Config::parse("yaw_fusion:\n  ins_yaw_gate_sigma: 0.5\n", "test.yaml");
+  try {
+    YawFusionOptions::from_config(root);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("yaw_fusion.ins_yaw_gate_sigma"), std::string::npos) << e.what();
+  }
+  const Config mode = Config::parse("yaw_fusion:\n  altitude_mode: baro\n", "test.yaml");
+  EXPECT_THROW(YawFusionOptions::from_config(mode), ConfigError);
+  const Config gap = Config::parse("yaw_fusion:\n  gap: {max_duration_s: -1}\n", "test.yaml");
+  EXPECT_THROW(YawFusionOptions::from_config(gap), ConfigError);
+  const Config ok = Config::parse("camera: {rate_hz: 20}\nyaw_fusion: {altitude_mode: level_terrain}\n", "test.yaml");
+  const YawFusionOptions o = YawFusionOptions::from_config(ok);
+  EXPECT_EQ(o.altitude_mode, AltitudeMode::kLevelTerrain);
+  EXPECT_EQ(o.frame_period_us(), 50'000);
+}
+
+}  // namespace
+}  // namespace nadir

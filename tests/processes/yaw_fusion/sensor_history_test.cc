@@ -1,0 +1,75 @@
+// INS and altimeter buffers: order-independent insertion, interpolation at
+// frame time (angle-aware), limits on bracketing and age.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/geometry.h"
+#include "processes/yaw_fusion/sensor_history.h"
+
+namespace nadir {
+namespace {
+
+AttitudeSample sample(int64_t utime, double yaw_deg, double variance = 1e-4) {
+  AttitudeSample s;
+  s.utime = utime;
+  s.roll = 0.001 * static_cast<double>(utime);
+  s.pitch = -0.002 * static_cast<double>(utime);
+  s.yaw = deg_to_rad(yaw_deg);
+  s.yaw_variance = variance;
+  return s;
+}
+
+TEST(InsHistory, InterpolatesAcrossTheYawWrap) {
+  InsHistory h;
+  ASSERT_TRUE(h.add(sample(100, 179.0)));
+  ASSERT_TRUE(h.add(sample(200, -179.0)));
+  const auto a = h.at(150, 1000);
+  ASSERT_TRUE(a.has_value());
+  EXPECT_NEAR(std::abs(a->yaw), M_PI, 1e-12);
+  EXPECT_NEAR(a->roll, 0.15, 1e-12);
+  const auto b = h.at(125, 1000);
+  EXPECT_NEAR(b->yaw, deg_to_rad(179.5), 1e-12);
+}
+
+TEST(InsHistory, SameAnswerWhateverTheInsertionOrder) {
+  InsHistory forward;
+  InsHistory backward;
+  for (int i = 0; i < 10; ++i) forward.add(sample(i * 10, i * 3.0));
+  for (int i = 9; i >= 0; --i) backward.add(sample(i * 10, i * 3.0));
+  EXPECT_FALSE(backward.add(sample(50, 0.0)));  // duplicate time
+  for (int64_t t = 0; t <= 90; t += 7) {
+    EXPECT_EQ(forward.at(t, 100)->yaw, backward.at(t, 100)->yaw) << t;
+  }
+  EXPECT_EQ(forward.newest_utime(), 90);
+}
+
+TEST(InsHistory, LimitsBracketAndMarksUnusableYaw) {
+  InsHistory h;
+  h.add(sample(0, 10.0));
+  h.add(sample(1000, 20.0, -1.0));
+  EXPECT_FALSE(h.at(500, 400).has_value());        // bracket too wide, both too far
+  EXPECT_NEAR(h.at(100, 400)->yaw, deg_to_rad(10.0), 1e-12);  // nearest within reach
+  EXPECT_LT(h.at(500, 2000)->yaw_variance, 0.0);   // one side unusable -> unusable
+  h.forget_before(900);
+  EXPECT_EQ(h.size(), 2u);  // keeps the sample before 900
+  h.forget_before(1000);
+  EXPECT_EQ(h.size(), 1u);
+}
+
+TEST(AltimeterHistory, VerticalHeightFromTiltedBeamAndAge) {
+  AltimeterHistory h;
+  h.add({1000, 100.0, Eigen::Vector3d::UnitZ()});
+  h.add({2000, 110.0, Eigen::Vector3d::UnitZ()});
+  EXPECT_NEAR(*h.height_agl(1500, 1000, 0.0, 0.0), 105.0, 1e-12);
+  // Pitched 10 deg: the beam's vertical component is cos(10 deg).
+  EXPECT_NEAR(*h.height_agl(1000, 1000, 0.0, deg_to_rad(10.0)), 100.0 * std::cos(deg_to_rad(10.0)), 1e-9);
+  EXPECT_NEAR(vertical_range(50.0, Eigen::Vector3d::UnitZ(), deg_to_rad(20.0), deg_to_rad(10.0)),
+              50.0 * std::cos(deg_to_rad(20.0)) * std::cos(deg_to_rad(10.0)), 1e-9);
+  EXPECT_FALSE(h.height_agl(5000, 1000, 0.0, 0.0).has_value());
+  EXPECT_NEAR(*h.height_agl(2500, 1000, 0.0, 0.0), 110.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace nadir

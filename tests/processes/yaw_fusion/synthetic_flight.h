@@ -1,0 +1,80 @@
+#pragma once
+// Synthetic flights with known truth for the yaw fusion tests: a vehicle flying
+// straight and turning (heading crossing +-180 deg), climbing, over level
+// ground; INS at 100 Hz, altimeter at 20 Hz, camera frames at ~14 Hz with
+// trigger jitter, and the VO deltas a perfect solver would give (plus optional
+// noise). Attitude is piecewise linear in time with breakpoints on the INS
+// sample grid, so interpolating the INS at a frame time is exact.
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "nadir/altimeter_t.hpp"
+#include "nadir/ins_t.hpp"
+#include "nadir/vo_delta_t.hpp"
+
+namespace nadir::test {
+
+struct FlightSpec {
+  int frames = 300;
+  double speed_mps = 30.0;
+  double climb_rate_mps = 1.0;          // up
+  double initial_yaw_deg = 170.0;
+  double turn_rate_dps = 6.0;           // during turns
+  double height_agl_m = 300.0;          // at the start, level terrain
+  double ins_yaw_stddev_deg = 0.0;      // noise on INS yaw
+  double reported_ins_yaw_stddev_deg = 0.3;  // what the INS says
+  double dyaw_stddev_deg = 0.0;         // noise on VO dyaw
+  double translation_stddev_m = 0.0;    // noise on VO dx, dy
+  double dz_bias_m = 0.0;               // added to every VO dz
+  double dz_stddev_m = 0.0;
+  double covariance_translation_stddev_m = 0.05;  // what the solver reports
+  double covariance_dyaw_stddev_deg = 0.05;
+  double terrain_step_m = 0.0;          // terrain rises this much at terrain_step_frame
+  int terrain_step_frame = -1;
+  uint32_t seed = 7;
+};
+
+struct TruthFrame {
+  int64_t utime;
+  Eigen::Vector3d position;  // NED, metres
+  double yaw;
+  double roll;
+  double pitch;
+};
+
+// Messages on their own channel with their sensor times.
+struct TimedMessage {
+  std::string channel;
+  int64_t utime;
+  std::vector<uint8_t> bytes;
+};
+
+struct SyntheticFlight {
+  std::vector<TruthFrame> truth;  // one per frame; deltas[k] goes from truth[k] to truth[k+1]
+  std::vector<vo_delta_t> deltas;
+  std::vector<ins_t> ins;
+  std::vector<altimeter_t> altimeter;
+};
+
+SyntheticFlight make_flight(const FlightSpec& spec);
+
+// All messages ordered by arrival: sensor time plus a per-channel latency
+// (and a per-message jitter from `seed` when nonzero) -- different values give
+// different interleavings of the same messages.
+std::vector<TimedMessage> arrival_order(const SyntheticFlight& flight, int64_t vo_latency_us, int64_t ins_latency_us,
+                                        int64_t altimeter_latency_us, uint32_t jitter_seed = 0,
+                                        int64_t jitter_us = 0);
+
+template <class Msg>
+std::vector<uint8_t> encode(const Msg& msg) {
+  std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
+  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
+}
+
+}  // namespace nadir::test

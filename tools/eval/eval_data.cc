@@ -1,0 +1,94 @@
+#include "tools/eval/eval_data.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "common/channels.h"
+#include "common/log_file.h"
+#include "nadir/vo_delta_t.hpp"
+
+namespace nadir {
+namespace {
+
+template <class Msg>
+bool decode(const LogEvent& e, Msg* msg) {
+  return msg->decode(e.data, 0, static_cast<int>(e.size)) == static_cast<int>(e.size);
+}
+
+void read_truth(const std::string& path, EvalData* data) {
+  LogReader reader(path);
+  LogEvent e;
+  while (reader.next(&e)) {
+    if (e.channel == channels::kGroundTruth) {
+      ground_truth_t t;
+      if (decode(e, &t)) data->truth.push_back(t);
+    } else if (e.channel == channels::kIns && data->ins.size() < 100000) {
+      ins_t m;
+      if (decode(e, &m)) data->ins.push_back(m);
+    }
+  }
+}
+
+}  // namespace
+
+EvalData load_eval_data(const std::string& log_path, const std::string& truth_path) {
+  EvalData data;
+  LogReader reader(log_path);
+  LogEvent e;
+  const bool truth_here = truth_path.empty() || truth_path == log_path;
+  while (reader.next(&e)) {
+    if (e.channel == channels::kPose) {
+      pose_t p;
+      if (decode(e, &p)) {
+        data.poses.push_back(p);
+        data.pose_log_timestamps.push_back(e.timestamp);
+      }
+    } else if (e.channel == channels::kCameraImage) {
+      ++data.images;
+    } else if (e.channel == channels::kCameraTrigger) {
+      ++data.triggers;
+    } else if (e.channel == channels::kTracks) {
+      ++data.tracks;
+    } else if (e.channel == channels::kVoDelta) {
+      vo_delta_t d;
+      if (decode(e, &d)) {
+        ++data.vo_deltas;
+        if (d.quality != 0) ++data.vo_deltas_flagged;
+      }
+    } else if (e.channel == channels::kStatus) {
+      status_t s;
+      if (decode(e, &s)) data.last_status[s.name] = s;
+    } else if (truth_here && e.channel == channels::kGroundTruth) {
+      ground_truth_t t;
+      if (decode(e, &t)) data.truth.push_back(t);
+    } else if (truth_here && e.channel == channels::kIns && data.ins.size() < 100000) {
+      ins_t m;
+      if (decode(e, &m)) data.ins.push_back(m);
+    }
+  }
+  data.corrupt_records = reader.corrupt_records();
+  if (!truth_here) read_truth(truth_path, &data);
+  if (data.poses.empty()) throw std::runtime_error(log_path + ": no POSE messages (run the estimator first)");
+  if (data.truth.size() < 2) {
+    throw std::runtime_error((truth_here ? log_path : truth_path) +
+                             ": no GROUND_TRUTH messages (only simulated flights have truth; pass --truth)");
+  }
+  // Keep log order for the pose/timestamp pairing but evaluate in sensor time.
+  std::vector<size_t> order(data.poses.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return data.poses[a].utime < data.poses[b].utime; });
+  std::vector<pose_t> poses;
+  std::vector<int64_t> stamps;
+  for (size_t i : order) {
+    poses.push_back(data.poses[i]);
+    stamps.push_back(data.pose_log_timestamps[i]);
+  }
+  data.poses = std::move(poses);
+  data.pose_log_timestamps = std::move(stamps);
+  std::stable_sort(data.truth.begin(), data.truth.end(),
+                   [](const ground_truth_t& a, const ground_truth_t& b) { return a.utime < b.utime; });
+  return data;
+}
+
+}  // namespace nadir

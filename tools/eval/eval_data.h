@@ -1,0 +1,35 @@
+#pragma once
+// What an evaluation needs from a log: estimates, truth and bookkeeping.
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "nadir/ground_truth_t.hpp"
+#include "nadir/ins_t.hpp"
+#include "nadir/pose_t.hpp"
+#include "nadir/status_t.hpp"
+
+namespace nadir {
+
+struct EvalData {
+  std::vector<pose_t> poses;                // sorted by utime
+  std::vector<int64_t> pose_log_timestamps; // logger receive time of each pose
+  std::vector<ground_truth_t> truth;        // sorted by utime, all kinds
+  std::vector<ins_t> ins;                   // first few, for the geographic reference
+  int64_t images = 0;
+  int64_t triggers = 0;
+  int64_t tracks = 0;
+  int64_t vo_deltas = 0;
+  int64_t vo_deltas_flagged = 0;
+  int64_t corrupt_records = 0;
+  std::map<std::string, status_t> last_status;  // per process name
+};
+
+// Reads POSE (and STATUS, counts) from `log_path`, GROUND_TRUTH and INS from
+// `truth_path` (the same file when empty). Throws std::runtime_error naming
+// the file and the missing channel.
+EvalData load_eval_data(const std::string& log_path, const std::string& truth_path);
+
+}  // namespace nadir

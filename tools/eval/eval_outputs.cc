@@ -1,0 +1,86 @@
+#include "tools/eval/eval_outputs.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
+
+namespace nadir {
+namespace {
+
+constexpr double kEarthRadius = 6378137.0;
+
+std::ofstream open_out(const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error(path + ": cannot write");
+  out.precision(10);
+  return out;
+}
+
+void to_lat_lon(const EvalResult& r, const std::array<double, 3>& ned, double* lat, double* lon) {
+  const double lat0 = r.reference_lat_deg * M_PI / 180.0;
+  *lat = r.reference_lat_deg + ned[0] / kEarthRadius * 180.0 / M_PI;
+  *lon = r.reference_lon_deg + ned[1] / (kEarthRadius * std::cos(lat0)) * 180.0 / M_PI;
+}
+
+// Calls f(lon, lat, alt) for every sample of one track (at most ~2000 points).
+void for_track(const EvalResult& r, bool estimate, const std::function<void(double, double, double)>& f) {
+  const size_t step = std::max<size_t>(1, r.samples.size() / 2000);
+  for (size_t i = 0; i < r.samples.size(); i += step) {
+    const auto& ned = estimate ? r.samples[i].estimate : r.samples[i].truth;
+    double lat = 0, lon = 0;
+    to_lat_lon(r, ned, &lat, &lon);
+    f(lon, lat, -ned[2]);
+  }
+}
+
+}  // namespace
+
+void write_series_csv(const EvalResult& r, const std::string& path) {
+  std::ofstream out = open_out(path);
+  out << "t_s,distance_m,est_n,est_e,est_d,true_n,true_e,true_d,error_h_m,error_v_m,vel_err_n,vel_err_e,vel_err_d,"
+         "yaw_error_deg,flags\n";
+  for (const EvalSample& s : r.samples) {
+    out << s.t_s << "," << s.distance_m << "," << s.estimate[0] << "," << s.estimate[1] << "," << s.estimate[2] << ","
+        << s.truth[0] << "," << s.truth[1] << "," << s.truth[2] << "," << s.error_h_m << "," << s.error_v_m << ","
+        << s.velocity_error[0] << "," << s.velocity_error[1] << "," << s.velocity_error[2] << "," << s.yaw_error_deg
+        << "," << s.flags << "\n";
+  }
+}
+
+void write_geojson(const EvalResult& r, const std::string& path) {
+  std::ofstream out = open_out(path);
+  out << "{\"type\":\"FeatureCollection\",\"features\":[";
+  for (int track = 0; track < 2; ++track) {
+    const bool estimate = track == 0;
+    out << (track ? "," : "") << "{\"type\":\"Feature\",\"properties\":{\"name\":\""
+        << (estimate ? "nadir estimate" : "ground truth") << "\"},\"geometry\":{\"type\":\"LineString\","
+        << "\"coordinates\":[";
+    bool first = true;
+    for_track(r, estimate, [&](double lon, double lat, double alt) {
+      out << (first ? "" : ",") << "[" << lon << "," << lat << "," << alt << "]";
+      first = false;
+    });
+    out << "]}}";
+  }
+  out << "]}\n";
+}
+
+void write_kml(const EvalResult& r, const std::string& path) {
+  std::ofstream out = open_out(path);
+  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<kml xmlns=\"http://www.opengis.net/kml/2.2\"><Document>\n"
+      << "<Style id=\"estimate\"><LineStyle><color>ffff0000</color><width>3</width></LineStyle></Style>\n"
+      << "<Style id=\"truth\"><LineStyle><color>ff0000ff</color><width>3</width></LineStyle></Style>\n";
+  for (int track = 0; track < 2; ++track) {
+    const bool estimate = track == 0;
+    out << "<Placemark><name>" << (estimate ? "nadir estimate" : "ground truth") << "</name><styleUrl>#"
+        << (estimate ? "estimate" : "truth") << "</styleUrl><LineString><tessellate>1</tessellate>"
+        << "<altitudeMode>relativeToGround</altitudeMode><coordinates>\n";
+    for_track(r, estimate, [&](double lon, double lat, double alt) { out << lon << "," << lat << "," << alt << " "; });
+    out << "\n</coordinates></LineString></Placemark>\n";
+  }
+  out << "</Document></kml>\n";
+}
+
+}  // namespace nadir

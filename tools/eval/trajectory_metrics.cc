@@ -1,0 +1,141 @@
+#include "tools/eval/trajectory_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "common/geometry.h"
+#include "common/json_writer.h"
+#include "common/status.h"
+#include "common/time_base.h"
+
+namespace nadir {
+namespace {
+
+struct TruthAt {
+  std::array<double, 3> position;
+  std::array<double, 3> velocity;
+  double yaw;
+};
+
+// Linear interpolation of truth at `utime`; false outside the truth span.
+bool truth_at(const std::vector<ground_truth_t>& truth, int64_t utime, TruthAt* out) {
+  if (truth.empty() || utime < truth.front().utime || utime > truth.back().utime) return false;
+  auto it = std::lower_bound(truth.begin(), truth.end(), utime,
+                             [](const ground_truth_t& t, int64_t u) { return t.utime < u; });
+  const ground_truth_t& b = *it;
+  const ground_truth_t& a = it == truth.begin() ? b : *(it - 1);
+  const double span = static_cast<double>(b.utime - a.utime);
+  const double w = span > 0 ? static_cast<double>(utime - a.utime) / span : 1.0;
+  for (int i = 0; i < 3; ++i) {
+    out->position[i] = a.position_ned[i] + w * (b.position_ned[i] - a.position_ned[i]);
+    out->velocity[i] = a.velocity_ned[i] + w * (b.velocity_ned[i] - a.velocity_ned[i]);
+  }
+  out->yaw = wrap_angle(a.yaw + w * angle_difference(b.yaw, a.yaw));
+  return true;
+}
+
+}  // namespace
+
+EvalResult evaluate(const EvalData& data) {
+  EvalResult result;
+  EvalMetrics& m = result.metrics;
+  const pose_t* first = nullptr;
+  TruthAt truth0{};
+  TruthAt previous{};
+  double distance = 0;
+  double sum_v2 = 0, sum_yaw2 = 0;
+  std::vector<float> latencies;
+  for (size_t i = 0; i < data.poses.size(); ++i) {
+    const pose_t& p = data.poses[i];
+    TruthAt t{};
+    if (!truth_at(data.truth, p.utime, &t)) continue;
+    if (first == nullptr) {
+      first = &p;
+      truth0 = t;
+      previous = t;
+    }
+    EvalSample s;
+    s.t_s = us_to_s(p.utime - first->utime);
+    double step2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      s.estimate[k] = p.position_ned[k] - first->position_ned[k];
+      s.truth[k] = t.position[k] - truth0.position[k];
+      step2 += (t.position[k] - previous.position[k]) * (t.position[k] - previous.position[k]);
+      s.velocity_error[k] = p.velocity_ned[k] - t.velocity[k];
+    }
+    distance += std::sqrt(step2);
+    previous = t;
+    s.distance_m = distance;
+    s.error_h_m = std::hypot(s.estimate[0] - s.truth[0], s.estimate[1] - s.truth[1]);
+    s.error_v_m = s.estimate[2] - s.truth[2];
+    s.yaw_error_deg = rad_to_deg(angle_difference(p.yaw, t.yaw));
+    s.flags = p.flags;
+    const double v_h = std::hypot(s.velocity_error[0], s.velocity_error[1]);
+    sum_v2 += v_h * v_h;
+    sum_yaw2 += s.yaw_error_deg * s.yaw_error_deg;
+    m.max_velocity_error_h = std::max(m.max_velocity_error_h, i == 0 ? 0.0 : v_h);
+    m.max_error_h_m = std::max(m.max_error_h_m, s.error_h_m);
+    if (p.flags != 0) ++m.poses_flagged;
+    latencies.push_back(static_cast<float>(us_to_s(data.pose_log_timestamps[i] - p.utime) * 1e3));
+    result.samples.push_back(s);
+  }
+  if (result.samples.size() < 2) {
+    throw std::runtime_error("POSE and GROUND_TRUTH do not overlap in sensor time (" +
+                             std::to_string(result.samples.size()) + " aligned poses)");
+  }
+  const EvalSample& last = result.samples.back();
+  const double n = static_cast<double>(result.samples.size());
+  m.poses = static_cast<int64_t>(result.samples.size());
+  m.duration_s = last.t_s;
+  m.distance_m = last.distance_m;
+  m.final_error_h_m = last.error_h_m;
+  m.final_error_v_m = last.error_v_m;
+  m.final_error_3d_m = std::hypot(last.error_h_m, last.error_v_m);
+  if (m.distance_m > 0) {
+    m.error_pct_h = 100.0 * m.final_error_h_m / m.distance_m;
+    m.error_pct_v = 100.0 * std::fabs(m.final_error_v_m) / m.distance_m;
+    m.error_pct_3d = 100.0 * m.final_error_3d_m / m.distance_m;
+  }
+  m.rms_velocity_error_h = std::sqrt(sum_v2 / n);
+  m.rms_yaw_error_deg = std::sqrt(sum_yaw2 / n);
+  m.images = data.images;
+  m.triggers = data.triggers;
+  m.frames_dropped = std::max<int64_t>(0, data.triggers - data.images);
+  m.tracks = data.tracks;
+  m.vo_deltas = data.vo_deltas;
+  m.vo_deltas_flagged = data.vo_deltas_flagged;
+  m.latency_p50_ms = percentile(latencies, 50);
+  m.latency_p99_ms = percentile(latencies, 99);
+
+  // Geographic reference: the INS fix nearest the first pose, moved back by
+  // the truth offset between them.
+  if (!data.ins.empty()) {
+    const auto nearest = std::min_element(data.ins.begin(), data.ins.end(), [&](const ins_t& a, const ins_t& b) {
+      return std::llabs(a.utime - first->utime) < std::llabs(b.utime - first->utime);
+    });
+    result.reference_lat_deg = nearest->latitude_deg;
+    result.reference_lon_deg = nearest->longitude_deg;
+    result.has_reference = nearest->latitude_deg != 0.0 || nearest->longitude_deg != 0.0;
+  }
+  return result;
+}
+
+std::string metrics_json(const EvalMetrics& m) {
+  JsonWriter j;
+  j.begin_object();
+  j.field("duration_s", m.duration_s).field("distance_m", m.distance_m);
+  j.field("final_error_h_m", m.final_error_h_m).field("final_error_v_m", m.final_error_v_m);
+  j.field("final_error_3d_m", m.final_error_3d_m).field("error_pct_h", m.error_pct_h);
+  j.field("error_pct_v", m.error_pct_v).field("error_pct_3d", m.error_pct_3d);
+  j.field("max_error_h_m", m.max_error_h_m).field("rms_velocity_error_h", m.rms_velocity_error_h);
+  j.field("max_velocity_error_h", m.max_velocity_error_h).field("rms_yaw_error_deg", m.rms_yaw_error_deg);
+  j.field("poses", m.poses).field("poses_flagged", m.poses_flagged).field("images", m.images);
+  j.field("triggers", m.triggers).field("frames_dropped", m.frames_dropped).field("tracks", m.tracks);
+  j.field("vo_deltas", m.vo_deltas).field("vo_deltas_flagged", m.vo_deltas_flagged);
+  j.field("latency_p50_ms", m.latency_p50_ms).field("latency_p99_ms", m.latency_p99_ms);
+  j.end_object();
+  return j.str();
+}
+
+}  // namespace nadir

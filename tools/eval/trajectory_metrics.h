@@ -1,0 +1,64 @@
+#pragma once
+// Estimate vs truth, aligned by sensor time: the paper's Table 1 figures
+// (distance flown, final error, error as % of distance), drift over time
+// (Fig. 7a), velocity errors (Fig. 7b) and yaw error.
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tools/eval/eval_data.h"
+
+namespace nadir {
+
+struct EvalSample {
+  double t_s = 0;                      // since the first pose
+  std::array<double, 3> estimate{};    // NED relative to the first pose
+  std::array<double, 3> truth{};       // NED relative to truth at the first pose
+  double distance_m = 0;               // flown so far (truth path length)
+  double error_h_m = 0;                // horizontal position error
+  double error_v_m = 0;                // vertical (down) position error, signed
+  std::array<double, 3> velocity_error{};
+  double yaw_error_deg = 0;
+  int32_t flags = 0;
+};
+
+struct EvalMetrics {
+  double duration_s = 0;
+  double distance_m = 0;
+  double final_error_h_m = 0;
+  double final_error_v_m = 0;
+  double final_error_3d_m = 0;
+  double error_pct_h = 0;     // final horizontal error / distance * 100
+  double error_pct_v = 0;
+  double error_pct_3d = 0;    // the paper's "accuracy" column
+  double max_error_h_m = 0;
+  double rms_velocity_error_h = 0;
+  double max_velocity_error_h = 0;
+  double rms_yaw_error_deg = 0;
+  int64_t poses = 0;
+  int64_t poses_flagged = 0;
+  int64_t images = 0;
+  int64_t triggers = 0;
+  int64_t frames_dropped = 0;  // triggers without an image
+  int64_t tracks = 0;
+  int64_t vo_deltas = 0;
+  int64_t vo_deltas_flagged = 0;
+  double latency_p50_ms = 0;   // logger receive time - sensor time of POSE
+  double latency_p99_ms = 0;
+};
+
+struct EvalResult {
+  EvalMetrics metrics;
+  std::vector<EvalSample> samples;
+  double reference_lat_deg = 0;  // geographic reference of the first pose
+  double reference_lon_deg = 0;
+  bool has_reference = false;
+};
+
+// Throws std::runtime_error when poses and truth do not overlap in time.
+EvalResult evaluate(const EvalData& data);
+std::string metrics_json(const EvalMetrics& m);
+
+}  // namespace nadir
