@@ -1,52 +1,45 @@
 #include "processes/tracker/feature_tracker.h"
 #include <gtest/gtest.h>
-#include <algorithm>
-#include <cmath>
+#include <opencv2/video/tracking.hpp>
+#include <opencv2/imgproc.hpp>
 #include <cstdio>
-#include <map>
+#include <ctime>
+static int64_t cpu_ticks(){ timespec t; clock_gettime(CLOCK_THREAD_CPUTIME_ID,&t); return (int64_t)t.tv_sec*1000000000LL+t.tv_nsec; }
 #include "synthetic_scene.h"
 using namespace nadir;
 using namespace nadir::testing;
 const cv::Size kFrame(612, 512);
-TEST(Dbg, Rot) {
-  static const SyntheticScene s(cv::Size(1600, 1600), 42);
-  for (double deg : {0.2, 1.0, 2.0, 3.0}) {
-    FeatureTracker tracker{TrackerOptions{}};
-    const ViewPose a{{800, 800}, 0.0};
-    const ViewPose b{{803.0, 798.0}, deg * M_PI / 180};
-    tracker.process(s.render(a, kFrame));
-    auto step = tracker.process(s.render(b, kFrame));
-    std::vector<double> e;
-    for (auto& t : step.tracks) {
-      auto x = SyntheticScene::map_point(t.prev_px, a, b, kFrame);
-      e.push_back(std::hypot(t.curr_px.x - x.x, t.curr_px.y - x.y));
-    }
-    std::sort(e.begin(), e.end());
-    printf("deg %.1f n %zu med %.3f p95 %.3f max %.3f\n", deg, e.size(), e[e.size()/2], e[e.size()*95/100], e.back());
+TEST(Dbg, Timing) {
+  cv::setNumThreads(1);
+  static const SyntheticScene s(cv::Size(1400, 1400), 42);
+  cv::Mat a = s.render({{700, 700}, 0}, kFrame, 1.5, 1), b = s.render({{702.8, 701.2}, 0.0035}, kFrame, 1.5, 2);
+  FeatureTracker tr{TrackerOptions{}};
+  tr.process(a);
+  std::vector<cv::Point2f> pts; for (auto& f : tr.features()) pts.push_back(f.px);
+  std::vector<cv::Mat> pa, pb;
+  const int N = 50;
+  auto t0 = cpu_ticks();
+  for (int i = 0; i < N; ++i) cv::buildOpticalFlowPyramid(a, pa, cv::Size(21,21), 2, true, cv::BORDER_REFLECT_101, cv::BORDER_CONSTANT, false);
+  auto t1 = cpu_ticks();
+  cv::buildOpticalFlowPyramid(b, pb, cv::Size(21,21), 2, true, cv::BORDER_REFLECT_101, cv::BORDER_CONSTANT, false);
+  std::vector<cv::Point2f> out, back; std::vector<uchar> st; std::vector<float> err;
+  for (int eps_i = 0; eps_i < 3; ++eps_i) {
+    double eps = eps_i == 0 ? 0.01 : eps_i == 1 ? 0.03 : 0.1; int its = eps_i == 0 ? 30 : eps_i == 1 ? 20 : 10;
+    auto t2 = cpu_ticks();
+    for (int i = 0; i < N; ++i) cv::calcOpticalFlowPyrLK(pa, pb, pts, out, st, err, cv::Size(21,21), 2, cv::TermCriteria(3, its, eps), 0, 1e-4);
+    auto t3 = cpu_ticks();
+    for (int i = 0; i < N; ++i) { back = pts; cv::calcOpticalFlowPyrLK(pb, pa, out, back, st, err, cv::Size(21,21), 2, cv::TermCriteria(3, its, eps), cv::OPTFLOW_USE_INITIAL_FLOW, 1e-4); }
+    auto t4 = cpu_ticks();
+    printf("eps %.2f its %d fwd %.3f ms bwd %.3f ms\n", eps, its, (t3-t2)/1e9*1e3/N, (t4-t3)/1e9*1e3/N);
   }
-  std::map<int,int> cells;
-  FeatureTracker tracker{TrackerOptions{}};
-  tracker.process(s.render({{800, 800}, 0.0}, kFrame));
-  GridCornerDetector g{TrackerOptions{}};
-  for (auto& f : tracker.features()) cells[g.cell_index(kFrame, f.px)]++;
-  for (auto& [c, n] : cells) printf("cell %d: %d\n", c, n);
-}
-TEST(Dbg, Occ) {
-  static const SyntheticScene s(cv::Size(1600, 1600), 42);
-  const ViewPose a{{800, 800}, 0.0};
-  const ViewPose b{{803.0, 802.0}, 0.0};
-  const cv::Mat first = s.render(a, kFrame);
-  const cv::Rect box(230, 190, 150, 130);
-  cv::Mat second = s.render(b, kFrame);
-  const SyntheticScene other(cv::Size(box.width, box.height), 777);
-  other.texture().copyTo(second(box));
-  FeatureTracker tracker{TrackerOptions{}};
-  tracker.process(first);
-  auto step = tracker.process(second);
-  for (auto& t : step.tracks) {
-    auto x = SyntheticScene::map_point(t.prev_px, a, b, kFrame);
-    double e = std::hypot(t.curr_px.x - x.x, t.curr_px.y - x.y);
-    if (e > 0.3) printf("prev (%.1f,%.1f) curr (%.2f,%.2f) exp (%.2f,%.2f) err %.2f\n", t.prev_px.x, t.prev_px.y, t.curr_px.x, t.curr_px.y, x.x, x.y, e);
-  }
-  printf("fb %d lost %d\n", step.fb_rejected, step.klt_lost);
+  printf("pyr %.3f ms\n", (t1-t0)/1e9*1e3/N);
+  cv::Mat resp;
+  auto t5 = cpu_ticks();
+  for (int i = 0; i < N; ++i) cv::cornerHarris(a(cv::Rect(10,10,194,160)), resp, 3, 3, 0.04);
+  auto t6 = cpu_ticks();
+  printf("harris cell %.3f ms\n", (t6-t5)/1e9*1e3/N);
+  auto t7 = cpu_ticks();
+  for (int i = 0; i < N; ++i) { FeatureTracker t2{TrackerOptions{}}; t2.process(a); }
+  auto t8 = cpu_ticks();
+  printf("first frame %.3f ms\n", (t8-t7)/1e9*1e3/N);
 }

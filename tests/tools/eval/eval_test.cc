@@ -1,0 +1,105 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/channels.h"
+#include "common/log_file.h"
+#include "tests/common/test_support.h"
+#include "tools/eval/eval_outputs.h"
+#include "tools/eval/trajectory_metrics.h"
+
+namespace nadir {
+namespace {
+
+template <class Msg>
+void put(LogWriter& w, const std::string& channel, const Msg& m) {
+  std::vector<uint8_t> buf(m.getEncodedSize());
+  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  w.write(m.utime, channel, buf.data(), buf.size());
+}
+
+// A straight flight north at 20 m/s for 100 s starting at an arbitrary
+// offset; the estimate has a constant 1 % scale error and drifts 0.5 m east.
+void write_flight(const std::string& path, bool with_truth) {
+  LogWriter w(path);
+  const int64_t t0 = 1767225600000000;
+  for (int i = 0; i <= 10000; ++i) {  // truth at 100 Hz
+    const int64_t utime = t0 + i * 10000;
+    const double t = i * 0.01;
+    if (with_truth) {
+      ground_truth_t g{};
+      g.utime = utime;
+      g.kind = ground_truth_t::KIND_INS;
+      g.position_ned[0] = 500.0 + 20.0 * t;
+      g.position_ned[1] = -30.0;
+      g.position_ned[2] = -300.0;
+      g.velocity_ned[0] = 20.0;
+      g.yaw = 0.0;
+      put(w, channels::kGroundTruth, g);
+    }
+    if (i % 7 == 0 && i >= 100) {  // poses at ~14 Hz from t = 1 s
+      pose_t p{};
+      p.utime = utime;
+      const double flown = 20.0 * (t - 1.0);
+      p.position_ned[0] = 1.01 * flown;
+      p.position_ned[1] = 0.5 * (t - 1.0) / 99.0;
+      p.velocity_ned[0] = 20.2;
+      p.yaw = 0.01;
+      put(w, channels::kPose, p);
+    }
+  }
+  w.flush();
+}
+
+TEST(Eval, MetricsMatchAKnownError) {
+  testing::TempDir dir("eval");
+  write_flight(dir.file("flight.lcmlog"), true);
+  const EvalResult r = evaluate(load_eval_data(dir.file("flight.lcmlog"), ""));
+  const EvalMetrics& m = r.metrics;
+  const double flown = r.samples.back().truth[0];
+  EXPECT_NEAR(m.distance_m, flown, 1e-6);
+  EXPECT_NEAR(flown, 20.0 * 98.98, 0.2);
+  const double expected_h = std::hypot(0.01 * flown, 0.5 * (flown / 20.0) / 99.0);
+  EXPECT_NEAR(m.final_error_h_m, expected_h, 1e-6);
+  EXPECT_NEAR(m.error_pct_h, 100.0 * expected_h / flown, 1e-6);
+  EXPECT_NEAR(m.final_error_v_m, 0.0, 1e-9);
+  EXPECT_NEAR(m.rms_velocity_error_h, 0.2, 1e-9);
+  EXPECT_NEAR(m.rms_yaw_error_deg, 0.01 * 180 / M_PI, 1e-9);
+}
+
+TEST(Eval, TruthFromASeparateLog) {
+  testing::TempDir dir("eval");
+  write_flight(dir.file("truth.lcmlog"), true);
+  write_flight(dir.file("poses.lcmlog"), false);
+  const EvalResult r = evaluate(load_eval_data(dir.file("poses.lcmlog"), dir.file("truth.lcmlog")));
+  EXPECT_GT(r.metrics.poses, 1000);
+  write_series_csv(r, dir.file("series.csv"));
+  write_geojson(r, dir.file("t.geojson"));
+  write_kml(r, dir.file("t.kml"));
+  const auto csv = testing::read_file_bytes(dir.file("series.csv"));
+  EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 1000);
+  const auto geo = testing::read_file_bytes(dir.file("t.geojson"));
+  EXPECT_NE(std::string(geo.begin(), geo.end()).find("LineString"), std::string::npos);
+}
+
+TEST(Eval, LogWithoutTruthOrPoseGetsAClearError) {
+  testing::TempDir dir("eval");
+  write_flight(dir.file("poses.lcmlog"), false);
+  try {
+    load_eval_data(dir.file("poses.lcmlog"), "");
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no GROUND_TRUTH"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("poses.lcmlog"), std::string::npos);
+  }
+  LogWriter(dir.file("empty.lcmlog")).flush();
+  try {
+    load_eval_data(dir.file("empty.lcmlog"), "");
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no POSE"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace nadir
