@@ -9,8 +9,10 @@
 # Set file lines (# starts a comment; ${VAR:-default} is expanded when started):
 #   require  BINARY  what it is     the set fails at once if BINARY is not built
 #   capture  NAME                   lcm-logger into logs/<UTC>-NAME/capture.lcmlog
-#   run      NAME  COMMAND...       long-running process, restarted if it dies
-#   finite   NAME  COMMAND...       runs to completion; when it ends the set stops
+#   run      NAME  [delay=S] COMMAND...  long-running process, restarted if it dies
+#   finite   NAME  [delay=S] COMMAND...  runs to completion; when it ends the set stops
+# delay=S starts that process S seconds after the set (e.g. a source after
+# its subscribers are up). NADIR_CAPTURE_DIR overrides the capture folder.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
@@ -38,7 +40,7 @@ set_file="$set_arg"
 set_name="$(basename "$set_file")"
 
 declare -a names=()
-declare -A cmd=() kind=() pid=() restarts=() restart_at=() gave_up=()
+declare -A cmd=() kind=() pid=() restarts=() restart_at=() gave_up=() delay_s=()
 capture_name=""
 line_no=0
 while IFS= read -r raw || [ -n "$raw" ]; do
@@ -55,7 +57,11 @@ while IFS= read -r raw || [ -n "$raw" ]; do
     capture) capture_name="$(bash -c "echo $name")" ;;   # expands ${VAR:-default}
     run|finite)
       [ -n "$rest" ] || { echo "run_set: error: $set_file:$line_no: '$word $name' has no command" >&2; exit 2; }
-      names+=("$name"); cmd[$name]="$rest"; kind[$name]="$word"; restarts[$name]=0; gave_up[$name]=0 ;;
+      names+=("$name"); kind[$name]="$word"; restarts[$name]=0; gave_up[$name]=0
+      if [[ "$rest" =~ ^delay=([0-9.]+)[[:space:]]+(.*)$ ]]; then
+        delay_s[$name]="${BASH_REMATCH[1]}"; rest="${BASH_REMATCH[2]}"
+      fi
+      cmd[$name]="$rest" ;;
     *) echo "run_set: error: $set_file:$line_no: unknown word '$word' (require, capture, run, finite)" >&2; exit 2 ;;
   esac
 done <"$set_file"
@@ -64,7 +70,7 @@ done <"$set_file"
 logger_pid=""
 capture_dir=""
 if ((capture_enabled)) && [ -n "$capture_name" ]; then
-  capture_dir="$NADIR_ROOT/logs/$(nadir_utc_stamp)-$capture_name"
+  capture_dir="${NADIR_CAPTURE_DIR:-$NADIR_ROOT/logs/$(nadir_utc_stamp)-$capture_name}"
   mkdir -p "$capture_dir"
   url="$LCM_DEFAULT_URL"
   lcm-logger --quiet --lcm-url="$url" --flush-interval=200 "$capture_dir/capture.lcmlog" \
@@ -75,9 +81,9 @@ if ((capture_enabled)) && [ -n "$capture_name" ]; then
 fi
 
 start() {
-  local n="$1"
-  # shellcheck disable=SC2086
-  bash -c "exec ${cmd[$n]}" > >(sed -u "s/^/[$n] /") 2>&1 &
+  local n="$1" pre=""
+  [ -n "${delay_s[$n]:-}" ] && [ "${restarts[$n]}" -eq 0 ] && pre="sleep ${delay_s[$n]}; "
+  bash -c "${pre}exec ${cmd[$n]}" > >(sed -u "s/^/[$n] /") 2>&1 &
   pid[$n]=$!
   echo "[run_set] started $n (pid ${pid[$n]}): ${cmd[$n]}"
 }

@@ -1,5 +1,6 @@
 #include "processes/sim/renderer.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -14,6 +15,7 @@ FeatureTracker::FeatureTracker(const TrackerOptions& options)
       detector_(options),
       win_(options.klt_window_px, options.klt_window_px),
       max_level_(options.klt_pyramid_levels - 1),
+      fb_max_level_(options.fb_pyramid_levels - 1),
       criteria_(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.klt_max_iterations, options.klt_epsilon_px) {
   options_.Check();
 }
@@ -106,6 +108,7 @@ void FeatureTracker::track(TrackStepResult& result) {
   back_pts_.resize(n);
   status_fwd_.assign(n, 0);
   status_bwd_.assign(n, 0);
+  patch_error_.assign(n, 0.0f);
 
   // Group the features by how many pyramid levels they can use; most use
   // all. The full-pyramid group goes first: an affine motion fitted to its
@@ -128,13 +131,14 @@ void FeatureTracker::track(TrackStepResult& result) {
                                         : p);
     }
     if (group_index_.empty()) continue;
-    cv::calcOpticalFlowPyrLK(prev_pyramid_, curr_pyramid_, group_prev_, group_curr_, group_status_fwd_, err_, win_,
-                             levels, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, options_.klt_min_eig_threshold);
+    cv::calcOpticalFlowPyrLK(prev_pyramid_, curr_pyramid_, group_prev_, group_curr_, group_status_fwd_, group_error_,
+                             win_, levels, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, options_.klt_min_eig_threshold);
     // Backward pass starts from the original positions: a consistent track
     // returns there in a few iterations.
     group_back_ = group_prev_;
     cv::calcOpticalFlowPyrLK(curr_pyramid_, prev_pyramid_, group_curr_, group_back_, group_status_bwd_, err_, win_,
-                             levels, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, options_.klt_min_eig_threshold);
+                             std::min(levels, fb_max_level_), criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
+                             options_.klt_min_eig_threshold);
     for (size_t g = 0; g < group_index_.size(); ++g) {
       const size_t i = group_index_[g];
       prev_pts_[i] = group_prev_[g];
@@ -142,6 +146,7 @@ void FeatureTracker::track(TrackStepResult& result) {
       back_pts_[i] = group_back_[g];
       status_fwd_[i] = group_status_fwd_[g];
       status_bwd_[i] = group_status_bwd_[g];
+      patch_error_[i] = group_error_[g];
     }
     if (!have_motion) have_motion = fit_motion(fb_sq, &motion);
   }
@@ -151,6 +156,18 @@ void FeatureTracker::track(TrackStepResult& result) {
   const float b = static_cast<float>(options_.border_px);
   const float x_max = static_cast<float>(image_size_.width - 1) - b;
   const float y_max = static_cast<float>(image_size_.height - 1) - b;
+  // Photometric check: a track whose final patch differs from the original
+  // far more than is typical in this frame (noise, exposure change) has
+  // latched onto something else - an occluder, a moving object.
+  patch_errors_sorted_.clear();
+  for (size_t i = 0; i < n; ++i)
+    if (status_fwd_[i]) patch_errors_sorted_.push_back(patch_error_[i]);
+  float patch_limit = std::numeric_limits<float>::infinity();
+  if (!patch_errors_sorted_.empty()) {
+    const auto mid = patch_errors_sorted_.begin() + static_cast<long>(patch_errors_sorted_.size() / 2);
+    std::nth_element(patch_errors_sorted_.begin(), mid, patch_errors_sorted_.end());
+    patch_limit = static_cast<float>(std::max(options_.patch_error_floor, options_.patch_error_factor * *mid));
+  }
   std::vector<Feature> survivors;
   survivors.reserve(n);
   for (size_t i = 0; i < n; ++i) {
@@ -166,6 +183,10 @@ void FeatureTracker::track(TrackStepResult& result) {
     const double dx = back_pts_[i].x - prev_pts_[i].x, dy = back_pts_[i].y - prev_pts_[i].y;
     if (!(dx * dx + dy * dy <= fb_sq)) {
       ++result.fb_rejected;
+      continue;
+    }
+    if (!(patch_error_[i] <= patch_limit)) {
+      ++result.patch_rejected;
       continue;
     }
     Feature f = features_[i];

@@ -34,6 +34,7 @@ struct TrackStepResult {
   int klt_lost = 0;                  // KLT failed forward or backward
   int out_of_image = 0;              // tracked to within border_px of the edge or beyond
   int fb_rejected = 0;               // forward-backward error above threshold
+  int patch_rejected = 0;            // patch changed far more than the frame's typical track
   int replenished = 0;               // new corners added in this frame
   int cells_replenished = 0;         // cells that needed new corners
   int features_after = 0;            // features carried into the next frame
@@ -74,6 +75,7 @@ class FeatureTracker {
   GridCornerDetector detector_;
   cv::Size win_;
   int max_level_;
+  int fb_max_level_;
   cv::TermCriteria criteria_;
   int64_t next_id_ = 1;
   std::vector<Feature> features_;
@@ -88,6 +90,7 @@ class FeatureTracker {
   std::vector<size_t> group_index_;
   std::vector<cv::Point2f> group_prev_, group_curr_, group_back_;
   std::vector<uchar> group_status_fwd_, group_status_bwd_;
+  std::vector<float> group_error_, patch_error_, patch_errors_sorted_;
 };
 
 }  // namespace nadir

@@ -138,6 +138,7 @@ void TrackerNode::on_image(const image_t& msg) {
   }
   replenished_ += step.replenished;
   fb_rejected_ += step.fb_rejected;
+  patch_rejected_ += step.patch_rejected;
   klt_lost_ += step.klt_lost;
   out_of_image_ += step.out_of_image;
   last_tracks_ = static_cast<int64_t>(n);
@@ -164,6 +165,7 @@ StatusReport TrackerNode::status() const {
       {"tracked_frames", static_cast<double>(tracked_frames_)},
       {"replenished", static_cast<double>(replenished_)},
       {"fb_rejected", static_cast<double>(fb_rejected_)},
+      {"patch_rejected", static_cast<double>(patch_rejected_)},
       {"klt_lost", static_cast<double>(klt_lost_)},
       {"out_of_image", static_cast<double>(out_of_image_)},
       {"out_of_order", static_cast<double>(out_of_order_)},

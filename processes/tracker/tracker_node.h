@@ -56,7 +56,7 @@ class TrackerNode : public Node {
   int64_t received_ = 0, published_ = 0, dropped_ = 0, errors_ = 0;
   int64_t out_of_order_ = 0, wrong_format_ = 0, bad_image_ = 0, black_ = 0, saturated_ = 0, featureless_ = 0;
   int64_t few_features_ = 0, frame_gaps_ = 0, restarts_ = 0, tracked_frames_ = 0;
-  int64_t tracks_total_ = 0, replenished_ = 0, fb_rejected_ = 0, klt_lost_ = 0, out_of_image_ = 0;
+  int64_t tracks_total_ = 0, replenished_ = 0, fb_rejected_ = 0, patch_rejected_ = 0, klt_lost_ = 0, out_of_image_ = 0;
   int64_t last_tracks_ = 0;
   std::string last_problem_;
   int32_t last_flags_ = 0;

@@ -35,6 +35,9 @@ TrackerOptions TrackerOptions::from_config(const Config& root) {
   o.klt_epsilon_px = c.get<double>("klt_epsilon_px", o.klt_epsilon_px);
   o.klt_min_eig_threshold = c.get<double>("klt_min_eig_threshold", o.klt_min_eig_threshold);
   o.fb_threshold_px = c.get<double>("fb_threshold_px", o.fb_threshold_px);
+  o.fb_pyramid_levels = c.get<int>("fb_pyramid_levels", o.fb_pyramid_levels);
+  o.patch_error_factor = c.get<double>("patch_error_factor", o.patch_error_factor);
+  o.patch_error_floor = c.get<double>("patch_error_floor", o.patch_error_floor);
   o.min_tracks = c.get<int>("min_tracks", o.min_tracks);
   o.dark_level = c.get<int>("dark_level", o.dark_level);
   o.saturated_level = c.get<int>("saturated_level", o.saturated_level);
@@ -65,6 +68,9 @@ void TrackerOptions::Check(const std::string& source) const {
   check_range(source, "klt_epsilon_px", klt_epsilon_px, 1e-6, 1.0);
   check_range(source, "klt_min_eig_threshold", klt_min_eig_threshold, 0.0, 1.0);
   check_range(source, "fb_threshold_px", fb_threshold_px, 0.01, 1e6);
+  check_range(source, "fb_pyramid_levels", fb_pyramid_levels, 1, klt_pyramid_levels);
+  check_range(source, "patch_error_factor", patch_error_factor, 1.0, 1e6);
+  check_range(source, "patch_error_floor", patch_error_floor, 0.0, 255.0);
   check_range(source, "min_tracks", min_tracks, 0, max_features());
   check_range(source, "dark_level", dark_level, 0, 254);
   check_range(source, "saturated_level", saturated_level, dark_level + 1, 255);

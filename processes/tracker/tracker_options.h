@@ -41,6 +41,15 @@ struct TrackerOptions {
   // Forward-backward check: a track survives when tracking it back from the
   // current frame lands within this distance of where it started.
   double fb_threshold_px = 1.0;
+  // Levels the backward pass uses (<= klt_pyramid_levels). It starts from
+  // the forward start point, so a consistent track needs no coarse levels;
+  // fewer levels trade some of the check's reach for time.
+  int fb_pyramid_levels = 3;
+  // Photometric check: a track is dropped when its KLT patch error (mean
+  // absolute grey difference over the window) exceeds
+  // max(patch_error_floor, patch_error_factor x the frame's median).
+  double patch_error_factor = 4.0;
+  double patch_error_floor = 8.0;
 
   // --- Frame and image checks (node) ---
   int min_tracks = 20;              // fewer published tracks -> FLAG_FEW_FEATURES

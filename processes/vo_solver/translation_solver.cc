@@ -347,8 +347,17 @@ Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool e
     map(5, 3) = (normal.z() * dn_droll.x() - normal.x() * dn_droll.z()) / xz;
     map(5, 4) = (normal.z() * dn_dpitch.x() - normal.x() * dn_dpitch.z()) / xz;
   }
+  // dz depends on the other unknowns through the ground points: propagate
+  // their covariance with a numerical gradient, and add the spread of the mean.
+  for (int j = 0; j < np; ++j) {
+    const double step = j < 2 ? 1e-4 * problem.height : 1e-6;
+    Params plus = params, minus = params;
+    plus(j) += step;
+    minus(j) -= step;
+    map(2, j) = (estimate_dz(problem, plus, w, nullptr) - estimate_dz(problem, minus, w, nullptr)) / (2 * step);
+  }
   est.covariance = map.leftCols(np) * cov_p * map.leftCols(np).transpose();
-  est.covariance(2, 2) = dz_variance;
+  est.covariance(2, 2) += dz_variance;
 
   if (!converged || degenerate) est.quality |= kNotConverged;
   if (est.inliers < std::max(options.min_features, np)) est.quality |= kTooFewFeatures;

@@ -85,22 +85,8 @@ TEST(FeatureTracker, RecoversAKnownShiftToSubPixel) {
   EXPECT_LT(*std::max_element(errors.begin(), errors.end()), 0.5);
 }
 
-TEST(FeatureTracker, RecoversAKnownRotationToSubPixel) {
-  FeatureTracker tracker{TrackerOptions{}};
-  const ViewPose a{{800, 800}, 0.0};
-  const double angle = 3.0 * kPi / 180.0;
-  const ViewPose b{{803.0, 798.0}, angle};
-  tracker.process(scene().render(a, kFrame));
-  const TrackStepResult step = tracker.process(scene().render(b, kFrame));
-  ASSERT_GT(step.tracks.size(), 380u);
-
-  const std::vector<double> errors = track_errors(step, a, b);
-  EXPECT_LT(percentile(errors, 0.5), 0.05);
-  EXPECT_LT(percentile(errors, 0.95), 0.2);
-  EXPECT_LT(*std::max_element(errors.begin(), errors.end()), 0.5);
-
-  // The rotation itself, from the tracks alone (2-D Procrustes about the
-  // centroids): the image turns by -angle when the camera turns by +angle.
+// Rotation angle of the tracks (2-D Procrustes about the centroids).
+double track_rotation(const TrackStepResult& step) {
   cv::Point2d cp(0, 0), cc(0, 0);
   for (const FeatureTrack& t : step.tracks) {
     cp += cv::Point2d(t.prev_px);
@@ -114,7 +100,35 @@ TEST(FeatureTracker, RecoversAKnownRotationToSubPixel) {
     s_cos += p.x * c.x + p.y * c.y;
     s_sin += p.x * c.y - p.y * c.x;
   }
-  EXPECT_NEAR(std::atan2(s_sin, s_cos), -angle, 1e-4);
+  return std::atan2(s_sin, s_cos);
+}
+
+// KLT fits a translation to each 21x21 window, so under rotation it follows
+// the window's gradient-weighted centre rather than the corner itself: the
+// error grows with the rotation between frames, about 0.035 px per degree
+// on this texture. A realistic 0.3 deg/frame turn stays within hundredths
+// of a pixel; 2 deg (28 deg/s at 14 Hz) within a quarter pixel.
+TEST(FeatureTracker, RecoversAKnownRotationToSubPixel) {
+  struct Case {
+    double degrees, median_px, p95_px, max_px;
+  };
+  for (const Case& c : {Case{0.3, 0.02, 0.04, 0.08}, Case{2.0, 0.1, 0.2, 0.35}}) {
+    SCOPED_TRACE(c.degrees);
+    FeatureTracker tracker{TrackerOptions{}};
+    const ViewPose a{{800, 800}, 0.0};
+    const double angle = c.degrees * kPi / 180.0;
+    const ViewPose b{{803.0, 798.0}, angle};
+    tracker.process(scene().render(a, kFrame));
+    const TrackStepResult step = tracker.process(scene().render(b, kFrame));
+    ASSERT_GT(step.tracks.size(), 400u);
+
+    const std::vector<double> errors = track_errors(step, a, b);
+    EXPECT_LT(percentile(errors, 0.5), c.median_px);
+    EXPECT_LT(percentile(errors, 0.95), c.p95_px);
+    EXPECT_LT(*std::max_element(errors.begin(), errors.end()), c.max_px);
+    // The image turns by -angle when the camera turns by +angle.
+    EXPECT_NEAR(track_rotation(step), -angle, 0.01 * angle);
+  }
 }
 
 // Replaces a square of `frame` by unrelated texture (an occluder).
@@ -127,43 +141,47 @@ cv::Mat occlude(const cv::Mat& frame, const cv::Rect& box) {
 
 TEST(FeatureTracker, ForwardBackwardCheckRejectsAnOccludedPatch) {
   const ViewPose a{{800, 800}, 0.0};
-  const ViewPose b{{803.0, 802.0}, 0.0};
+  const ViewPose b{{803.0, 802.0}, 0.0};  // the scene moves by (-3, -2) px
   const cv::Mat first = scene().render(a, kFrame);
   const cv::Rect box(230, 190, 150, 130);
   const cv::Mat second = occlude(scene().render(b, kFrame), box);
-  // Points deep inside the occluded area (further than a KLT half-window
-  // from its edge) have no true match in the second frame.
-  const cv::Rect deep(box.x + 13, box.y + 13, box.width - 26, box.height - 26);
+  // Features whose whole KLT window is occluded in the second frame have no
+  // true match there.
+  const cv::Rect deep(box.x + 11, box.y + 11, box.width - 22, box.height - 22);
+  auto hidden = [&](const cv::Point2f& p) { return deep.contains(cv::Point(cvRound(p.x - 3), cvRound(p.y - 2))); };
 
-  auto run = [&](double fb_threshold) {
+  auto run = [&](double fb_threshold, bool patch_check) {
     TrackerOptions o;
     o.fb_threshold_px = fb_threshold;
+    if (!patch_check) o.patch_error_floor = 255.0;  // no patch can differ by more
     FeatureTracker tracker(o);
     tracker.process(first);
-    int features_in_deep = 0;
-    for (const auto& f : tracker.features()) {
-      features_in_deep += deep.contains(cv::Point(cvRound(f.px.x - 3), cvRound(f.px.y - 2)));
-    }
-    EXPECT_GT(features_in_deep, 10);
+    int features_hidden = 0;
+    for (const auto& f : tracker.features()) features_hidden += hidden(f.px);
+    EXPECT_GT(features_hidden, 40);
     return tracker.process(second);
   };
-  auto occluded_survivors = [&](const TrackStepResult& step) {
+  auto hidden_survivors = [&](const TrackStepResult& step) {
     int n = 0;
-    for (const FeatureTrack& t : step.tracks) {
-      n += deep.contains(cv::Point(cvRound(t.prev_px.x - 3), cvRound(t.prev_px.y - 2)));
-    }
+    for (const FeatureTrack& t : step.tracks) n += hidden(t.prev_px);
     return n;
   };
 
-  // Without the check (threshold out of reach) KLT happily "tracks" some of
-  // the occluded points onto the occluder...
-  const TrackStepResult unchecked = run(1e6);
-  EXPECT_GT(occluded_survivors(unchecked), 0);
+  // Without checks KLT "tracks" the hidden features onto the occluder.
+  const TrackStepResult unchecked = run(1e6, false);
+  const int unchecked_hidden = hidden_survivors(unchecked);
+  EXPECT_GT(unchecked_hidden, 40);
   EXPECT_EQ(unchecked.fb_rejected, 0);
-  // ...with the 1 px check none survives, and the rest are exact.
-  const TrackStepResult checked = run(1.0);
-  EXPECT_EQ(occluded_survivors(checked), 0);
-  EXPECT_GT(checked.fb_rejected, 0);
+  // The forward-backward check alone rejects nearly all of them: a few
+  // wrong matches in the occluder are consistent both ways.
+  const TrackStepResult fb_only = run(1.0, false);
+  EXPECT_GE(fb_only.fb_rejected, unchecked_hidden - 5);
+  EXPECT_LE(hidden_survivors(fb_only), 5);
+  // With the photometric check as well (the default) none survives, and
+  // what remains is exact.
+  const TrackStepResult checked = run(1.0, true);
+  EXPECT_EQ(hidden_survivors(checked), 0);
+  EXPECT_GT(checked.fb_rejected, 40);
   const std::vector<double> errors = track_errors(checked, a, b);
   EXPECT_LT(*std::max_element(errors.begin(), errors.end()), 0.5);
 }

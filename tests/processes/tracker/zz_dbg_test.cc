@@ -4,42 +4,46 @@
 #include <opencv2/imgproc.hpp>
 #include <cstdio>
 #include <ctime>
-static int64_t cpu_ticks(){ timespec t; clock_gettime(CLOCK_THREAD_CPUTIME_ID,&t); return (int64_t)t.tv_sec*1000000000LL+t.tv_nsec; }
 #include "synthetic_scene.h"
+static int64_t cpu_ticks(){ timespec t; clock_gettime(CLOCK_THREAD_CPUTIME_ID,&t); return (int64_t)t.tv_sec*1000000000LL+t.tv_nsec; }
 using namespace nadir;
 using namespace nadir::testing;
 const cv::Size kFrame(612, 512);
-TEST(Dbg, Timing) {
+TEST(Dbg, Occ) {
   cv::setNumThreads(1);
-  static const SyntheticScene s(cv::Size(1400, 1400), 42);
-  cv::Mat a = s.render({{700, 700}, 0}, kFrame, 1.5, 1), b = s.render({{702.8, 701.2}, 0.0035}, kFrame, 1.5, 2);
+  static const SyntheticScene s(cv::Size(1600, 1600), 42);
+  const ViewPose a{{800, 800}, 0.0};
+  const ViewPose b{{803.0, 802.0}, 0.0};
+  const cv::Mat first = s.render(a, kFrame);
+  const cv::Rect box(230, 190, 150, 130);
+  cv::Mat second = s.render(b, kFrame);
+  const SyntheticScene other(cv::Size(box.width, box.height), 777);
+  other.texture().copyTo(second(box));
   FeatureTracker tr{TrackerOptions{}};
-  tr.process(a);
+  tr.process(first);
   std::vector<cv::Point2f> pts; for (auto& f : tr.features()) pts.push_back(f.px);
   std::vector<cv::Mat> pa, pb;
-  const int N = 50;
-  auto t0 = cpu_ticks();
-  for (int i = 0; i < N; ++i) cv::buildOpticalFlowPyramid(a, pa, cv::Size(21,21), 2, true, cv::BORDER_REFLECT_101, cv::BORDER_CONSTANT, false);
-  auto t1 = cpu_ticks();
-  cv::buildOpticalFlowPyramid(b, pb, cv::Size(21,21), 2, true, cv::BORDER_REFLECT_101, cv::BORDER_CONSTANT, false);
-  std::vector<cv::Point2f> out, back; std::vector<uchar> st; std::vector<float> err;
-  for (int eps_i = 0; eps_i < 3; ++eps_i) {
-    double eps = eps_i == 0 ? 0.01 : eps_i == 1 ? 0.03 : 0.1; int its = eps_i == 0 ? 30 : eps_i == 1 ? 20 : 10;
-    auto t2 = cpu_ticks();
-    for (int i = 0; i < N; ++i) cv::calcOpticalFlowPyrLK(pa, pb, pts, out, st, err, cv::Size(21,21), 2, cv::TermCriteria(3, its, eps), 0, 1e-4);
-    auto t3 = cpu_ticks();
-    for (int i = 0; i < N; ++i) { back = pts; cv::calcOpticalFlowPyrLK(pb, pa, out, back, st, err, cv::Size(21,21), 2, cv::TermCriteria(3, its, eps), cv::OPTFLOW_USE_INITIAL_FLOW, 1e-4); }
-    auto t4 = cpu_ticks();
-    printf("eps %.2f its %d fwd %.3f ms bwd %.3f ms\n", eps, its, (t3-t2)/1e9*1e3/N, (t4-t3)/1e9*1e3/N);
+  cv::buildOpticalFlowPyramid(first, pa, cv::Size(21,21), 2, true, cv::BORDER_REFLECT_101, cv::BORDER_CONSTANT, false);
+  cv::buildOpticalFlowPyramid(second, pb, cv::Size(21,21), 2, true, cv::BORDER_REFLECT_101, cv::BORDER_CONSTANT, false);
+  std::vector<cv::Point2f> out, back; std::vector<uchar> st, st2; std::vector<float> err, err2;
+  cv::calcOpticalFlowPyrLK(pa, pb, pts, out, st, err, cv::Size(21,21), 2, cv::TermCriteria(3, 30, 0.01), 0, 1e-4);
+  for (int bl = 0; bl <= 2; ++bl) {
+    back = pts;
+    const int N = 30;
+    auto t0 = cpu_ticks();
+    for (int i = 0; i < N; ++i) { back = pts; cv::calcOpticalFlowPyrLK(pb, pa, out, back, st2, err2, cv::Size(21,21), bl, cv::TermCriteria(3, 30, 0.01), cv::OPTFLOW_USE_INITIAL_FLOW, 1e-4); }
+    auto t1 = cpu_ticks();
+    int bad_pass = 0, good_fail = 0, good = 0;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      auto x = SyntheticScene::map_point(pts[i], a, b, kFrame);
+      bool wrong = std::hypot(out[i].x - x.x, out[i].y - x.y) > 0.5;
+      bool pass = st[i] && st2[i] && std::hypot(back[i].x - pts[i].x, back[i].y - pts[i].y) <= 1.0;
+      if (wrong && pass) { bad_pass++; printf("  wrong passes: (%.0f,%.0f) err %.1f fwd-err %.2f\n", pts[i].x, pts[i].y, std::hypot(out[i].x - x.x, out[i].y - x.y), err[i]); }
+      if (!wrong && !pass) good_fail++;
+      if (!wrong) good++;
+    }
+    printf("bwd levels %d: %.3f ms, wrong-but-passed %d, right-but-rejected %d (right %d)\n", bl+1, (t1-t0)/1e6/N, bad_pass, good_fail, good);
   }
-  printf("pyr %.3f ms\n", (t1-t0)/1e9*1e3/N);
-  cv::Mat resp;
-  auto t5 = cpu_ticks();
-  for (int i = 0; i < N; ++i) cv::cornerHarris(a(cv::Rect(10,10,194,160)), resp, 3, 3, 0.04);
-  auto t6 = cpu_ticks();
-  printf("harris cell %.3f ms\n", (t6-t5)/1e9*1e3/N);
-  auto t7 = cpu_ticks();
-  for (int i = 0; i < N; ++i) { FeatureTracker t2{TrackerOptions{}}; t2.process(a); }
-  auto t8 = cpu_ticks();
-  printf("first frame %.3f ms\n", (t8-t7)/1e9*1e3/N);
+  std::vector<float> errs; for (size_t i = 0; i < pts.size(); ++i) if (st[i]) errs.push_back(err[i]);
+  std::sort(errs.begin(), errs.end()); printf("fwd err median %.2f p90 %.2f p99 %.2f max %.2f\n", errs[errs.size()/2], errs[errs.size()*9/10], errs[errs.size()*99/100], errs.back());
 }

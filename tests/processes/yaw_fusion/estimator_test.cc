@@ -113,7 +113,9 @@ TEST(YawFusionEstimator, GatesInsYawOutliers) {
   double worst_yaw_error = 0.0;
   for (const pose_t& p : poses) {
     const bool spiked = std::find(spiked_frames.begin(), spiked_frames.end(), p.utime) != spiked_frames.end();
-    if (spiked) EXPECT_TRUE(p.flags & pose_t::FLAG_INS_YAW_REJECTED) << p.utime;
+    if (spiked) {
+      EXPECT_TRUE(p.flags & pose_t::FLAG_INS_YAW_REJECTED) << p.utime;
+    }
     if (p.flags & pose_t::FLAG_INS_YAW_REJECTED) ++flagged;
     worst_yaw_error = std::max(worst_yaw_error, std::abs(angle_difference(p.yaw, truth.at(p.utime)->yaw)));
   }

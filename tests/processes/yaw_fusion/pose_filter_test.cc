@@ -6,6 +6,9 @@
 #include <cmath>
 #include <random>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
 #include "common/geometry.h"
 #include "processes/yaw_fusion/pose_filter.h"
 

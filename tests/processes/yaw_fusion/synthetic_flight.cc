@@ -42,7 +42,7 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
     // Trigger jitter up to 0.5 ms, deterministic.
     frame_times.push_back(kStartUs + 500'000 + k * kFramePeriodUs + (k * 37) % 500);
   }
-  const int64_t end_us = frame_times.back() + 1'000'000;
+  const int64_t end_us = frame_times.back() + 300'000;  // less than ins_wait_s: no trailing gap poses
 
   // Integrate the trajectory at 1 ms; yaw is exactly linear between 10 ms
   // grid points because the rate only changes at whole seconds.
