@@ -63,6 +63,14 @@ int main(int argc, char** argv) {
       std::printf("frames              %10lld images, %lld dropped, %lld poses (%lld flagged)\n",
                   static_cast<long long>(m.images), static_cast<long long>(m.frames_dropped),
                   static_cast<long long>(m.poses), static_cast<long long>(m.poses_flagged));
+      std::printf("latency             %10.1f ms p50, %.1f ms p99 (POSE logged - frame sensor time; live runs only)\n",
+                  m.latency_p50_ms, m.latency_p99_ms);
+      for (const auto& [name, s] : data.last_status) {
+        std::printf("process %-12s rx %lld tx %lld dropped %lld errors %lld malformed %lld\n", name.c_str(),
+                    static_cast<long long>(s.received), static_cast<long long>(s.published),
+                    static_cast<long long>(s.dropped), static_cast<long long>(s.errors),
+                    static_cast<long long>(s.malformed));
+      }
       std::printf("report              %s\n", out_dir.c_str());
     }
     return 0;
