@@ -19,7 +19,7 @@ done
 "$NADIR_ROOT/launch_scripts/setup.sh"
 
 run_dir="$NADIR_ROOT/logs/$(nadir_utc_stamp)-demo-$profile"
-mkdir -p "$run_dir"
+mkdir -p "$run_dir/report"
 echo "demo: flying profile '$profile' (seed $seed) through the live sim set; output in $run_dir"
 NADIR_PROFILE="$profile" NADIR_SEED="$seed" NADIR_CAPTURE_DIR="$run_dir" \
   nadir_in_netns "$NADIR_ROOT/launch_scripts/run_set.sh" sim 2>&1 | tee "$run_dir/run.txt" |

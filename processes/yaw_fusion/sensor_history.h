@@ -74,11 +74,13 @@ class AltimeterHistory {
   // Any altimeter message (valid or not) tells how far the altimeter's time has got.
   void note_time(int64_t utime) { newest_ = std::max(newest_, utime); }
   int64_t newest_utime() const { return newest_; }
-  // Height above (level) ground at t seen with the vehicle's roll and pitch:
-  // range along the beam rotated into the level frame, vertical component.
-  // Interpolated between the valid samples around t when both are within
-  // max_age_us of t, else the nearest within max_age_us, else nothing.
-  std::optional<double> height_agl(int64_t utime, int64_t max_age_us, double roll, double pitch) const;
+  // Height above (level) ground at t: each range is levelled with the INS
+  // roll/pitch at its own time (from `ins`, or roll/pitch given when the INS
+  // has nothing there), then the vertical heights are interpolated between the
+  // valid samples around t when both are within max_age_us of t, else the
+  // nearest within max_age_us is used, else nothing.
+  std::optional<double> height_agl(int64_t utime, int64_t max_age_us, const InsHistory& ins, int64_t max_bracket_us,
+                                   double roll, double pitch) const;
   void forget_before(int64_t utime);
   int64_t dropped() const { return dropped_; }
 

@@ -176,8 +176,13 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
   }
   counters_.poses += static_cast<int64_t>(out->size() - poses_before);
   if (started_) {
-    ins_.forget_before(last_frame_utime_);
-    altimeter_.forget_before(last_frame_utime_ - static_cast<int64_t>(options_.max_altimeter_age_s * 1e6));
+    // Keep what any later query can touch, so that how many frames one call
+    // processes (which depends on arrival order) cannot change an answer:
+    // altimeter samples up to max_altimeter_age_s before the next frame and
+    // the INS around them.
+    const int64_t altimeter_age = static_cast<int64_t>(options_.max_altimeter_age_s * 1e6);
+    altimeter_.forget_before(last_frame_utime_ - altimeter_age);
+    ins_.forget_before(last_frame_utime_ - altimeter_age - static_cast<int64_t>(options_.max_ins_bracket_s * 1e6));
   } else {
     ins_.forget_before(sensor_now_ - kPreStartInsKeepUs);
     altimeter_.forget_before(sensor_now_ - kPreStartInsKeepUs);
@@ -352,8 +357,8 @@ int32_t YawFusionEstimator::update_attitude(int64_t utime) {
 }
 
 int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height) {
-  const auto height =
-      altimeter_.height_agl(utime, static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_);
+  const auto height = altimeter_.height_agl(utime, static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), ins_,
+                                            static_cast<int64_t>(options_.max_ins_bracket_s * 1e6), roll_, pitch_);
   const bool level_terrain = options_.altitude_mode == AltitudeMode::kLevelTerrain;
   if (!height) {
     ++counters_.frames_without_altimeter;

@@ -31,7 +31,7 @@ struct YawFusionOptions {
 
   // Order robustness (sensor time).
   double ins_wait_s = 0.5;        // a delta waits at most this long (sensor time) for INS covering it
-  double altimeter_wait_s = 0.2;  // ... and for an altimeter sample covering it
+  double altimeter_wait_s = 0.5;  // ... and for an altimeter sample covering it
   int max_pending_deltas = 200;   // beyond, the oldest is processed with what is there
 
   // Altimeter.
