@@ -46,6 +46,42 @@ ConfigError Config::error(const std::string& key, const std::string& what) const
   return ConfigError(source_ + ": key '" + key_path(key) + "' " + what);
 }
 
+void Config::apply_override(const std::string& assignment) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw ConfigError("override '" + assignment + "' must look like section.key=value");
+  }
+  const std::string path = assignment.substr(0, eq);
+  YAML::Node value;
+  try {
+    value = YAML::Load(assignment.substr(eq + 1));
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError("override '" + assignment + "': value is not valid YAML: " + e.msg);
+  }
+  // Walk (and create) the maps along the dotted path. yaml-cpp nodes are
+  // handles, so assignment through them edits this config's tree.
+  std::vector<YAML::Node> chain{node_};
+  size_t start = 0;
+  std::vector<std::string> keys;
+  while (true) {
+    const size_t dot = path.find('.', start);
+    keys.push_back(path.substr(start, dot == std::string::npos ? std::string::npos : dot - start));
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  for (size_t i = 0; i + 1 < keys.size(); ++i) {
+    YAML::Node next = chain.back()[keys[i]];
+    if (!next || next.IsNull()) {
+      chain.back()[keys[i]] = YAML::Node(YAML::NodeType::Map);
+      next = chain.back()[keys[i]];
+    }
+    if (!next.IsMap()) throw ConfigError("override '" + assignment + "': '" + keys[i] + "' is not a section");
+    chain.push_back(next);
+  }
+  chain.back()[keys.back()] = value;
+  source_ += " (with " + assignment + ")";
+}
+
 std::string Config::dump() const {
   YAML::Emitter out;
   out << node_;

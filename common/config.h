@@ -67,6 +67,10 @@ class Config {
   // "file: key 'a.b.c' <what>"
   ConfigError error(const std::string& key, const std::string& what) const;
 
+  // Applies "a.b.c=value" (value parsed as YAML) to this config; throws
+  // ConfigError naming the override when it is malformed.
+  void apply_override(const std::string& assignment);
+
   std::string key_path(const std::string& key) const;
   const std::string& source() const { return source_; }
   const YAML::Node& node() const { return node_; }

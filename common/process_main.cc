@@ -30,9 +30,11 @@ int run_node_process(int argc, char** argv, const NodeProcessSpec& spec) {
   std::string config_path;
   std::string lcm_url;
   double status_period_s = 1.0;
+  std::vector<std::string> overrides;
   app.add_option("--config", config_path, "YAML config file (default: <checkout>/config/default.yaml)");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: $LCM_DEFAULT_URL or udpm with TTL 0)");
   app.add_option("--status-period", status_period_s, "seconds between STATUS messages")->check(CLI::Range(0.1, 60.0));
+  app.add_option("--set", overrides, "override a config value: section.key=value (repeatable)");
   if (spec.add_options) spec.add_options(app);
   try {
     app.parse(argc, argv);
@@ -44,6 +46,7 @@ int run_node_process(int argc, char** argv, const NodeProcessSpec& spec) {
   try {
     if (config_path.empty()) config_path = default_config_path();
     Config config = Config::load_file(config_path);
+    for (const auto& o : overrides) config.apply_override(o);
     if (spec.apply_options) spec.apply_options(config);
     LcmBusOptions bus_options;
     bus_options.url = lcm_url;

@@ -81,7 +81,8 @@ ReplaySummary run_replay(const ReplayOptions& options, const NodeRegistry& regis
     }
   }
   const std::string config_path = options.config_path.empty() ? default_config_path() : options.config_path;
-  const Config config = Config::load_file(config_path);
+  Config config = Config::load_file(config_path);
+  for (const auto& o : options.overrides) config.apply_override(o);
 
   LogReader reader(options.in_path);
   LogWriter writer(options.out_path);

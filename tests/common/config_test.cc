@@ -40,6 +40,18 @@ TEST(Config, MissingKeyAndSyntaxErrorAreNamed) {
   EXPECT_NE(error_of([&] { Config::load_file("/nonexistent.yaml"); }).find("/nonexistent.yaml"), std::string::npos);
 }
 
+TEST(Config, OverridesEditNestedKeysAndAreNamedInErrors) {
+  Config c = Config::parse("vo_solver:\n  variant: paper\n  iterations: 10\n", "x.yaml");
+  c.apply_override("vo_solver.variant=flow");
+  c.apply_override("tracker.klt.levels=4");
+  EXPECT_EQ(c.section("vo_solver").get<std::string>("variant"), "flow");
+  EXPECT_EQ(c.section("vo_solver").get<int>("iterations"), 10);
+  EXPECT_EQ(c.section("tracker").section("klt").get<int>("levels"), 4);
+  EXPECT_NE(c.source().find("vo_solver.variant=flow"), std::string::npos);
+  EXPECT_NE(error_of([&] { c.apply_override("novalue"); }).find("novalue"), std::string::npos);
+  EXPECT_NE(error_of([&] { c.apply_override("vo_solver.variant.x=1"); }).find("not a section"), std::string::npos);
+}
+
 TEST(Config, DefaultsApplyWhenAbsent) {
   const Config c = Config::parse("a: {}\n", "x.yaml");
   EXPECT_EQ(c.section_or_empty("b").get<int>("n", 7), 7);
