@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# The paper's Fig. 8b on the test1 profile: the standard sensor set, then
+# sigma 3 deg roll/pitch noise, sigma 3 deg yaw noise, 3 % altimeter noise.
+# Prints the table and draws a bar chart of horizontal and vertical drift %.
+# Usage: noise_study.sh [--reuse] [--profile NAME]
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
+profile=test1
+while (($#)); do
+  case "$1" in
+    --reuse) export NADIR_REUSE=1; shift ;;
+    --profile) profile="$2"; shift 2 ;;
+    -h|--help) sed -n '2,5p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "noise_study: error: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+"$NADIR_ROOT/launch_scripts/setup.sh" >/dev/null
+out="$NADIR_ROOT/logs/noise_study-$profile"
+mkdir -p "$out"
+cases=(standard roll_pitch_3deg yaw_3deg altimeter_3pct)
+declare -A args=([standard]="" [roll_pitch_3deg]="--roll-pitch-noise-deg 3" [yaw_3deg]="--yaw-noise-deg 3"
+                 [altimeter_3pct]="--altimeter-noise-pct 3")
+for c in "${cases[@]}"; do
+  echo "$c:"
+  # shellcheck disable=SC2086
+  simulate "$profile" 201 "$out/$c.lcmlog" ${args[$c]}
+  replay_and_eval "$out/$c.lcmlog" "$out/$c"
+done
+{
+  echo "| added noise ($profile) | horizontal drift % | vertical drift % | final error m |"
+  echo "|---|---|---|---|"
+  for c in "${cases[@]}"; do
+    echo "| $c | $(metric "$out/$c" error_pct_h) | $(metric "$out/$c" error_pct_v) | $(metric "$out/$c" final_error_3d_m) |"
+  done
+} | tee "$out/noise_study.md"
+/usr/bin/python3 "$NADIR_ROOT/tools/eval/plot_bars.py" --out "$out/noise_study.png" \
+  --title "Drift with added sensor noise ($profile)" --metrics error_pct_h error_pct_v \
+  --labels "horizontal %" "vertical %" $(for c in "${cases[@]}"; do echo "$c=$out/$c"; done)
+echo "chart: $out/noise_study.png"
