@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -71,6 +72,8 @@ int run_node_process(int argc, char** argv, const NodeProcessSpec& spec) {
     };
     while (!shutdown_requested()) {
       if (bus.handle(50) < 0) {
+        // A signal interrupts the wait (EINTR): that is a stop, not a failure.
+        if (shutdown_requested() || errno == EINTR) continue;
         std::fprintf(stderr, "%s: LCM receive failed on %s\n", program.c_str(), bus.url().c_str());
         return 1;
       }

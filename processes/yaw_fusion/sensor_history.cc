@@ -82,28 +82,23 @@ double vertical_range(double range_m, const Eigen::Vector3d& beam_body, double r
   return range_m * level.z();
 }
 
-std::optional<double> AltimeterHistory::height_agl(int64_t utime, int64_t max_age_us, const InsHistory& ins,
-                                                   int64_t max_bracket_us, double roll, double pitch) const {
+std::optional<double> AltimeterHistory::height_agl(int64_t utime, int64_t max_age_us, double roll,
+                                                   double pitch) const {
   if (samples_.empty()) return std::nullopt;
   const size_t upper = upper_index(samples_, utime);
   const RangeSample* before = upper > 0 ? &samples_[upper - 1] : nullptr;
   const RangeSample* after = upper < samples_.size() ? &samples_[upper] : nullptr;
   if (before != nullptr && utime - before->utime > max_age_us) before = nullptr;
   if (after != nullptr && after->utime - utime > max_age_us) after = nullptr;
-  auto vertical = [&](const RangeSample& s) {
-    const auto attitude = ins.at(s.utime, max_bracket_us);
-    return attitude ? vertical_range(s.range_m, s.beam_body, attitude->roll, attitude->pitch)
-                    : vertical_range(s.range_m, s.beam_body, roll, pitch);
-  };
   if (before != nullptr && after != nullptr && after->utime > before->utime) {
     const double f = static_cast<double>(utime - before->utime) / static_cast<double>(after->utime - before->utime);
-    const double h0 = vertical(*before);
-    return h0 + f * (vertical(*after) - h0);
+    const double range = before->range_m + f * (after->range_m - before->range_m);
+    return vertical_range(range, before->beam_body, roll, pitch);
   }
   const RangeSample* nearest = before != nullptr ? before : after;
   if (before != nullptr && after != nullptr && after->utime - utime < utime - before->utime) nearest = after;
   if (nearest == nullptr) return std::nullopt;
-  return vertical(*nearest);
+  return vertical_range(nearest->range_m, nearest->beam_body, roll, pitch);
 }
 
 void AltimeterHistory::forget_before(int64_t utime) { forget_samples_before(&samples_, utime); }

@@ -74,13 +74,12 @@ class AltimeterHistory {
   // Any altimeter message (valid or not) tells how far the altimeter's time has got.
   void note_time(int64_t utime) { newest_ = std::max(newest_, utime); }
   int64_t newest_utime() const { return newest_; }
-  // Height above (level) ground at t: each range is levelled with the INS
-  // roll/pitch at its own time (from `ins`, or roll/pitch given when the INS
-  // has nothing there), then the vertical heights are interpolated between the
-  // valid samples around t when both are within max_age_us of t, else the
-  // nearest within max_age_us is used, else nothing.
-  std::optional<double> height_agl(int64_t utime, int64_t max_age_us, const InsHistory& ins, int64_t max_bracket_us,
-                                   double roll, double pitch) const;
+  // Height above (level) ground at t: the slant range interpolated between
+  // the valid samples around t (both within max_age_us of t), else the
+  // nearest within max_age_us, else nothing; levelled with the roll and pitch
+  // at t. (Not with the INS at each sample's own time: the INS after t may
+  // not have arrived yet, and the answer must not depend on arrival order.)
+  std::optional<double> height_agl(int64_t utime, int64_t max_age_us, double roll, double pitch) const;
   void forget_before(int64_t utime);
   int64_t dropped() const { return dropped_; }
 

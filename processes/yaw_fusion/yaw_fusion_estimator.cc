@@ -31,8 +31,31 @@ std::string utime_label(const char* channel, int64_t utime) {
 }  // namespace
 
 YawFusionEstimator::YawFusionEstimator(const YawFusionOptions& options)
-    : options_(options), sensor_now_(std::numeric_limits<int64_t>::min()) {
+    : options_(options),
+      sensor_now_(std::numeric_limits<int64_t>::min()),
+      vo_jump_candidate_(std::numeric_limits<int64_t>::min()),
+      ins_jump_candidate_(std::numeric_limits<int64_t>::min()),
+      altimeter_jump_candidate_(std::numeric_limits<int64_t>::min()) {
   options_.Check();
+}
+
+bool YawFusionEstimator::plausible_time(int64_t utime, int64_t* candidate, const char* channel) {
+  constexpr int64_t kNone = std::numeric_limits<int64_t>::min();
+  const int64_t jump = options_.max_time_jump_us();
+  if (sensor_now_ == kNone || utime <= sensor_now_ + jump) {
+    *candidate = kNone;
+    return true;
+  }
+  if (*candidate != kNone && std::abs(utime - *candidate) <= jump) {
+    *candidate = kNone;  // two messages in a row agree: the time base really jumped
+    return true;
+  }
+  // One corrupted timestamp must not push sensor time (and every wait and gap
+  // decision) far ahead: drop it, remember it in case the next one agrees.
+  *candidate = utime;
+  ++counters_.time_jumps_dropped;
+  note_problem(utime_label(channel, utime) + "more than max_time_jump_s ahead of all other sensor time, dropped");
+  return false;
 }
 
 bool YawFusionEstimator::vo_lost() const {
@@ -49,6 +72,7 @@ std::vector<pose_t> YawFusionEstimator::add_vo_delta(const vo_delta_t& delta) {
                  " gives an interval outside (0, max_delta_interval_s]");
     return out;
   }
+  if (!plausible_time(delta.utime, &vo_jump_candidate_, "VO_DELTA")) return out;
   if (started_ && delta.utime <= last_frame_utime_) {
     ++counters_.vo_deltas_late;
     note_problem(utime_label("VO_DELTA", delta.utime) + "arrived after that frame time was published");
@@ -73,6 +97,7 @@ std::vector<pose_t> YawFusionEstimator::add_ins(const ins_t& ins) {
     note_problem(utime_label("INS", ins.utime) + "non-finite or out-of-range attitude (or utime <= 0)");
     return out;
   }
+  if (!plausible_time(ins.utime, &ins_jump_candidate_, "INS")) return out;
   AttitudeSample sample;
   sample.utime = ins.utime;
   sample.roll = ins.roll;
@@ -100,6 +125,7 @@ std::vector<pose_t> YawFusionEstimator::add_altimeter(const altimeter_t& altimet
     note_problem(utime_label("ALTIMETER", altimeter.utime) + "utime <= 0");
     return out;
   }
+  if (!plausible_time(altimeter.utime, &altimeter_jump_candidate_, "ALTIMETER")) return out;
   const Eigen::Vector3d beam(altimeter.beam_body[0], altimeter.beam_body[1], altimeter.beam_body[2]);
   const bool usable = altimeter.validity == altimeter_t::VALID_OK && std::isfinite(altimeter.range_m) &&
                       altimeter.range_m > 0.0 && beam.allFinite() && beam.norm() > 0.5 && beam.norm() < 1.5;
@@ -176,13 +202,11 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
   }
   counters_.poses += static_cast<int64_t>(out->size() - poses_before);
   if (started_) {
-    // Keep what any later query can touch, so that how many frames one call
-    // processes (which depends on arrival order) cannot change an answer:
-    // altimeter samples up to max_altimeter_age_s before the next frame and
-    // the INS around them.
-    const int64_t altimeter_age = static_cast<int64_t>(options_.max_altimeter_age_s * 1e6);
-    altimeter_.forget_before(last_frame_utime_ - altimeter_age);
-    ins_.forget_before(last_frame_utime_ - altimeter_age - static_cast<int64_t>(options_.max_ins_bracket_s * 1e6));
+    // Keep what any later query can touch (queries are at or after the last
+    // frame), so how many frames one call processes -- which depends on
+    // arrival order -- cannot change an answer.
+    altimeter_.forget_before(last_frame_utime_ - static_cast<int64_t>(options_.max_altimeter_age_s * 1e6));
+    ins_.forget_before(last_frame_utime_);
   } else {
     ins_.forget_before(sensor_now_ - kPreStartInsKeepUs);
     altimeter_.forget_before(sensor_now_ - kPreStartInsKeepUs);
@@ -244,9 +268,13 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   const int64_t tolerance = static_cast<int64_t>(options_.frame_time_tolerance_s * 1e6);
   if (delta.prev_utime > last_frame_utime_ + tolerance) {
     // The delta(s) before this one are missing: dead-reckon to its start so
-    // it is registered with the yaw at its own previous frame.
-    flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.prev_utime);
+    // it is registered with the yaw at its own previous frame, and publish
+    // that (real) frame too, flagged.
+    int32_t bridge_flags = pose_t::FLAG_VO_GAP | advance_without_vo(delta.prev_utime);
+    bridge_flags |= update_height(delta.prev_utime, have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN());
+    out->push_back(make_pose(delta.prev_utime, bridge_flags));
     ++counters_.gap_bridges;
+    ++counters_.gap_poses;
   }
   std::string why;
   const bool valid = delta_values_valid(delta, &why);
@@ -357,8 +385,8 @@ int32_t YawFusionEstimator::update_attitude(int64_t utime) {
 }
 
 int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height) {
-  const auto height = altimeter_.height_agl(utime, static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), ins_,
-                                            static_cast<int64_t>(options_.max_ins_bracket_s * 1e6), roll_, pitch_);
+  const auto height =
+      altimeter_.height_agl(utime, static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_);
   const bool level_terrain = options_.altitude_mode == AltitudeMode::kLevelTerrain;
   if (!height) {
     ++counters_.frames_without_altimeter;

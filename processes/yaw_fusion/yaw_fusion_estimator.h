@@ -15,7 +15,9 @@
 // reckoning with the last world velocity for up to gap.max_propagation_s, then
 // by holding the position; the position variance grows as if that velocity
 // were off by gap.velocity_stddev_mps for the whole gap. While no delta comes,
-// gap poses are published at the camera rate (driven by INS sensor time).
+// gap poses are published at the camera rate (driven by INS sensor time), and
+// the delta that ends a gap first gets a pose at its prev_utime; all of these
+// carry FLAG_VO_GAP.
 
 #include <Eigen/Core>
 
@@ -53,8 +55,10 @@ struct YawFusionCounters {
   int64_t altimeter_invalid = 0;           // validity != OK or non-finite
   int64_t altimeter_rejected = 0;          // level_terrain: gated, terrain re-anchored
   int64_t frames_without_altimeter = 0;
-  int64_t gap_bridges = 0;                 // times a gap was dead-reckoned before a delta
-  int64_t gap_poses = 0;                   // poses published without a delta
+  int64_t gap_bridges = 0;                 // gaps closed by a delta starting after the last pose
+  int64_t gap_poses = 0;                   // poses without VO: at the camera rate in a gap, and at
+                                           // the first frame of the delta that closes it
+  int64_t time_jumps_dropped = 0;          // messages far ahead of all sensor time (see max_time_jump_s)
   int64_t poses = 0;
   std::string last_problem;                // names the channel, utime and reason
 };
@@ -88,6 +92,9 @@ class YawFusionEstimator {
   pose_t make_pose(int64_t utime, int32_t flags) const;
   bool delta_values_valid(const vo_delta_t& delta, std::string* why) const;
   void note_problem(const std::string& text) { counters_.last_problem = text; }
+  // False for a utime far ahead of all sensor time seen, unless the previous
+  // such message on the same channel (its candidate) agrees with it.
+  bool plausible_time(int64_t utime, int64_t* candidate, const char* channel);
 
   YawFusionOptions options_;
   PoseFilter filter_;
@@ -97,6 +104,7 @@ class YawFusionEstimator {
   YawFusionCounters counters_;
 
   int64_t sensor_now_;             // newest sensor time seen on any input
+  int64_t vo_jump_candidate_, ins_jump_candidate_, altimeter_jump_candidate_;
   bool started_ = false;
   int64_t last_frame_utime_ = 0;   // time of the last published pose (frame or gap)
   int64_t last_good_utime_ = 0;    // time of the last integrated delta (or the origin)

@@ -31,7 +31,7 @@ class YawFusionNode : public Node {
     report.received = c.vo_deltas_received + c.ins_received + c.altimeter_received;
     report.published = published_;
     report.dropped = c.vo_deltas_late + c.vo_deltas_duplicate;
-    report.errors = c.vo_deltas_invalid + c.ins_invalid;
+    report.errors = c.vo_deltas_invalid + c.ins_invalid + c.time_jumps_dropped;
     if (!estimator_.started()) {
       report.state = status_t::STATE_STARTING;
       report.detail = "waiting for the first VO_DELTA with INS covering it";
@@ -59,6 +59,7 @@ class YawFusionNode : public Node {
         {"altimeter_invalid", static_cast<double>(c.altimeter_invalid)},
         {"altimeter_rejected", static_cast<double>(c.altimeter_rejected)},
         {"frames_without_altimeter", static_cast<double>(c.frames_without_altimeter)},
+        {"time_jumps_dropped", static_cast<double>(c.time_jumps_dropped)},
         {"gap_bridges", static_cast<double>(c.gap_bridges)},
         {"gap_poses", static_cast<double>(c.gap_poses)},
         {"yaw_stddev_deg", f.initialised() ? rad_to_deg(std::sqrt(f.yaw_variance())) : 0.0},

@@ -32,6 +32,7 @@ YawFusionOptions YawFusionOptions::from_config(const Config& root) {
   o.ins_wait_s = c.get_in_range("ins_wait_s", o.ins_wait_s, 0.0, 30.0);
   o.altimeter_wait_s = c.get_in_range("altimeter_wait_s", o.altimeter_wait_s, 0.0, 30.0);
   o.max_pending_deltas = c.get_in_range("max_pending_deltas", o.max_pending_deltas, 1, 100000);
+  o.max_time_jump_s = c.get_in_range("max_time_jump_s", o.max_time_jump_s, 0.1, 1e6);
   o.max_altimeter_age_s = c.get_in_range("max_altimeter_age_s", o.max_altimeter_age_s, 0.001, 10.0);
   const std::string mode = c.get<std::string>("altitude_mode", altitude_mode_name(o.altitude_mode));
   if (mode == "vo_dz") {
@@ -68,6 +69,8 @@ void YawFusionOptions::Check() const {
         "must be in [0, half a frame period)");
   check(ins_wait_s >= 0.0 && altimeter_wait_s >= 0.0, "ins_wait_s", "waits must be >= 0");
   check(max_pending_deltas >= 1, "max_pending_deltas", "must be >= 1");
+  check(max_time_jump_s > ins_wait_s && max_time_jump_s > altimeter_wait_s, "max_time_jump_s",
+        "must be larger than ins_wait_s and altimeter_wait_s");
   check(max_altimeter_age_s > 0.0, "max_altimeter_age_s", "must be > 0");
   check(altimeter_stddev_m > 0.0, "altimeter_stddev_m", "must be > 0");
   check(altimeter_gate_sigma >= 1.0, "altimeter_gate_sigma", "must be >= 1");

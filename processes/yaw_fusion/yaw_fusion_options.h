@@ -33,6 +33,8 @@ struct YawFusionOptions {
   double ins_wait_s = 0.5;        // a delta waits at most this long (sensor time) for INS covering it
   double altimeter_wait_s = 0.5;  // ... and for an altimeter sample covering it
   int max_pending_deltas = 200;   // beyond, the oldest is processed with what is there
+  double max_time_jump_s = 5.0;   // a utime this far ahead of all others is dropped unless the
+                                  // next message on its channel confirms the jump
 
   // Altimeter.
   double max_altimeter_age_s = 0.25;  // altimeter samples further from the frame are not used
@@ -54,6 +56,7 @@ struct YawFusionOptions {
 
   int64_t ins_wait_us() const { return static_cast<int64_t>(ins_wait_s * 1e6); }
   int64_t altimeter_wait_us() const { return static_cast<int64_t>(altimeter_wait_s * 1e6); }
+  int64_t max_time_jump_us() const { return static_cast<int64_t>(max_time_jump_s * 1e6); }
   int64_t frame_period_us() const { return static_cast<int64_t>(1e6 / frame_rate_hz); }
 };
 

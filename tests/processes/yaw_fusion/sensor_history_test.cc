@@ -62,24 +62,11 @@ TEST(AltimeterHistory, VerticalHeightFromTiltedBeamAndAge) {
   AltimeterHistory h;
   h.add({1000, 100.0, Eigen::Vector3d::UnitZ()});
   h.add({2000, 110.0, Eigen::Vector3d::UnitZ()});
-  const InsHistory no_ins;
-  EXPECT_NEAR(*h.height_agl(1500, 1000, no_ins, 100, 0.0, 0.0), 105.0, 1e-12);
+  EXPECT_NEAR(*h.height_agl(1500, 1000, 0.0, 0.0), 105.0, 1e-12);
   // Pitched 10 deg: the beam's vertical component is cos(10 deg).
-  EXPECT_NEAR(*h.height_agl(1000, 1000, no_ins, 100, 0.0, deg_to_rad(10.0)), 100.0 * std::cos(deg_to_rad(10.0)), 1e-9);
-  // With INS attitude at each sample's own time: level at 1000, pitched 10 deg at 2000.
-  InsHistory ins;
-  AttitudeSample level;
-  level.utime = 1000;
-  ins.add(level);
-  AttitudeSample pitched = level;
-  pitched.utime = 2000;
-  pitched.pitch = deg_to_rad(10.0);
-  ins.add(pitched);
-  EXPECT_NEAR(*h.height_agl(1500, 1000, ins, 100, 0.0, 0.0), 0.5 * (100.0 + 110.0 * std::cos(deg_to_rad(10.0))), 1e-9);
-  EXPECT_NEAR(vertical_range(50.0, Eigen::Vector3d::UnitZ(), deg_to_rad(20.0), deg_to_rad(10.0)),
-              50.0 * std::cos(deg_to_rad(20.0)) * std::cos(deg_to_rad(10.0)), 1e-9);
-  EXPECT_FALSE(h.height_agl(5000, 1000, no_ins, 100, 0.0, 0.0).has_value());
-  EXPECT_NEAR(*h.height_agl(2500, 1000, no_ins, 100, 0.0, 0.0), 110.0, 1e-12);
+  EXPECT_NEAR(*h.height_agl(1000, 1000, 0.0, deg_to_rad(10.0)), 100.0 * std::cos(deg_to_rad(10.0)), 1e-9);
+  EXPECT_FALSE(h.height_agl(5000, 1000, 0.0, 0.0).has_value());
+  EXPECT_NEAR(*h.height_agl(2500, 1000, 0.0, 0.0), 110.0, 1e-12);
 }
 
 }  // namespace
