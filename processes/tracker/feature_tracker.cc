@@ -21,6 +21,7 @@ FeatureTracker::FeatureTracker(const TrackerOptions& options)
 }
 
 void FeatureTracker::reset() {
+  have_last_motion_ = false;
   features_.clear();
   prev_pyramid_.clear();
 }
@@ -73,6 +74,7 @@ bool FeatureTracker::fit_motion(double fb_sq, cv::Matx23d* motion) const {
     const double dx = back_pts_[i].x - prev_pts_[i].x, dy = back_pts_[i].y - prev_pts_[i].y;
     if (dx * dx + dy * dy <= fb_sq) use.push_back(i);
   }
+  cv::Matx23d fit;
   for (int round = 0; round < 2; ++round) {
     if (use.size() < 6) return false;
     cv::Matx33d ata = cv::Matx33d::zeros();
@@ -85,17 +87,18 @@ bool FeatureTracker::fit_motion(double fb_sq, cv::Matx23d* motion) const {
     }
     cv::Vec3d row_x, row_y;
     if (!cv::solve(ata, atx, row_x, cv::DECOMP_CHOLESKY) || !cv::solve(ata, aty, row_y, cv::DECOMP_CHOLESKY)) return false;
-    *motion = cv::Matx23d(row_x[0], row_x[1], row_x[2], row_y[0], row_y[1], row_y[2]);
+    fit = cv::Matx23d(row_x[0], row_x[1], row_x[2], row_y[0], row_y[1], row_y[2]);
     if (round == 1) break;
     std::vector<size_t> kept;
     for (size_t i : use) {
       const cv::Point2f& p = prev_pts_[i];
-      const double ex = (*motion)(0, 0) * p.x + (*motion)(0, 1) * p.y + (*motion)(0, 2) - curr_pts_[i].x;
-      const double ey = (*motion)(1, 0) * p.x + (*motion)(1, 1) * p.y + (*motion)(1, 2) - curr_pts_[i].y;
-      if (ex * ex + ey * ey <= 9.0) kept.push_back(i);
+      const double ex = fit(0, 0) * p.x + fit(0, 1) * p.y + fit(0, 2) - curr_pts_[i].x;
+      const double ey = fit(1, 0) * p.x + fit(1, 1) * p.y + fit(1, 2) - curr_pts_[i].y;
+      if (ex * ex + ey * ey <= 9.0) kept.push_back(i);  // within 3 px
     }
     use = std::move(kept);
   }
+  *motion = fit;
   return true;
 }
 
@@ -111,12 +114,14 @@ void FeatureTracker::track(TrackStepResult& result) {
   patch_error_.assign(n, 0.0f);
 
   // Group the features by how many pyramid levels they can use; most use
-  // all. The full-pyramid group goes first: an affine motion fitted to its
-  // tracks predicts where the near-edge features went, so that their few
-  // levels only need to refine a good first guess.
+  // all. The full-pyramid group goes first, starting from the previous
+  // pair's motion (constant velocity: fewer LK iterations, same reach). An
+  // affine motion fitted to its tracks then predicts where the near-edge
+  // features went, so that their few levels only refine a good first guess.
   const double fb_sq = options_.fb_threshold_px * options_.fb_threshold_px;
-  bool have_motion = false;
-  cv::Matx23d motion;
+  bool have_motion = have_last_motion_;
+  cv::Matx23d motion = last_motion_;
+  bool fitted = false;
   for (int levels = max_level_; levels >= 0; --levels) {
     group_index_.clear();
     group_prev_.clear();
@@ -148,8 +153,13 @@ void FeatureTracker::track(TrackStepResult& result) {
       status_bwd_[i] = group_status_bwd_[g];
       patch_error_[i] = group_error_[g];
     }
-    if (!have_motion) have_motion = fit_motion(fb_sq, &motion);
+    if (!fitted && fit_motion(fb_sq, &motion)) {
+      fitted = true;
+      have_motion = true;
+    }
   }
+  have_last_motion_ = fitted;
+  last_motion_ = motion;
 
   // Tracks must end where new corners may start: at least border_px inside,
   // so their level-0 window is (almost) all real pixels.

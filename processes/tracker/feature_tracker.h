@@ -82,6 +82,8 @@ class FeatureTracker {
   std::vector<cv::Mat> prev_pyramid_;
   std::vector<cv::Mat> curr_pyramid_;
   cv::Size image_size_;
+  bool have_last_motion_ = false;
+  cv::Matx23d last_motion_;  // affine prev -> curr of the last tracked pair
 
   // Buffers reused between frames.
   std::vector<cv::Point2f> prev_pts_, curr_pts_, back_pts_;

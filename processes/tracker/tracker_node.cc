@@ -1,6 +1,7 @@
 #include "processes/tracker/tracker_node.h"
 
 #include <cmath>
+#include <exception>
 #include <sstream>
 
 #include "common/channels.h"
@@ -95,7 +96,19 @@ void TrackerNode::on_image(const image_t& msg) {
     out.prev_utime = 0;
     ++restarts_;
   }
-  const TrackStepResult step = tracker_.process(gray);
+  TrackStepResult step;
+  try {
+    step = tracker_.process(gray);
+  } catch (const std::exception& e) {
+    // Not expected after the checks above; still one flagged TRACKS per
+    // image, a counted error and a fresh start rather than a lost message.
+    ++errors_;
+    tracker_.reset();
+    have_reference_ = false;
+    out.flags |= tracks_t::FLAG_BAD_IMAGE;
+    publish(out, "CAMERA_IMAGE utime " + std::to_string(msg.utime) + ": tracking failed: " + e.what());
+    return;
+  }
   if (step.first_frame) out.flags |= tracks_t::FLAG_FIRST_FRAME;
   // A first frame has no tracks by nature; it is short of features when
   // detection found too few to track from.

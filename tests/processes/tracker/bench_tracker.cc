@@ -36,10 +36,13 @@ const std::vector<cv::Mat>& frames() {
   return sequence;
 }
 
+// Argument: pyramid levels of the backward (forward-backward check) pass.
 void BM_FeatureTracker(benchmark::State& state) {
   cv::setNumThreads(1);
   const auto& seq = frames();
-  nadir::FeatureTracker tracker{nadir::TrackerOptions{}};
+  nadir::TrackerOptions options;
+  options.fb_pyramid_levels = static_cast<int>(state.range(0));
+  nadir::FeatureTracker tracker{options};
   size_t k = 0;
   int64_t tracks = 0, replenished = 0, steps = 0;
   tracker.process(seq[k++]);
@@ -52,7 +55,7 @@ void BM_FeatureTracker(benchmark::State& state) {
   state.counters["tracks"] = static_cast<double>(tracks) / static_cast<double>(steps);
   state.counters["new_per_frame"] = static_cast<double>(replenished) / static_cast<double>(steps);
 }
-BENCHMARK(BM_FeatureTracker)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FeatureTracker)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
 // Counts what the node publishes; the transport is not what is measured.
 class SinkBus : public nadir::Bus {
