@@ -65,7 +65,7 @@ BridgeOptions BridgeOptions::from_config(const Config& root) {
   const Config ins = section.section_or_empty("ins");
   SerialOptions ins_defaults;
   ins_defaults.device = "/dev/ttyUSB0";
-  ins_defaults.baud = 230400;
+  ins_defaults.baud = 460800;
   o.ins.serial = SerialOptions::from_config(ins, ins_defaults);
   o.ins.imu_to_body_rpy_deg = get_vector3(ins, "imu_to_body_rpy_deg", o.ins.imu_to_body_rpy_deg);
   o.ins.stddev_max_age_s = ins.get_in_range<double>("stddev_max_age_s", o.ins.stddev_max_age_s, 0.0, 60.0);

@@ -23,11 +23,12 @@ Estimate solve_flow(const FramePair& pair, const SolverOptions& options) {
   }
   const Eigen::Matrix3d prev_level = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
   const Eigen::Matrix3d curr_level = level_from_camera(pair.curr_roll, pair.curr_pitch, pair.body_from_camera);
+  // Vertical heights: slant range times the down component of the levelled beam.
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
-  const double prev_height = pair.prev_range_m *
-                             (level_from_camera(pair.prev_roll, pair.prev_pitch, identity) * pair.prev_beam_body).normalized().z();
-  const double curr_height = pair.curr_range_m *
-                             (level_from_camera(pair.curr_roll, pair.curr_pitch, identity) * pair.curr_beam_body).normalized().z();
+  const Eigen::Vector3d prev_beam = level_from_camera(pair.prev_roll, pair.prev_pitch, identity) * pair.prev_beam_body;
+  const Eigen::Vector3d curr_beam = level_from_camera(pair.curr_roll, pair.curr_pitch, identity) * pair.curr_beam_body;
+  const double prev_height = pair.prev_range_m * prev_beam.normalized().z();
+  const double curr_height = pair.curr_range_m * curr_beam.normalized().z();
   if (!(prev_height > 0) || !(curr_height > 0) || !std::isfinite(prev_height) || !std::isfinite(curr_height)) {
     est.quality |= kNoAltimeter;
     return est;

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -20,6 +21,7 @@ void SyncOptions::Check() const {
   require(altimeter_staleness_us > 0 && altimeter_staleness_us <= 60000000, "altimeter_staleness_us",
           "in (0, 60 s]");
   require(altimeter_wait_us >= 0 && altimeter_wait_us <= 10000000, "altimeter_wait_us", "in [0, 10 s]");
+  require(settle_us >= 0 && settle_us <= 10000000, "settle_us", "in [0, 10 s]");
   require(max_frame_interval_us > 0 && max_frame_interval_us <= 60000000, "max_frame_interval_us", "in (0, 60 s]");
   require(max_pending_frames >= 1 && max_pending_frames <= 10000, "max_pending_frames", "in [1, 10000]");
   require(max_ins_samples >= 2 && max_ins_samples <= 1000000, "max_ins_samples", "in [2, 1e6]");
@@ -55,9 +57,10 @@ void FrameSync::add_altimeter(const altimeter_t& altimeter) {
 
 bool FrameSync::ready(int64_t utime) const {
   if (cache_.count(utime)) return true;
-  if (ins_.empty() || ins_.rbegin()->first < utime) return false;
-  if (!altimeter_.empty() && altimeter_.rbegin()->first >= utime) return true;
-  return ins_.rbegin()->first >= utime + options_.altimeter_wait_us;
+  const int64_t settled = utime + options_.settle_us;
+  if (ins_.empty() || ins_.rbegin()->first < settled) return false;
+  if (!altimeter_.empty() && altimeter_.rbegin()->first >= settled) return true;
+  return ins_.rbegin()->first >= settled + options_.altimeter_wait_us;
 }
 
 const FrameState& FrameSync::frame_state(int64_t utime) {

@@ -20,6 +20,7 @@ struct SyncOptions {
   int64_t max_ins_extrapolation_us = 20000;  // one-sided INS sample at most this far: used as is
   int64_t altimeter_staleness_us = 200000;   // nearest valid range farther than this: stale
   int64_t altimeter_wait_us = 300000;        // INS time to wait for an altimeter sample after a frame
+  int64_t settle_us = 0;                     // extra sensor time to wait when a channel can reorder itself
   int64_t max_frame_interval_us = 250000;    // prev -> curr longer than this: frame gap
   int max_pending_frames = 64;               // TRACKS waiting for INS; the oldest is flushed flagged
   int max_ins_samples = 3000;                // buffer sizes (oldest by utime dropped first)
@@ -46,8 +47,10 @@ class FrameSync {
   void add_altimeter(const altimeter_t& altimeter);
 
   // True once the inputs for a frame at `utime` are final: an INS sample at
-  // or after it exists, and an altimeter sample at or after it exists or the
-  // INS has run altimeter_wait_us past it.
+  // or after utime + settle exists, and an altimeter sample at or after it
+  // exists or the INS has run altimeter_wait_us further. Messages of one
+  // channel are assumed to arrive in utime order unless settle_us covers
+  // their reordering; across channels any interleaving is fine.
   bool ready(int64_t utime) const;
 
   // The frame's attitude and range, computed on first use and then cached.

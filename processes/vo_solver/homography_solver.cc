@@ -4,9 +4,12 @@
 // scale. The INS is used only to pick the decomposition whose normal points
 // down and to express the result in the level frame.
 
+// Eigen must come before OpenCV's eigen.hpp (it checks).
 #include <Eigen/Core>
+// clang-format off
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
+// clang-format on
 
 #include <cmath>
 

@@ -1,6 +1,7 @@
 #include "processes/vo_solver/plane_model.h"
 
 #include <cmath>
+#include <limits>
 
 namespace nadir::vo {
 
@@ -43,15 +44,29 @@ bool ground_point(const PlaneGeometry& plane, const Eigen::Vector3d& normal, con
   return true;
 }
 
-double plane_residual(const LevelFeature& f, const PlaneGeometry& plane, const Params& p, JacobianRow* jacobian) {
-  const Eigen::Vector3d normal = ground_normal(plane, p(3), p(4));
-  const double n_v = normal.dot(f.v);
-  const double n_b = normal.dot(plane.beam);
-  const double lambda = plane.range_m * n_b / n_v;  // depth of the feature in V^k (v.z = 1)
-  const double c = std::cos(p(2)), s = std::sin(p(2));
-  // r_v = Rz(dyaw) v; q = lambda * r_v is the ground point rotated into V^{k-1} axes.
-  const double rvx = c * f.v.x() - s * f.v.y();
-  const double rvy = s * f.v.x() + c * f.v.y();
+ModelEval make_model_eval(const PlaneGeometry& plane, const Params& p) {
+  ModelEval e;
+  const double cr = std::cos(p(3)), sr = std::sin(p(3)), cp = std::cos(p(4)), sp = std::sin(p(4));
+  e.normal = plane.relevel * Eigen::Vector3d(sp * cr, -sr, cp * cr);
+  e.dn_droll = plane.relevel * Eigen::Vector3d(-sp * sr, -cr, -cp * sr);
+  e.dn_dpitch = plane.relevel * Eigen::Vector3d(cp * cr, 0.0, -sp * cr);
+  const Eigen::Vector3d a = plane.range_m * plane.beam;  // the altimeter spot
+  e.plane_offset = e.normal.dot(a);
+  e.offset_droll = e.dn_droll.dot(a);
+  e.offset_dpitch = e.dn_dpitch.dot(a);
+  e.cos_yaw = std::cos(p(2));
+  e.sin_yaw = std::sin(p(2));
+  return e;
+}
+
+double model_residual(const LevelFeature& f, const ModelEval& e, const Params& p, JacobianRow* jacobian) {
+  // Depth of the ground point seen along v (v.z = 1) in V^k: X = lambda v, n . X = n . A.
+  const double n_v = e.normal.dot(f.v);
+  if (!(n_v > 1e-9) || !(e.plane_offset > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const double lambda = e.plane_offset / n_v;
+  // r_v = Rz(dyaw) v; q = lambda r_v is the ground point rotated into V^{k-1} axes.
+  const double rvx = e.cos_yaw * f.v.x() - e.sin_yaw * f.v.y();
+  const double rvy = e.sin_yaw * f.v.x() + e.cos_yaw * f.v.y();
   const double qx = lambda * rvx, qy = lambda * rvy;
   const double residual = f.u.x() * (qy + p(1)) - f.u.y() * (qx + p(0));
   if (jacobian) {
@@ -59,16 +74,16 @@ double plane_residual(const LevelFeature& f, const PlaneGeometry& plane, const P
     (*jacobian)(1) = f.u.x();
     // d(Rz v)/d yaw = (-rvy, rvx, 0).
     (*jacobian)(2) = f.u.x() * qx + f.u.y() * qy;
-    // d lambda / dn = range * (b (n.v) - v (n.b)) / (n.v)^2; dn from the tilt increments.
-    const Eigen::Vector3d dlambda_dn = plane.range_m * (plane.beam * n_v - f.v * n_b) / (n_v * n_v);
-    const double cr = std::cos(p(3)), sr = std::sin(p(3)), cp = std::cos(p(4)), sp = std::sin(p(4));
-    const Eigen::Vector3d dn_droll = plane.relevel * Eigen::Vector3d(-sp * sr, -cr, -cp * sr);
-    const Eigen::Vector3d dn_dpitch = plane.relevel * Eigen::Vector3d(cp * cr, 0.0, -sp * cr);
+    // d lambda = (d offset - lambda (dn . v)) / (n . v).
     const double cross = f.u.x() * rvy - f.u.y() * rvx;  // d residual / d lambda
-    (*jacobian)(3) = cross * dlambda_dn.dot(dn_droll);
-    (*jacobian)(4) = cross * dlambda_dn.dot(dn_dpitch);
+    (*jacobian)(3) = cross * (e.offset_droll - lambda * e.dn_droll.dot(f.v)) / n_v;
+    (*jacobian)(4) = cross * (e.offset_dpitch - lambda * e.dn_dpitch.dot(f.v)) / n_v;
   }
   return residual;
+}
+
+double plane_residual(const LevelFeature& f, const PlaneGeometry& plane, const Params& p, JacobianRow* jacobian) {
+  return model_residual(f, make_model_eval(plane, p), p, jacobian);
 }
 
 bool predict_prev_point(const LevelFeature& f, const PlaneGeometry& plane, const Params& p, double dz,

@@ -52,8 +52,23 @@ Eigen::Vector3d ground_normal(const PlaneGeometry& plane, double d_roll, double 
 bool ground_point(const PlaneGeometry& plane, const Eigen::Vector3d& normal, const Eigen::Vector3d& v,
                   Eigen::Vector3d* point);
 
+// Everything in eq. (9) that depends on the parameters but not on the
+// feature, computed once per evaluation pass (the solver's hot loop).
+struct ModelEval {
+  Eigen::Vector3d normal;
+  double plane_offset = 0;  // n . A: the plane is n . X = plane_offset
+  double cos_yaw = 1, sin_yaw = 0;
+  Eigen::Vector3d dn_droll, dn_dpitch;      // d normal / d tilt increments
+  double offset_droll = 0, offset_dpitch = 0;  // d plane_offset / d tilt increments
+};
+ModelEval make_model_eval(const PlaneGeometry& plane, const Params& params);
+
+// Eq. (9) for one feature with a prepared evaluation; see plane_residual.
+double model_residual(const LevelFeature& f, const ModelEval& eval, const Params& params, JacobianRow* jacobian);
+
 // Exact form of eq. (9): z-component of u x (Rz(dyaw) X^k + [dx, dy, .]),
-// which does not depend on dz. Zero for a perfect measurement. Metres.
+// which does not depend on dz. Zero for a perfect measurement. Metres; NaN
+// when the ray does not meet the plane in front of the camera.
 // If `jacobian` is given it receives d residual / d params at the given params
 // (analytic; tilt derivatives at the given increments use the exact normal).
 double plane_residual(const LevelFeature& f, const PlaneGeometry& plane, const Params& params,

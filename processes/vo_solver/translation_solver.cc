@@ -66,31 +66,41 @@ struct PaperProblem {
   std::vector<LevelFeature> features;
   std::vector<int> index;  // feature -> index in the input pair
   std::vector<Eigen::Vector2d> prev_measured;
+  // Turns the residual (metres) into the image error perpendicular to the
+  // feature's radial line in V^{k-1}: 1 / (height |u_xy|), |u_xy| floored so a
+  // feature at the nadir (which carries no information here) cannot dominate.
+  std::vector<double> residual_scale;
   Eigen::Matrix3d prev_level_from_camera;
   PlaneGeometry plane;
   double height = 0;  // nominal vertical height (range * beam.z), scales residuals
   int num_params = 5;
 };
 
-// Weighted normal equations of the scaled residuals r / height.
+// Weighted normal equations of the scaled residuals.
 double accumulate(const PaperProblem& problem, const Params& params, const std::vector<double>& w,
                   Eigen::Matrix<double, 5, 5>* h, Eigen::Matrix<double, 5, 1>* g) {
-  const double scale = 1.0 / problem.height;
   double cost = 0;
   if (h) h->setZero();
   if (g) g->setZero();
   JacobianRow row;
+  const ModelEval eval = make_model_eval(problem.plane, params);
   for (size_t i = 0; i < problem.features.size(); ++i) {
     if (w[i] <= 0) continue;
-    const double r = scale * plane_residual(problem.features[i], problem.plane, params, h ? &row : nullptr);
+    const double sc = problem.residual_scale[i];
+    const double r = sc * model_residual(problem.features[i], eval, params, h ? &row : nullptr);
+    if (!std::isfinite(r)) {
+      // The ray misses the plane at these parameters: a step there is never taken.
+      cost += w[i] * 1e12;
+      continue;
+    }
     cost += w[i] * r * r;
     if (h) {
-      row *= scale;
-      h->selfadjointView<Eigen::Upper>().rankUpdate(row.transpose(), w[i]);
-      *g += w[i] * r * row.transpose();
+      row *= sc;
+      const JacobianRow weighted = w[i] * row;
+      h->noalias() += weighted.transpose() * row;  // fixed 5x5: unrolled, faster than rankUpdate here
+      *g += r * weighted.transpose();
     }
   }
-  if (h) *h = h->selfadjointView<Eigen::Upper>();
   return cost;
 }
 
@@ -100,9 +110,9 @@ double accumulate(const PaperProblem& problem, const Params& params, const std::
 double estimate_dz(const PaperProblem& problem, const Params& p, const std::vector<double>& w, double* variance) {
   const Eigen::Matrix3d rz = rot_z(p(2));
   const Eigen::Vector3d normal = ground_normal(problem.plane, p(3), p(4));
-  double sum_v = 0, sum_vz = 0, sum_v2 = 0;
+  double sum_v = 0, sum_vz = 0;
   std::vector<std::pair<double, double>> samples;
-  samples.reserve(problem.features.size());
+  if (variance) samples.reserve(problem.features.size());
   for (size_t i = 0; i < problem.features.size(); ++i) {
     if (w[i] <= 0) continue;
     const LevelFeature& f = problem.features[i];
@@ -117,8 +127,7 @@ double estimate_dz(const PaperProblem& problem, const Params& p, const std::vect
     const double v = w[i] * uu;
     sum_v += v;
     sum_vz += v * dz_i;
-    sum_v2 += v * v;
-    samples.emplace_back(v, dz_i);
+    if (variance) samples.emplace_back(v, dz_i);
   }
   if (sum_v <= 0) {
     if (variance) *variance = std::numeric_limits<double>::infinity();
@@ -139,11 +148,15 @@ void reprojection_errors(const PaperProblem& problem, const Params& p, double dz
                          std::vector<double>* ire) {
   ire->resize(problem.features.size());
   const Eigen::Matrix3d camera_from_level = problem.prev_level_from_camera.transpose();
+  // prev camera <- V^k ground point: rotate by dyaw, shift by the translation.
+  const Eigen::Matrix3d rotation = camera_from_level * rot_z(p(2));
+  const Eigen::Vector3d shift = camera_from_level * Eigen::Vector3d(p(0), p(1), dz);
+  const Eigen::Vector3d normal = ground_normal(problem.plane, p(3), p(4));
   for (size_t i = 0; i < problem.features.size(); ++i) {
-    Eigen::Vector3d prev_point;
+    Eigen::Vector3d point;
     (*ire)[i] = std::numeric_limits<double>::infinity();
-    if (!predict_prev_point(problem.features[i], problem.plane, p, dz, &prev_point)) continue;
-    const Eigen::Vector3d cam = camera_from_level * prev_point;
+    if (!ground_point(problem.plane, normal, problem.features[i].v, &point)) continue;
+    const Eigen::Vector3d cam = rotation * point + shift;
     if (!(cam.z() > 1e-9)) continue;
     (*ire)[i] = focal_px * (cam.head<2>() / cam.z() - problem.prev_measured[i]).norm();
   }
@@ -210,7 +223,7 @@ int levenberg_marquardt(PaperProblem* problem, Params* params, const std::vector
       const double change = std::max(step.head<2>().cwiseAbs().maxCoeff() / problem->height,
                                      step.tail(np - 2).cwiseAbs().maxCoeff());
       cost = accumulate(*problem, *params, w, &h, &g);
-      if (change < options.convergence_tolerance * 1e-3) break;
+      if (change < 0.1 * options.convergence_tolerance) break;
     } else {
       problem->plane = saved;
       lambda *= 10.0;
@@ -252,6 +265,9 @@ Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool e
     problem.features.push_back({u / u.z(), v / v.z()});
     problem.index.push_back(static_cast<int>(i));
     problem.prev_measured.push_back(pair.prev_norm[i]);
+  }
+  for (const LevelFeature& f : problem.features) {
+    problem.residual_scale.push_back(1.0 / (problem.height * std::max(0.05, std::hypot(f.u.x(), f.u.y()))));
   }
   const int m = static_cast<int>(problem.features.size());
   if (m < std::max(options.min_features, problem.num_params)) {
@@ -350,7 +366,18 @@ Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool e
   // dz depends on the other unknowns through the ground points: propagate
   // their covariance with a numerical gradient, and add the spread of the mean.
   for (int j = 0; j < np; ++j) {
-    const double step = j < 2 ? 1e-4 * problem.height : 1e-6;
+    if (j < 2) {
+      // dz is linear in dx, dy: d dz / d dx = sum(w u_x) / sum(w |u_xy|^2).
+      double num = 0, den = 0;
+      for (int i = 0; i < m; ++i) {
+        const LevelFeature& f = problem.features[i];
+        num += w[i] * (j == 0 ? f.u.x() : f.u.y());
+        den += w[i] * (f.u.x() * f.u.x() + f.u.y() * f.u.y());
+      }
+      map(2, j) = den > 0 ? num / den : 0.0;
+      continue;
+    }
+    const double step = 1e-6;
     Params plus = params, minus = params;
     plus(j) += step;
     minus(j) -= step;

@@ -22,10 +22,10 @@ struct SolverOptions {
   double focal_px = 398.79;            // for image reprojection errors in pixels
   int min_features = 8;                // below this (before or after the robust fit): flagged
   int max_robust_iterations = 20;      // outer loop of Algorithm 1 (lines 7-20)
-  int max_lm_iterations = 10;          // inner loop (lines 9-16)
+  int max_lm_iterations = 4;           // inner loop (lines 9-16), per reweighting
   double min_threshold_px = 2.0;       // IRE beyond which a feature is an outlier, at least
   double threshold_mad_scale = 4.0;    // ... or this many robust sigmas of the IREs, if larger
-  double convergence_tolerance = 1e-7; // parameter change (translation / height, rad)
+  double convergence_tolerance = 1e-6; // parameter change (translation / height, rad)
   double max_residual_rms_px = 3.0;    // inlier IRE RMS above this: QUALITY_HIGH_RESIDUAL
   double min_inlier_fraction = 0.3;    // inlier share below this: QUALITY_HIGH_RESIDUAL
   double homography_ransac_px = 3.0;   // homography variant: RANSAC threshold

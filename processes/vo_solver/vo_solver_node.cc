@@ -109,7 +109,8 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   pair.curr_range_m = curr.range_m;
   pair.prev_beam_body = prev.beam_body;
   pair.curr_beam_body = curr.beam_body;
-  const int n = std::min<int>(tracks.num_tracks, static_cast<int>(std::min(tracks.prev_norm.size(), tracks.curr_norm.size())));
+  const int n = std::min<int>(tracks.num_tracks,
+                              static_cast<int>(std::min(tracks.prev_norm.size(), tracks.curr_norm.size())));
   pair.prev_norm.reserve(n);
   pair.curr_norm.reserve(n);
   for (int i = 0; i < n; ++i) {

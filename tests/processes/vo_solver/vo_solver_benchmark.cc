@@ -1,0 +1,68 @@
+// nadir_bench_vo_solver: one frame pair of 450 features (612x512 camera) per
+// iteration, for each variant; the goal for `paper` is <= 0.5 ms per frame on
+// one core. Run: build/bin/nadir_bench_vo_solver (pin with taskset -c 0).
+
+#include <benchmark/benchmark.h>
+
+#include <vector>
+
+#include "common/geometry.h"
+#include "processes/vo_solver/translation_solver.h"
+#include "tests/processes/vo_solver/synthetic_scene.h"
+
+namespace {
+
+using nadir::deg_to_rad;
+using namespace nadir::vo;
+
+std::vector<FramePair> make_pairs(double noise_px, double outliers) {
+  std::vector<FramePair> pairs;
+  for (uint32_t seed = 1; seed <= 16; ++seed) {
+    testing::SceneSpec s;
+    s.height_m = 250.0;
+    s.ground_roll = deg_to_rad(6.0);
+    s.ground_pitch = deg_to_rad(-9.0);
+    s.prev_roll = deg_to_rad(4.0);
+    s.prev_pitch = deg_to_rad(-3.0);
+    s.prev_yaw = deg_to_rad(30.0);
+    s.curr_roll = deg_to_rad(5.0);
+    s.curr_pitch = deg_to_rad(-2.5);
+    s.curr_yaw = deg_to_rad(31.0);
+    s.translation = Eigen::Vector3d(2.1, -0.3, -0.2);
+    s.num_features = 450;
+    s.noise_px = noise_px;
+    s.outlier_fraction = outliers;
+    s.seed = seed;
+    pairs.push_back(testing::make_scene(s).pair);
+  }
+  return pairs;
+}
+
+void run(benchmark::State& state, Variant variant, double noise_px, double outliers) {
+  const std::vector<FramePair> pairs = make_pairs(noise_px, outliers);
+  SolverOptions options;
+  options.variant = variant;
+  size_t i = 0;
+  int64_t iterations = 0, frames = 0;
+  for (auto _ : state) {
+    const Estimate est = solve(pairs[i++ % pairs.size()], options);
+    benchmark::DoNotOptimize(est.translation);
+    iterations += est.iterations;
+    ++frames;
+  }
+  state.counters["lm_iterations"] = static_cast<double>(iterations) / std::max<int64_t>(1, frames);
+}
+
+void BM_Paper_NoiseFree(benchmark::State& s) { run(s, Variant::kPaper, 0.0, 0.0); }
+void BM_Paper_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kPaper, 0.5, 0.3); }
+void BM_LevelGround_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kLevelGround, 0.5, 0.3); }
+void BM_Homography_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kHomography, 0.5, 0.3); }
+void BM_Flow_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kFlow, 0.5, 0.3); }
+
+BENCHMARK(BM_Paper_NoiseFree)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Paper_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LevelGround_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Homography_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Flow_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
+
+}  // namespace

@@ -1,0 +1,388 @@
+// The node over a real LCM bus (memq://): synchronisation by sensor time,
+// identical VO_DELTA whatever the arrival order, flagged results for a stale
+// altimeter and a missing INS.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <vector>
+
+#include "common/channels.h"
+#include "common/config.h"
+#include "common/geometry.h"
+#include "common/lcm_bus.h"
+#include "common/replay.h"
+#include "nadir/altimeter_t.hpp"
+#include "nadir/ins_t.hpp"
+#include "nadir/tracks_t.hpp"
+#include "nadir/vo_delta_t.hpp"
+#include "processes/vo_solver/plane_model.h"
+#include "processes/vo_solver/vo_solver_node.h"
+#include "tests/processes/vo_solver/synthetic_scene.h"
+
+namespace nadir {
+namespace {
+
+const char* kConfig = R"(
+camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5, mount_rpy_deg: [0, 0, 0]}
+altimeter: {beam_body: [0, 0, 1]}
+vo_solver:
+  variant: paper
+  sync: {altimeter_staleness_ms: 200, altimeter_wait_ms: 300, max_pending_frames: 8}
+)";
+
+constexpr int64_t kStart = 1700000000000000;
+constexpr int64_t kFramePeriod = 71429;  // 14 Hz
+
+// Smooth true attitude, so that 100 Hz samples interpolate to it closely.
+double roll_at(int64_t t) { return 0.03 * std::sin(1e-6 * (t - kStart)); }
+double pitch_at(int64_t t) { return -0.02 + 0.01 * std::cos(0.7e-6 * (t - kStart)); }
+double yaw_at(int64_t t) { return 0.4 + 0.05e-6 * (t - kStart); }
+
+struct Event {
+  int64_t arrival;  // when it reaches the node (sensor time + transport delay)
+  std::string channel;
+  std::vector<uint8_t> bytes;
+};
+
+template <class Msg>
+Event encode(int64_t arrival, const std::string& channel, const Msg& msg) {
+  Event e{arrival, channel, std::vector<uint8_t>(msg.getEncodedSize())};
+  msg.encode(e.bytes.data(), 0, static_cast<int>(e.bytes.size()));
+  return e;
+}
+
+struct Sequence {
+  std::vector<Event> events;
+  std::map<int64_t, Eigen::Vector3d> truth;  // translation per curr frame utime
+};
+
+// `frames` frames over level ground at 200 m, INS at 100 Hz, altimeter at
+// 20 Hz until `altimeter_until` (sensor time).
+Sequence make_sequence(int frames, int64_t altimeter_until) {
+  Sequence seq;
+  const int64_t end = kStart + frames * kFramePeriod + 1000000;
+  for (int64_t t = kStart - 100000; t <= end; t += 10000) {
+    ins_t m{};
+    m.utime = t;
+    m.roll = roll_at(t);
+    m.pitch = pitch_at(t);
+    m.yaw = yaw_at(t);
+    seq.events.push_back(encode(t + 3000, channels::kIns, m));
+  }
+  for (int64_t t = kStart - 100000; t <= std::min(end, altimeter_until); t += 50000) {
+    altimeter_t m{};
+    m.utime = t;
+    m.range_m = 200.0 / (std::cos(roll_at(t)) * std::cos(pitch_at(t)));  // level ground, beam along body z
+    m.beam_body[2] = 1.0;
+    m.signal_quality = 1.0f;
+    m.validity = altimeter_t::VALID_OK;
+    seq.events.push_back(encode(t + 8000, channels::kAltimeter, m));
+  }
+  const Eigen::Vector3d velocity_world(20.0, 5.0, 0.0);
+  for (int k = 0; k < frames; ++k) {
+    const int64_t t = kStart + k * kFramePeriod, tp = t - kFramePeriod;
+    tracks_t m{};
+    m.utime = t;
+    m.prev_utime = k == 0 ? 0 : tp;
+    m.frame_counter = k;
+    m.width = 612;
+    m.height = 512;
+    m.flags = k == 0 ? tracks_t::FLAG_FIRST_FRAME : 0;
+    if (k > 0) {
+      vo::testing::SceneSpec s;
+      s.height_m = 200.0;
+      s.prev_roll = roll_at(tp);
+      s.prev_pitch = pitch_at(tp);
+      s.prev_yaw = yaw_at(tp);
+      s.curr_roll = roll_at(t);
+      s.curr_pitch = pitch_at(t);
+      s.curr_yaw = yaw_at(t);
+      s.translation = vo::rot_z(yaw_at(tp)).transpose() * velocity_world * (kFramePeriod * 1e-6);
+      s.num_features = 120;
+      s.noise_px = 0.3;
+      s.outlier_fraction = 0.1;
+      s.seed = static_cast<uint32_t>(k);
+      const vo::testing::Scene scene = vo::testing::make_scene(s);
+      seq.truth[t] = scene.translation;
+      m.num_tracks = static_cast<int32_t>(scene.pair.prev_norm.size());
+      for (int i = 0; i < m.num_tracks; ++i) {
+        m.track_id.push_back(i);
+        m.age.push_back(1);
+        m.prev_px.push_back({0.f, 0.f});
+        m.curr_px.push_back({0.f, 0.f});
+        m.prev_norm.push_back({scene.pair.prev_norm[i].x(), scene.pair.prev_norm[i].y()});
+        m.curr_norm.push_back({scene.pair.curr_norm[i].x(), scene.pair.curr_norm[i].y()});
+      }
+    }
+    seq.events.push_back(encode(t + 40000, channels::kTracks, m));  // tracker latency
+  }
+  return seq;
+}
+
+// Runs the node on a memq:// LcmBus, delivering events in the given order;
+// returns the encoded VO_DELTA messages by utime.
+struct RunResult {
+  std::map<int64_t, std::vector<uint8_t>> encoded;
+  std::map<int64_t, vo_delta_t> deltas;
+  StatusReport status;
+};
+
+RunResult run(const std::vector<Event>& events, const std::string& yaml = kConfig) {
+  LcmBusOptions options;
+  options.url = "memq://";
+  LcmBus bus(options);
+  const Config config = Config::parse(yaml, "node test");
+  std::unique_ptr<Node> node = make_vo_solver_node(config, bus);
+  RunResult result;
+  bus.subscribe<vo_delta_t>(channels::kVoDelta, [&](const vo_delta_t& m) {
+    std::vector<uint8_t> bytes(m.getEncodedSize());
+    m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    EXPECT_EQ(result.encoded.count(m.utime), 0u) << "one VO_DELTA per frame";
+    result.encoded[m.utime] = bytes;
+    result.deltas[m.utime] = m;
+  });
+  for (const Event& e : events) {
+    bus.publish_raw(e.channel, e.bytes.data(), e.bytes.size());
+    while (bus.handle(0) > 0) {
+    }
+  }
+  while (bus.handle(10) > 0) {
+  }
+  result.status = node->status();
+  return result;
+}
+
+std::vector<Event> in_arrival_order(std::vector<Event> events) {
+  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.arrival < b.arrival; });
+  return events;
+}
+
+// Each channel keeps its order, but the channels are skewed against each other
+// by up to +-250 ms of random extra delay per message.
+std::vector<Event> interleaved(std::vector<Event> events, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int64_t> jitter(0, 250000);
+  for (Event& e : events) e.arrival += jitter(rng);
+  // Restore per-channel order: arrival never earlier than the previous message of the channel.
+  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.arrival < b.arrival; });
+  std::map<std::string, std::vector<Event*>> by_channel;
+  for (Event& e : events) by_channel[e.channel].push_back(&e);
+  std::vector<Event> out;
+  for (auto& [channel, list] : by_channel) {
+    std::vector<int64_t> arrivals;
+    for (Event* e : list) arrivals.push_back(e->arrival);
+    std::vector<Event*> sorted(list);
+    // The channel's messages in sensor order get the channel's arrival slots in order.
+    std::stable_sort(sorted.begin(), sorted.end(), [](const Event* a, const Event* b) {
+      int64_t ua = 0, ub = 0;
+      encoded_utime(a->bytes.data(), a->bytes.size(), &ua);
+      encoded_utime(b->bytes.data(), b->bytes.size(), &ub);
+      return ua < ub;
+    });
+    for (size_t i = 0; i < sorted.size(); ++i) {
+      Event copy = *sorted[i];
+      copy.arrival = arrivals[i];
+      out.push_back(copy);
+    }
+  }
+  return in_arrival_order(out);
+}
+
+TEST(VoSolverNode, EstimatesMotionFromLiveMessages) {
+  const Sequence seq = make_sequence(40, INT64_MAX);
+  const RunResult r = run(in_arrival_order(seq.events));
+  ASSERT_EQ(r.deltas.size(), 40u);
+  EXPECT_TRUE(r.deltas.begin()->second.quality & vo_delta_t::QUALITY_TOO_FEW_FEATURES) << "first frame has no pair";
+  for (const auto& [utime, d] : r.deltas) {
+    if (utime == kStart) continue;
+    SCOPED_TRACE(utime);
+    EXPECT_EQ(d.quality, 0);
+    EXPECT_EQ(d.variant, "paper");
+    EXPECT_EQ(d.prev_utime, utime - kFramePeriod);
+    const Eigen::Vector3d& t = seq.truth.at(utime);
+    EXPECT_NEAR(d.dx, t.x(), 0.1);
+    EXPECT_NEAR(d.dy, t.y(), 0.1);
+    EXPECT_NEAR(d.dyaw, 0.05 * kFramePeriod * 1e-6, 1e-3);
+    // Height of the prev camera over the fitted patch: the patch tilt (a few
+    // degrees of noise at this baseline) times the ~5 m from the altimeter spot.
+    EXPECT_NEAR(d.altitude_m, 200.0, 2.0);
+    EXPECT_GE(d.inliers, 90);
+    EXPECT_GT(d.covariance[0][0], 0.0);
+  }
+  EXPECT_EQ(r.status.published, 40);
+  EXPECT_EQ(r.status.dropped, 0);
+}
+
+TEST(VoSolverNode, ArrivalOrderDoesNotChangeTheOutput) {
+  const Sequence seq = make_sequence(30, INT64_MAX);
+  const RunResult reference = run(in_arrival_order(seq.events));
+  ASSERT_EQ(reference.encoded.size(), 30u);
+  for (uint32_t seed = 1; seed <= 3; ++seed) {
+    const std::vector<Event> shuffled = interleaved(seq.events, seed);
+    std::string order_a, order_b;
+    for (const Event& e : in_arrival_order(seq.events)) order_a += e.channel[0];
+    for (const Event& e : shuffled) order_b += e.channel[0];
+    ASSERT_NE(order_a, order_b) << "the channels must really be interleaved differently";
+    const RunResult other = run(shuffled);
+    ASSERT_EQ(other.encoded.size(), reference.encoded.size()) << "seed " << seed;
+    for (const auto& [utime, bytes] : reference.encoded) {
+      EXPECT_EQ(other.encoded.at(utime), bytes) << "seed " << seed << " frame " << utime;
+    }
+  }
+}
+
+TEST(VoSolverNode, FullyShuffledChannelsAreHandledWithSettleTime) {
+  // Even INS samples out of order among themselves: settle_ms covers it.
+  const Sequence seq = make_sequence(20, INT64_MAX);
+  const std::string settled = R"(
+camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5}
+vo_solver:
+  sync: {settle_ms: 400, max_pending_frames: 32}
+)";
+  const RunResult reference = run(in_arrival_order(seq.events), settled);
+  std::vector<Event> shuffled = seq.events;
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int64_t> jitter(0, 250000);
+  for (Event& e : shuffled) e.arrival += jitter(rng);
+  const RunResult other = run(in_arrival_order(shuffled), settled);
+  ASSERT_EQ(reference.encoded.size(), 20u);
+  EXPECT_EQ(other.encoded, reference.encoded);
+}
+
+TEST(VoSolverNode, StaleAltimeterIsFlagged) {
+  const int64_t altimeter_stops = kStart + 10 * kFramePeriod;
+  const Sequence seq = make_sequence(25, altimeter_stops);
+  const RunResult r = run(in_arrival_order(seq.events));
+  ASSERT_EQ(r.deltas.size(), 25u);
+  int stale = 0;
+  for (const auto& [utime, d] : r.deltas) {
+    const bool should_be_stale = utime > altimeter_stops + 200000;
+    EXPECT_EQ((d.quality & vo_delta_t::QUALITY_STALE_ALTIMETER) != 0, should_be_stale) << utime;
+    stale += should_be_stale;
+  }
+  EXPECT_GT(stale, 5);
+}
+
+TEST(VoSolverNode, MissingInsGivesFlaggedMessagesAndCountsDrops) {
+  const Sequence seq = make_sequence(20, INT64_MAX);
+  std::vector<Event> no_ins;
+  for (const Event& e : in_arrival_order(seq.events)) {
+    if (e.channel != channels::kIns) no_ins.push_back(e);
+  }
+  const RunResult r = run(no_ins);
+  // max_pending_frames = 8: the oldest 12 are flushed, each flagged, none silent.
+  ASSERT_EQ(r.deltas.size(), 12u);
+  for (const auto& [utime, d] : r.deltas) EXPECT_TRUE(d.quality & vo_delta_t::QUALITY_NO_ATTITUDE) << utime;
+  EXPECT_EQ(r.status.dropped, 12);
+  EXPECT_NE(r.status.state, status_t::STATE_OK);
+}
+
+TEST(VoSolverNode, BadConfigNamesTheKey) {
+  LcmBusOptions options;
+  options.url = "memq://";
+  LcmBus bus(options);
+  const Config bad = Config::parse(R"(
+camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5}
+vo_solver: {variant: ransac}
+)", "bad.yaml");
+  try {
+    make_vo_solver_node(bad, bus);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("vo_solver.variant"), std::string::npos) << e.what();
+  }
+}
+
+TEST(VoSolverNode, LockstepReplayEqualsLiveRun) {
+  // The replay bus delivers in log (sensor) order; the live run got the
+  // channels interleaved by transport delays. Same VO_DELTA bytes.
+  const Sequence seq = make_sequence(30, INT64_MAX);
+  const RunResult live = run(interleaved(seq.events, 99));
+  ReplayBus bus(nullptr);
+  const Config config = Config::parse(kConfig, "node test");
+  std::unique_ptr<Node> node = make_vo_solver_node(config, bus);
+  std::map<int64_t, std::vector<uint8_t>> replayed;
+  bus.subscribe_raw(channels::kVoDelta, [&](const std::string&, const uint8_t* data, size_t size) {
+    int64_t utime = 0;
+    ASSERT_TRUE(encoded_utime(data, size, &utime));
+    replayed[utime] = std::vector<uint8_t>(data, data + size);
+  });
+  std::vector<Event> log_order = seq.events;
+  std::stable_sort(log_order.begin(), log_order.end(), [](const Event& a, const Event& b) {
+    int64_t ua = 0, ub = 0;
+    encoded_utime(a.bytes.data(), a.bytes.size(), &ua);
+    encoded_utime(b.bytes.data(), b.bytes.size(), &ub);
+    return ua < ub;
+  });
+  for (const Event& e : log_order) bus.deliver(e.channel, e.bytes.data(), e.bytes.size());
+  ASSERT_EQ(replayed.size(), 30u);
+  EXPECT_EQ(replayed, live.encoded);
+}
+
+}  // namespace
+}  // namespace nadir
+
+namespace nadir {
+namespace {
+
+TEST(VoSolverNode, ShippedConfigBuildsTheNode) {
+  const Config config = Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml");
+  const VoSolverOptions options = VoSolverOptions::from_config(config);
+  EXPECT_EQ(options.solver.variant, vo::Variant::kPaper);
+  EXPECT_DOUBLE_EQ(options.solver.focal_px, 398.79);
+  EXPECT_EQ(options.sync.altimeter_wait_us, 300000);
+  LcmBusOptions bus_options;
+  bus_options.url = "memq://";
+  LcmBus bus(bus_options);
+  NodeRegistry registry;
+  register_vo_solver_node(registry);
+  ASSERT_NE(registry.find("vo_solver"), nullptr);
+  const std::unique_ptr<Node> node = (*registry.find("vo_solver"))(config, bus);
+  EXPECT_EQ(node->name(), "vo_solver");
+  EXPECT_EQ(node->output_channels(), std::vector<std::string>{channels::kVoDelta});
+}
+
+}  // namespace
+}  // namespace nadir
+
+namespace nadir {
+namespace {
+
+TEST(VoSolverNode, NoAltimeterAndFrameGapAreFlagged) {
+  // No altimeter at all: every frame waits altimeter_wait_ms of INS time,
+  // then comes out flagged with no estimate.
+  const Sequence silent = make_sequence(10, kStart - 1000000);
+  const RunResult no_range = run(in_arrival_order(silent.events));
+  ASSERT_EQ(no_range.deltas.size(), 10u);
+  for (const auto& [utime, d] : no_range.deltas) {
+    if (utime == kStart) continue;
+    EXPECT_TRUE(d.quality & vo_delta_t::QUALITY_NO_ALTIMETER) << utime;
+    EXPECT_EQ(d.dx, 0.0);
+    EXPECT_EQ(d.inliers, 0);
+  }
+  // The tracker reports a dropped frame before frame 5: flagged, still estimated.
+  Sequence seq = make_sequence(10, INT64_MAX);
+  const int64_t gap_frame = kStart + 5 * kFramePeriod;
+  for (Event& e : seq.events) {
+    if (e.channel != channels::kTracks) continue;
+    tracks_t m;
+    ASSERT_EQ(m.decode(e.bytes.data(), 0, static_cast<int>(e.bytes.size())), static_cast<int>(e.bytes.size()));
+    if (m.utime != gap_frame) continue;
+    m.flags |= tracks_t::FLAG_FRAME_GAP;
+    e = encode(e.arrival, e.channel, m);
+  }
+  const RunResult r = run(in_arrival_order(seq.events));
+  ASSERT_EQ(r.deltas.size(), 10u);
+  for (const auto& [utime, d] : r.deltas) {
+    if (utime == kStart) continue;
+    EXPECT_EQ(d.quality, utime == gap_frame ? vo_delta_t::QUALITY_FRAME_GAP : 0) << utime;
+    EXPECT_NEAR(d.dx, seq.truth.at(utime).x(), 0.1);
+  }
+}
+
+}  // namespace
+}  // namespace nadir
