@@ -1,9 +1,28 @@
 #!/usr/bin/env bash
 # Sets up, then runs every test suite. All tests run inside a private network
 # namespace (LCM udpm and the Aravis fake camera stay on its loopback).
-# Extra arguments go to ctest (e.g. -R common, -L udpm).
+# Then the parsers, estimator and runtime suites run again in an
+# AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/);
+# NADIR_SKIP_SANITIZERS=1 skips that part. Extra arguments go to ctest.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 "$NADIR_ROOT/launch_scripts/setup.sh"
+
+if [ "${NADIR_SKIP_SANITIZERS:-0}" != 1 ]; then
+  asan="$NADIR_ROOT/build-asan"
+  sanitized_modules="ins_bridge;vo_solver;yaw_fusion;tracker"
+  if [ ! -f "$asan/CMakeCache.txt" ]; then
+    cmake -S "$NADIR_ROOT" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_SANITIZE=ON \
+      -DNADIR_MODULES="$sanitized_modules" >/dev/null
+  fi
+  echo "test: building the ASan/UBSan suites in $asan"
+  cmake --build "$asan" -j"$(nproc)" 2>&1 | grep -vE '^\[ *[0-9]+%\] (Building|Linking|Built)' || true
+  test "${PIPESTATUS[0]}" -eq 0
+  echo "test: ASan/UBSan run"
+  (cd "$asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+     nadir_in_netns ctest --output-on-failure -j"$(nproc)" -R 'nadir_test_(common|ins_bridge|vo_solver|yaw_fusion|tracker)')
+fi
+
+echo "test: full suite"
 cd "$NADIR_BUILD"
 nadir_in_netns ctest --output-on-failure -j"$(nproc)" "$@"
