@@ -56,6 +56,7 @@ void CameraCapture::connect() {
     throw;
   }
   settings_ = camera_->settings();
+  stopped_ = false;
   if (ever_connected_) ++reconnects_;
   ever_connected_ = true;
   backoff_s_ = options_.reconnect_initial_backoff_s;
@@ -71,6 +72,7 @@ void CameraCapture::connect() {
 }
 
 void CameraCapture::stop() {
+  stopped_ = true;
   if (camera_ == nullptr) return;
   publish_decisions(associator_.decide(std::numeric_limits<int64_t>::max() / 2));
   for (auto& [token, buffer] : held_) g_object_unref(buffer);
@@ -86,6 +88,7 @@ void CameraCapture::disconnect(const std::string& why) {
   disconnect_reason_ = why;
   ++disconnects_;
   stop();
+  stopped_ = false;
   next_attempt_mono_us_ = monotonic_now_us() + s_to_us(backoff_s_);
 }
 
@@ -333,7 +336,10 @@ StatusReport CameraCapture::status() const {
     s.failures += now.failures;
     s.underruns += now.underruns;
   }
-  if (camera_ == nullptr) {
+  if (camera_ == nullptr && stopped_) {
+    r.state = status_t::STATE_STOPPING;
+    r.detail = "capture stopped, camera released";
+  } else if (camera_ == nullptr) {
     r.state = status_t::STATE_ERROR;
     r.detail = (disconnect_reason_.empty() ? std::string("camera not connected") : disconnect_reason_) +
                "; reconnecting (attempt " + std::to_string(reconnect_attempts_) + ")" +

@@ -95,6 +95,7 @@ class CameraCapture {
   int64_t reconnect_attempts_ = 0;
   std::string disconnect_reason_;
   std::string last_error_;
+  bool stopped_ = false;  // stop() was asked for: not a fault
 
   // Counters for STATUS.
   int64_t published_images_ = 0;

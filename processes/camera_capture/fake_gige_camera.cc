@@ -6,14 +6,27 @@
 
 namespace nadir {
 
+struct FakeGigECamera::FillContext {
+  ArvFakeCamera* camera;
+  FrameSource* source;
+};
+
 namespace {
 
 void fill_pattern(ArvBuffer* buffer, void* data, guint32, guint32, ArvPixelFormat) {
-  auto* source = static_cast<FrameSource*>(data);
-  size_t size = 0;
-  auto* pixels = static_cast<uint8_t*>(const_cast<void*>(arv_buffer_get_data(buffer, &size)));
-  const int width = arv_buffer_get_image_width(buffer);
-  const int height = arv_buffer_get_image_height(buffer);
+  const auto* context = static_cast<const FakeGigECamera::FillContext*>(data);
+  FrameSource* source = context->source;
+  // arv_buffer_get_data reports the received size, which is still 0 here;
+  // the buffer holds the camera's payload.
+  auto* pixels = static_cast<uint8_t*>(const_cast<void*>(arv_buffer_get_data(buffer, nullptr)));
+  const size_t size = arv_fake_camera_get_payload(context->camera);
+  // The buffer's image geometry is not filled in yet when the callback runs:
+  // the camera's registers say what it is sending.
+  guint32 w = 0, h = 0;
+  arv_fake_camera_read_register(context->camera, ARV_FAKE_CAMERA_REGISTER_WIDTH, &w);
+  arv_fake_camera_read_register(context->camera, ARV_FAKE_CAMERA_REGISTER_HEIGHT, &h);
+  const int width = static_cast<int>(w);
+  const int height = static_cast<int>(h);
   if (pixels == nullptr || width <= 0 || height <= 0 || size < static_cast<size_t>(width) * height) return;
   source->fill(arv_buffer_get_frame_id(buffer), width, height, static_cast<size_t>(width), pixels);
 }
@@ -29,8 +42,15 @@ FakeGigECamera::FakeGigECamera(const FakeCameraOptions& options, std::shared_ptr
                              "' (is it up, and is the GVCP port 3956 free?)");
   }
   ArvFakeCamera* fake = arv_gv_fake_camera_get_fake_camera(camera_);
-  arv_fake_camera_set_fill_pattern(fake, fill_pattern, source_.get());
+  context_ = std::make_unique<FillContext>(FillContext{fake, source_.get()});
+  arv_fake_camera_set_fill_pattern(fake, fill_pattern, context_.get());
   arv_fake_camera_set_trigger_frequency(fake, options_.trigger_poll_hz);
+}
+
+void FakeGigECamera::trigger() {
+  arv_fake_camera_write_register(arv_gv_fake_camera_get_fake_camera(camera_),
+                                 ARV_FAKE_CAMERA_REGISTER_FRAME_START_OFFSET + ARV_FAKE_CAMERA_REGISTER_TRIGGER_SOFTWARE,
+                                 1);
 }
 
 FakeGigECamera::~FakeGigECamera() {

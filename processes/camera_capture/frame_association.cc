@@ -139,6 +139,21 @@ void FrameAssociator::take_edge(size_t index, const FrameStamp& frame, Associati
   decision->edge_estimate_us = edge.vehicle_us;
 }
 
+int FrameAssociator::window_candidates(const FrameStamp& frame, long* found) const {
+  const double latest_edge = static_cast<double>(frame.arrival_us) - options_.min_latency_us;
+  const double earliest_edge = static_cast<double>(frame.arrival_us) - options_.max_latency_us;
+  int candidates = 0;
+  for (size_t i = 0; i < edges_.size(); ++i) {
+    const double t = static_cast<double>(edges_[i].vehicle_us);
+    if (t > latest_edge) break;
+    if (t >= earliest_edge) {
+      ++candidates;
+      *found = static_cast<long>(i);
+    }
+  }
+  return candidates;
+}
+
 bool FrameAssociator::try_decide(const FrameStamp& frame, int64_t now_us, AssociationDecision* decision) {
   decision->frame = frame;
   const bool waited = static_cast<double>(now_us - frame.arrival_us) >= options_.frame_wait_us ||
@@ -161,6 +176,17 @@ bool FrameAssociator::try_decide(const FrameStamp& frame, int64_t now_us, Associ
       return true;
     }
     if (!waited) return false;
+    // The camera's delay may have changed (first frames after start, a mode
+    // change): one unambiguous edge in the arrival window relocks.
+    long found = -1;
+    if (window_candidates(frame, &found) == 1) {
+      reset_lock("camera-edge offset moved by " +
+                 std::to_string(static_cast<int64_t>(frame.camera_us - edges_[static_cast<size_t>(found)].vehicle_us -
+                                                     offset_us_)) +
+                 " us");
+      take_edge(static_cast<size_t>(found), frame, decision);
+      return true;
+    }
     // Missing edge: the camera clock and the locked offset still say when
     // the trigger happened, at camera-clock quality.
     decision->result = AssociationResult::kEstimatedFromLock;
@@ -175,17 +201,8 @@ bool FrameAssociator::try_decide(const FrameStamp& frame, int64_t now_us, Associ
   // Unlocked: wait the full frame_wait so that a late-read edge is seen, then
   // accept only an unambiguous edge in the arrival window.
   if (!waited) return false;
-  const double earliest_edge = static_cast<double>(frame.arrival_us) - options_.max_latency_us;
   long found = -1;
-  int candidates = 0;
-  for (size_t i = 0; i < edges_.size(); ++i) {
-    const double t = static_cast<double>(edges_[i].vehicle_us);
-    if (t > latest_edge) break;
-    if (t >= earliest_edge) {
-      ++candidates;
-      found = static_cast<long>(i);
-    }
-  }
+  const int candidates = window_candidates(frame, &found);
   if (candidates == 1) {
     take_edge(static_cast<size_t>(found), frame, decision);
     return true;

@@ -111,6 +111,8 @@ class FrameAssociator {
 
  private:
   bool try_decide(const FrameStamp& frame, int64_t now_us, AssociationDecision* decision);
+  // Edges in the frame's arrival window; *found = the last of them.
+  int window_candidates(const FrameStamp& frame, long* found) const;
   void take_edge(size_t index, const FrameStamp& frame, AssociationDecision* decision);
 
   AssociationOptions options_;

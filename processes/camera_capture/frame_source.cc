@@ -36,6 +36,7 @@ LogFrameSource::LogFrameSource(const std::string& path, const std::string& chann
     Frame frame;
     frame.width = image.width;
     frame.height = image.height;
+    frame.utime = image.utime;
     frame.mono8.resize(static_cast<size_t>(image.width) * image.height);
     for (int y = 0; y < image.height; ++y) {
       const uint8_t* row = image.data.data() + static_cast<size_t>(y) * image.stride;
@@ -56,7 +57,8 @@ LogFrameSource::LogFrameSource(const std::string& path, const std::string& chann
 }
 
 void LogFrameSource::fill(uint64_t, int width, int height, size_t stride, uint8_t* pixels) {
-  const Frame& frame = frames_[served_++ % frames_.size()];
+  const int64_t selected = selected_.load();
+  const Frame& frame = selected >= 0 ? frames_[static_cast<size_t>(selected)] : frames_[served_++ % frames_.size()];
   for (int y = 0; y < height; ++y) {
     uint8_t* row = pixels + static_cast<size_t>(y) * stride;
     const int copy = y < frame.height ? std::min(width, frame.width) : 0;

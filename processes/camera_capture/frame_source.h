@@ -2,6 +2,7 @@
 // Image content for the fake GigE camera: a synthetic pattern (tests choose
 // and check it) or the CAMERA_IMAGE frames of a recorded or simulated log.
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -42,17 +43,25 @@ class LogFrameSource : public FrameSource {
   void fill(uint64_t frame_id, int width, int height, size_t stride, uint8_t* pixels) override;
   std::string describe() const override;
   size_t frames() const { return frames_.size(); }
+  // Paced serving: the next fills show frame i (set before triggering it),
+  // so fills that are not frames (GigE packet-size test packets) cannot
+  // shift the sequence. Thread-safe.
+  void select(size_t i) { selected_.store(static_cast<int64_t>(i % frames_.size())); }
+  // Sensor time (image_t.utime) of frame i in the log.
+  int64_t frame_utime(size_t i) const { return frames_[i].utime; }
   int64_t skipped() const { return skipped_; }
 
  private:
   struct Frame {
     int width = 0, height = 0;
+    int64_t utime = 0;
     std::vector<uint8_t> mono8;
   };
   std::string path_;
   std::vector<Frame> frames_;
   int64_t skipped_ = 0;
   uint64_t served_ = 0;
+  std::atomic<int64_t> selected_{-1};
 };
 
 }  // namespace nadir

@@ -44,13 +44,24 @@ int main(int argc, char** argv) {
   std::string lcm_url;
   std::string camera_id;
   std::string trigger_input;
+  std::string trigger_mode;
+  double software_rate_hz = -1.0;
   double status_period_s = 1.0;
   bool list_cameras = false;
+  bool wait_for_camera = false;
   app.add_option("--config", config_path, "YAML config file (default: <checkout>/config/default.yaml)");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: $LCM_DEFAULT_URL or udpm with TTL 0)");
   app.add_option("--status-period", status_period_s, "seconds between STATUS messages")->check(CLI::Range(0.1, 60.0));
   app.add_option("--camera-id", camera_id, "overrides camera_capture.camera.id (Aravis id or serial)");
   app.add_option("--trigger-input", trigger_input, "overrides camera_capture.trigger_input.source (gpiod | none)");
+  app.add_option("--trigger-mode", trigger_mode, "overrides camera_capture.camera.trigger.mode")
+      ->check(CLI::IsMember({"free_run", "software", "hardware"}));
+  app.add_option("--software-rate-hz", software_rate_hz,
+                 "overrides camera_capture.camera.trigger.software_rate_hz (0: someone else fires the software "
+                 "trigger, e.g. nadir_fake_camera --paced)")
+      ->check(CLI::Range(0.0, 1000.0));
+  app.add_flag("--wait-for-camera", wait_for_camera,
+               "keep retrying when the camera is not there at start (camera_capture.reconnect.retry_at_start)");
   app.add_flag("--list-cameras", list_cameras, "print the cameras Aravis sees and exit");
   CLI11_PARSE(app, argc, argv);
 
@@ -65,6 +76,9 @@ int main(int argc, char** argv) {
     YAML::Node root = config.node();
     if (!camera_id.empty()) root[kName]["camera"]["id"] = camera_id;
     if (!trigger_input.empty()) root[kName]["trigger_input"]["source"] = trigger_input;
+    if (!trigger_mode.empty()) root[kName]["camera"]["trigger"]["mode"] = trigger_mode;
+    if (wait_for_camera) root[kName]["reconnect"]["retry_at_start"] = true;
+    if (software_rate_hz >= 0) root[kName]["camera"]["trigger"]["software_rate_hz"] = software_rate_hz;
     const nadir::Config section = config.section_or_empty(kName);
     const nadir::CaptureOptions options = nadir::CaptureOptions::FromConfig(section);
 

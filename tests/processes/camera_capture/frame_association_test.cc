@@ -247,3 +247,34 @@ TEST(FrameAssociation, OptionsFromConfigRejectOutOfRangeValues) {
 
 }  // namespace
 }  // namespace nadir
+
+namespace nadir {
+namespace {
+
+TEST(FrameAssociation, ChangedCameraDelayRelocksOnTheArrivalWindow) {
+  Script s;
+  s.healthy(0, 0);  // first frame: the camera took 45 ms longer to stamp it
+  const int64_t first_offset = static_cast<int64_t>(s.associator.locked_offset_us());
+  for (int k = 1; k < 6; ++k) {
+    const int64_t t = kT0 + k * kPeriod;
+    s.edge(t);
+    FrameStamp f;
+    f.token = static_cast<uint64_t>(k);
+    f.frame_counter = k;
+    f.camera_us = t + first_offset - 45000;
+    f.arrival_us = t + kArrival;
+    s.associator.add_frame(f);
+    s.decide(t + kArrival + 40000);
+  }
+  ASSERT_EQ(s.decisions.size(), 6u);
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_EQ(s.decisions[k].result, AssociationResult::kMatched) << k;
+    EXPECT_EQ(s.decisions[k].edge_estimate_us, kT0 + k * kPeriod) << k;
+  }
+  EXPECT_EQ(s.associator.counters().lock_losses, 1);
+  EXPECT_EQ(s.associator.counters().locks, 2);
+  EXPECT_EQ(s.associator.counters().frames_estimated, 0);
+}
+
+}  // namespace
+}  // namespace nadir
