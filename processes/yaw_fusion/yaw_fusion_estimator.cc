@@ -286,6 +286,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     ++counters_.vo_deltas_quality_rejected;
   }
   if (!valid || !quality_ok) {
+    recent_positions_.clear();
     flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.utime);
     const double fallback = have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN();
     flags |= update_height(delta.utime, fallback);
@@ -305,6 +306,15 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
       filter_.predict_with_delta(Eigen::Vector3d(delta.dx, delta.dy, delta.dz), delta.dyaw, cov);
   const double dt = static_cast<double>(delta.utime - delta.prev_utime) * 1e-6;
   last_velocity_ = world / dt;
+  recent_positions_.emplace_back(delta.utime, filter_.position());
+  const int64_t window_us = static_cast<int64_t>(options_.velocity_window_s * 1e6);
+  while (recent_positions_.size() > 2 && delta.utime - recent_positions_[1].first >= window_us) {
+    recent_positions_.pop_front();
+  }
+  if (recent_positions_.size() >= 2 && recent_positions_.front().first < delta.utime) {
+    const auto& oldest = recent_positions_.front();
+    last_velocity_ = (filter_.position() - oldest.second) / (static_cast<double>(delta.utime - oldest.first) * 1e-6);
+  }
   velocity_out_ = last_velocity_;
   last_frame_utime_ = delta.utime;
   last_good_utime_ = delta.utime;

@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <string>
 #include <vector>
@@ -108,7 +109,8 @@ class YawFusionEstimator {
   bool started_ = false;
   int64_t last_frame_utime_ = 0;   // time of the last published pose (frame or gap)
   int64_t last_good_utime_ = 0;    // time of the last integrated delta (or the origin)
-  Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();  // world, from the last delta
+  Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();  // world, over the velocity window
+  std::deque<std::pair<int64_t, Eigen::Vector3d>> recent_positions_;  // for the velocity window
   Eigen::Vector3d velocity_out_ = Eigen::Vector3d::Zero();   // published velocity
   double roll_ = 0.0, pitch_ = 0.0;  // INS attitude at the last frame
   double height_agl_ = 0.0;

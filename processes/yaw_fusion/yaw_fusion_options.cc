@@ -32,6 +32,7 @@ YawFusionOptions YawFusionOptions::from_config(const Config& root) {
   o.ins_wait_s = c.get_in_range("ins_wait_s", o.ins_wait_s, 0.0, 30.0);
   o.altimeter_wait_s = c.get_in_range("altimeter_wait_s", o.altimeter_wait_s, 0.0, 30.0);
   o.max_pending_deltas = c.get_in_range("max_pending_deltas", o.max_pending_deltas, 1, 100000);
+  o.velocity_window_s = c.get_in_range("velocity_window_s", o.velocity_window_s, 0.0, 10.0);
   o.max_time_jump_s = c.get_in_range("max_time_jump_s", o.max_time_jump_s, 0.1, 1e6);
   o.max_altimeter_age_s = c.get_in_range("max_altimeter_age_s", o.max_altimeter_age_s, 0.001, 10.0);
   const std::string mode = c.get<std::string>("altitude_mode", altitude_mode_name(o.altitude_mode));

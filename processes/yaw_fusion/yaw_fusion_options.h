@@ -33,6 +33,11 @@ struct YawFusionOptions {
   double ins_wait_s = 0.5;        // a delta waits at most this long (sensor time) for INS covering it
   double altimeter_wait_s = 0.5;  // ... and for an altimeter sample covering it
   int max_pending_deltas = 200;   // beyond, the oldest is processed with what is there
+  // Published velocity = displacement over this window of VO positions. Per
+  // frame, INS roll/pitch noise moves the position by ~h*sigma (0.26 m at
+  // 300 m for 0.05 deg) and cancels over the next frames (paper eq. 21-23),
+  // so a single-frame velocity is noisy while a windowed one is not.
+  double velocity_window_s = 1.0;
   double max_time_jump_s = 5.0;   // a utime this far ahead of all others is dropped unless the
                                   // next message on its channel confirms the jump
 

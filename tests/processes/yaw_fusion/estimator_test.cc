@@ -100,9 +100,13 @@ TEST(YawFusionEstimator, RecoversPositionExactlyFromNoiseFreeInputs) {
     EXPECT_EQ(p.frames, static_cast<int64_t>(i));
     EXPECT_EQ(p.flags, i == 0 ? pose_t::FLAG_INITIALIZING : 0) << "frame " << i;
   }
-  // Velocity of the last frame: the last delta over its interval.
-  const auto& a = flight.truth[flight.truth.size() - 2];
+  // Velocity of the last frame: the displacement over the velocity window
+  // (the newest frame at least velocity_window_s older than the last one).
   const auto& b = flight.truth.back();
+  const int64_t window_us = static_cast<int64_t>(YawFusionOptions{}.velocity_window_s * 1e6);
+  size_t k = flight.truth.size() - 2;
+  while (k > 0 && b.utime - flight.truth[k].utime < window_us) --k;
+  const auto& a = flight.truth[k];
   const Eigen::Vector3d v = (b.position - a.position) / (static_cast<double>(b.utime - a.utime) * 1e-6);
   EXPECT_NEAR(poses.back().velocity_ned[0], v.x(), 1e-6);
   EXPECT_NEAR(poses.back().velocity_ned[1], v.y(), 1e-6);
