@@ -6,6 +6,9 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -22,6 +25,7 @@
 #include "common/shutdown.h"
 #include "common/status.h"
 #include "common/time_base.h"
+#include "processes/sim/sim_rotation.h"
 #include "processes/sim/simulator.h"
 
 namespace {
@@ -39,6 +43,9 @@ struct Arguments {
   std::string sensor_set = "standard";
   std::optional<double> roll_pitch_noise_deg, yaw_noise_deg, altimeter_noise_pct;
   bool json = false;
+  double snapshot_s = -1.0;
+  std::string png;
+  double png_scale = 1.0;
 };
 
 void print_summary(const Arguments& args, const nadir::sim::Simulator& sim, double wall_s) {
@@ -97,6 +104,27 @@ int run_log(const Arguments& args, nadir::sim::Simulator& sim) {
   return 0;
 }
 
+// One frame as the camera sees it (noise included), for documentation.
+int run_snapshot(const Arguments& args, nadir::sim::Simulator& sim) {
+  if (args.png.empty()) throw std::runtime_error("--snapshot needs --png FILE");
+  const double t = std::min(args.snapshot_s, sim.duration_s());
+  const nadir::sim::TruthState s = sim.trajectory().at(t);
+  std::vector<uint8_t> image;
+  sim.renderer().render(s.position_ned, s.world_from_body() * sim.camera().body_from_camera, args.seed, &image);
+  cv::Mat view(sim.camera().height, sim.camera().width, CV_8UC1, image.data());
+  if (args.png_scale < 1.0) {
+    cv::Mat small;
+    cv::resize(view, small, cv::Size(), args.png_scale, args.png_scale, cv::INTER_AREA);
+    view = small;
+  }
+  if (!cv::imwrite(args.png, view)) throw std::runtime_error(args.png + ": cannot write PNG");
+  const double terrain = sim.terrain().height(s.position_ned.x(), s.position_ned.y());
+  std::fprintf(stderr, "nadir_sim: t = %.2f s, %.1f m above ground, roll %.2f pitch %.2f yaw %.2f deg -> %s\n", t,
+               -s.position_ned.z() - terrain, nadir::sim::rad2deg(s.roll), nadir::sim::rad2deg(s.pitch),
+               nadir::sim::rad2deg(s.yaw), args.png.c_str());
+  return 0;
+}
+
 int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us) {
   nadir::LcmBusOptions bus_options;
   bus_options.url = args.lcm_url;
@@ -128,7 +156,7 @@ int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us
       const int64_t now = nadir::monotonic_now_us();
       if (now >= next_status) {
         send_status(nadir::status_t::STATE_OK);
-        next_status += 1000000;
+        next_status = std::max(next_status + 1000000, now + 1);  // never a burst after a stall
       }
       if (now >= due || nadir::shutdown_requested()) break;
       std::this_thread::sleep_for(std::chrono::microseconds(std::min<int64_t>(due - now, next_status - now)));
@@ -167,13 +195,18 @@ int main(int argc, char** argv) {
   app.add_option("--roll-pitch-noise-deg", args.roll_pitch_noise_deg, "override INS roll/pitch white noise sigma");
   app.add_option("--yaw-noise-deg", args.yaw_noise_deg, "override INS yaw white noise sigma");
   app.add_option("--altimeter-noise-pct", args.altimeter_noise_pct, "override altimeter noise, percent of range");
+  app.add_option("--snapshot", args.snapshot_s, "render only the frame at this flight time (s) into --png and exit")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--png", args.png, "PNG file for --snapshot");
+  app.add_option("--png-scale", args.png_scale, "scale the --snapshot PNG (area averaging), e.g. 0.5")
+      ->check(CLI::Range(0.05, 1.0));
   app.add_flag("--json", args.json, "print a machine-readable summary on stdout at the end");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  if (!args.live && args.out.empty()) {
+  if (args.snapshot_s < 0 && !args.live && args.out.empty()) {
     std::fprintf(stderr, "nadir_sim: give --out FILE.lcmlog or --live\n");
     return 2;
   }
@@ -190,8 +223,12 @@ int main(int argc, char** argv) {
     if (args.altimeter_noise_pct) sensors.altimeter.noise_pct = *args.altimeter_noise_pct;
     if (args.roll_pitch_noise_deg || args.yaw_noise_deg || args.altimeter_noise_pct) sensors.source = "command line";
     sensors.Check();
-    const nadir::sim::FlightProfile profile =
+    nadir::sim::FlightProfile profile =
         nadir::sim::FlightProfile::load(nadir::sim::FlightProfile::resolve(args.profile));
+    // CONFIG names the profile relative to the checkout, so the same profile
+    // and seed give the same log bytes in any checkout.
+    const std::string root = nadir::checkout_root() + "/";
+    if (profile.source.compare(0, root.size(), root) == 0) profile.source = profile.source.substr(root.size());
 
     nadir::sim::SimulatorOptions options;
     options.seed = args.seed;
@@ -202,7 +239,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "nadir_sim: profile %s (%s), %.1f s, seed %llu, sensors %s:%s\n", profile.name.c_str(),
                  profile.source.c_str(), sim.duration_s(), static_cast<unsigned long long>(args.seed),
                  sensors_path.c_str(), args.sensor_set.c_str());
-    return args.live ? run_live(args, sim, options.epoch_us) : run_log(args, sim);
+    if (args.snapshot_s >= 0) return run_snapshot(args, sim);
+    if (args.live) {
+      sim.warm_up();  // the first view's texture, before the live clock starts
+      const int64_t epoch = nadir::vehicle_time_now_us();
+      sim.set_epoch(epoch);
+      return run_live(args, sim, epoch);
+    }
+    return run_log(args, sim);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nadir_sim: %s\n", e.what());
     return 1;

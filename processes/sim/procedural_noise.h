@@ -34,7 +34,7 @@ inline uint32_t mix_salt(uint64_t seed, uint32_t layer) {
 // Value noise with quintic fade, in [-1, 1], and its gradient (per unit of x, y).
 // |d/dx| <= 3.75 and |d/dy| <= 3.75 per lattice cell (max fade slope 1.875 times
 // a value range of 2): the Lipschitz bound the ray caster relies on.
-inline double value_noise(double x, double y, uint32_t salt, double* dx, double* dy) {
+[[gnu::always_inline]] inline double value_noise(double x, double y, uint32_t salt, double* dx, double* dy) {
   const double fx = std::floor(x), fy = std::floor(y);
   const int32_t ix = static_cast<int32_t>(fx), iy = static_cast<int32_t>(fy);
   const double tx = x - fx, ty = y - fy;

@@ -31,6 +31,7 @@ struct GroundMarker {
 struct RenderStats {
   int64_t marched_pixels = 0;  // pixels that took the occlusion-safe path
   int64_t sky_pixels = 0;      // rays that missed the ground
+  int64_t full_solves = 0;     // pixels whose one-step Newton seed was not good enough
 };
 
 class Renderer {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "common/channels.h"
 #include "nadir/altimeter_t.hpp"
@@ -90,7 +91,7 @@ void Simulator::schedule_frame(int64_t k) {
   frames_[static_cast<size_t>(k)] = f;
   const int64_t e = options_.epoch_us;
   queue_.push({e + f.reported_us, kTrigger, k});
-  if (!f.dropped) queue_.push({e + f.reported_us, kImage, k});
+  if (!f.dropped && options_.render_images) queue_.push({e + f.reported_us, kImage, k});
   queue_.push({e + f.true_us, kFrameTruth, k});
 }
 
@@ -107,10 +108,32 @@ void Simulator::schedule_altimeter(int64_t k) {
   queue_.push({options_.epoch_us + t, kAltimeter, k});
 }
 
+void Simulator::warm_up() {
+  if (!options_.render_images) return;
+  const TruthState s = trajectory_.at(0.0);
+  std::vector<uint8_t> scratch;
+  renderer_.render(s.position_ned, s.world_from_body() * camera_.body_from_camera, 0, &scratch);
+}
+
+void Simulator::set_epoch(int64_t epoch_us) {
+  if (started_) throw std::logic_error("Simulator::set_epoch after the run started");
+  std::vector<Pending> pending;
+  while (!queue_.empty()) {
+    pending.push_back(queue_.top());
+    queue_.pop();
+  }
+  for (Pending& p : pending) {
+    p.utime += epoch_us - options_.epoch_us;
+    queue_.push(p);
+  }
+  options_.epoch_us = epoch_us;
+}
+
 bool Simulator::next(SimEvent* e) {
   if (queue_.empty()) return false;
   const Pending p = queue_.top();
   queue_.pop();
+  started_ = true;
   e->utime = p.utime;
   sim_time_s_ = std::max(sim_time_s_, (p.utime - options_.epoch_us) * 1e-6);
   switch (p.kind) {

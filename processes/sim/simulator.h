@@ -34,6 +34,9 @@ struct SimulatorOptions {
   int64_t epoch_us = kLogEpochUs;  // vehicle time of t = 0
   double duration_s = -1.0;        // <= 0: the whole profile
   std::string camera_yaml;         // the camera section used, for CONFIG
+  // false: no CAMERA_IMAGE messages at all (triggers, INS, altimeter and
+  // truth unchanged) -- for sensor statistics over long flights in tests.
+  bool render_images = true;
 };
 
 struct SimulatorCounts {
@@ -51,6 +54,12 @@ class Simulator {
  public:
   Simulator(const FlightProfile& profile, const SimCamera& camera, const SensorOptions& sensors,
             const SimulatorOptions& options);
+
+  // Renders the first view once so the texture tiles in sight exist before a
+  // live clock starts (no effect on any message).
+  void warm_up();
+  // Moves t = 0 to a new vehicle time; only before the first next().
+  void set_epoch(int64_t epoch_us);
 
   // Next message; false when the run is over. The first message is CONFIG.
   bool next(SimEvent* event);
@@ -105,6 +114,7 @@ class Simulator {
   double duration_s_ = 0.0;
   int64_t duration_us_ = 0;
   double sim_time_s_ = 0.0;
+  bool started_ = false;
   std::string config_yaml_;
   std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> queue_;
   RandomStream trigger_rng_, ins_rng_, altimeter_rng_;

@@ -46,7 +46,7 @@ Terrain::Terrain(const TerrainOptions& options) : options_(options) {
   }
   slope += kRidge.amplitude_m * 2.0 * kNoiseSlopeBound / kRidge.cell_m;
   max_slope_ = slope * options_.relief_scale;
-  datum_ = raw_height(0.0, 0.0, nullptr, nullptr);
+  datum_ = raw_height(0.0, 0.0, nullptr, nullptr);  // grid sample (0, 0) is exact, so height(0, 0) == 0
   max_height_ = (amp + kRidge.amplitude_m) * options_.relief_scale - datum_;
   min_height_ = -amp * options_.relief_scale - datum_;
 }
@@ -79,8 +79,24 @@ double Terrain::raw_height(double north, double east, double* dh_dn, double* dh_
   return s * h;
 }
 
-double Terrain::height(double north, double east, double* dh_dn, double* dh_de) const {
-  return raw_height(north, east, dh_dn, dh_de) - datum_;
+const Terrain::HeightTile* Terrain::height_tile(int32_t tx, int32_t ty) const {
+  const int64_t key = (static_cast<int64_t>(tx) << 32) ^ static_cast<int64_t>(static_cast<uint32_t>(ty));
+  if (key == last_key_) return last_tile_;
+  auto it = height_tiles_.find(key);
+  if (it == height_tiles_.end()) {
+    // Content depends only on (seed, tile): dropping the cache changes nothing.
+    if (height_tiles_.size() > 4096) height_tiles_.clear();
+    auto tile = std::make_unique<HeightTile>();
+    for (int i = 0; i <= kHeightTile; ++i)
+      for (int j = 0; j <= kHeightTile; ++j)
+        tile->h[i * (kHeightTile + 1) + j] = static_cast<float>(
+            raw_height(static_cast<double>(tx) * kHeightTile + i, static_cast<double>(ty) * kHeightTile + j, nullptr,
+                       nullptr) - datum_);
+    it = height_tiles_.emplace(key, std::move(tile)).first;
+  }
+  last_key_ = key;
+  last_tile_ = it->second.get();
+  return last_tile_;
 }
 
 float Terrain::albedo(double north, double east) const {
@@ -116,8 +132,8 @@ float Terrain::albedo(double north, double east) const {
   // Large-scale and fine grain inside every field.
   double value = base;
   value += 18.0 * value_noise(north / 23.0, east / 23.0, salt_[kLayerGrain0]);
-  value += 12.0 * value_noise(north / 4.1, east / 4.1, salt_[kLayerGrain1]);
-  value += 9.0 * value_noise(north / 1.3, east / 1.3, salt_[kLayerGrain2]);
+  value += 15.0 * value_noise(north / 4.1, east / 4.1, salt_[kLayerGrain1]);
+  value += 12.0 * value_noise(north / 1.3, east / 1.3, salt_[kLayerGrain2]);
   if (pattern == 1 || pattern == 2) {
     const double along = north * std::cos(angle) + east * std::sin(angle);
     value += (pattern == 1 ? 16.0 : 10.0) * std::sin(2.0 * M_PI * along / period);
@@ -143,7 +159,8 @@ float Terrain::albedo(double north, double east) const {
   // 1.2-2.6 m kept inside its cell, dark crown with a lit side.
   {
     const double density_noise = value_noise(north / 90.0, east / 90.0, salt_[kLayerTreeCluster]);
-    double density = pattern == 3 ? 0.85 : std::max(0.0, density_noise - 0.35) * 1.6;
+    // Scattered bushes everywhere (5 %), clusters where the slow noise is high.
+    double density = pattern == 3 ? 0.85 : 0.05 + std::max(0.0, density_noise - 0.35) * 1.6;
     if (density > 0.0) {
       constexpr double kTreeCell = 6.0;
       const double tx = north / kTreeCell, ty = east / kTreeCell;
@@ -164,13 +181,13 @@ float Terrain::albedo(double north, double east) const {
     }
   }
 
-  // Rocks: sparse small bright or dark blobs on a 13 m grid.
+  // Rocks: small bright or dark blobs, about one per 150 m^2.
   {
-    constexpr double kRockCell = 13.0;
+    constexpr double kRockCell = 9.0;
     const double rx = north / kRockCell, ry = east / kRockCell;
     const int32_t ix = static_cast<int32_t>(std::floor(rx)), iy = static_cast<int32_t>(std::floor(ry));
     const uint32_t h = lattice_hash(ix, iy, salt_[kLayerRock]);
-    if ((h & 0xff) < 70) {
+    if ((h & 0xff) < 140) {
       const double radius = 0.5 + 0.9 * (((h >> 8) & 0xff) / 255.0);
       const double px = ix + 0.2 + 0.6 * (((h >> 16) & 0xff) / 255.0);
       const double py = iy + 0.2 + 0.6 * (((h >> 24) & 0xff) / 255.0);

@@ -5,8 +5,18 @@
 // position is computable and the terrain extends as far as any profile flies.
 // Heights are relative to the terrain at the world origin (the start point),
 // which is the altitude datum: height(0, 0) == 0.
+//
+// The surface everyone uses (renderer, altimeter, ground truth) is the
+// analytic height sampled on a 1 m grid and interpolated bilinearly: cheap
+// enough for one evaluation per pixel, and within millimetres of the
+// analytic field (whose finest relief has ~140 m cells). Sample tiles are
+// cached; a Terrain is therefore not thread-safe.
 
+#include <cmath>
 #include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
 
 namespace nadir::sim {
 
@@ -22,7 +32,25 @@ class Terrain {
 
   // Height above the datum (m, up positive) and, if asked, its gradient
   // (dh/dnorth, dh/deast).
-  double height(double north, double east, double* dh_dn = nullptr, double* dh_de = nullptr) const;
+  // Inline: the renderer calls it once per pixel.
+  double height(double north, double east, double* dh_dn = nullptr, double* dh_de = nullptr) const {
+    const double fn = std::floor(north), fe = std::floor(east);
+    const int32_t in = static_cast<int32_t>(fn), ie = static_cast<int32_t>(fe);
+    const int32_t tx = in >> kHeightTileLog2, ty = ie >> kHeightTileLog2;
+    const int64_t key = (static_cast<int64_t>(tx) << 32) ^ static_cast<int64_t>(static_cast<uint32_t>(ty));
+    const HeightTile* t = key == last_key_ ? last_tile_ : height_tile(tx, ty);
+    const int i = in - tx * kHeightTile, j = ie - ty * kHeightTile;
+    const float* p = &t->h[i * (kHeightTile + 1) + j];
+    const double h00 = p[0], h01 = p[1], h10 = p[kHeightTile + 1], h11 = p[kHeightTile + 2];
+    const double a = north - fn, b = east - fe;
+    if (dh_dn) {
+      *dh_dn = (h10 - h00) * (1.0 - b) + (h11 - h01) * b;
+      *dh_de = (h01 - h00) * (1.0 - a) + (h11 - h10) * a;
+    }
+    return h00 + (h10 - h00) * a + (h01 - h00) * b + (h00 - h01 - h10 + h11) * a * b;
+  }
+  // The analytic field the grid samples (datum-relative), for tests.
+  double exact_height(double north, double east) const { return raw_height(north, east, nullptr, nullptr) - datum_; }
   // Bounds used by the ray caster: |grad h| <= max_slope(), and
   // min_height() <= height <= max_height() everywhere.
   double max_slope() const { return max_slope_; }
@@ -38,7 +66,17 @@ class Terrain {
  private:
   double raw_height(double north, double east, double* dh_dn, double* dh_de) const;
 
+  static constexpr int kHeightTileLog2 = 6;
+  static constexpr int kHeightTile = 1 << kHeightTileLog2;  // samples per tile side (1 m spacing), plus one shared edge
+  struct HeightTile {
+    float h[(kHeightTile + 1) * (kHeightTile + 1)];
+  };
+  const HeightTile* height_tile(int32_t tx, int32_t ty) const;
+
   TerrainOptions options_;
+  mutable std::unordered_map<int64_t, std::unique_ptr<HeightTile>> height_tiles_;
+  mutable int64_t last_key_ = INT64_MIN;
+  mutable const HeightTile* last_tile_ = nullptr;
   uint32_t salt_[16];
   double datum_ = 0.0;
   double max_slope_ = 0.0;

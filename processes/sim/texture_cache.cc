@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace nadir::sim {
 namespace {
@@ -15,23 +16,26 @@ int64_t tile_key(int32_t tx, int32_t ty) {
 TextureCache::Tile* TextureCache::generate(int32_t tx, int32_t ty) {
   auto tile = std::make_unique<Tile>();
   const int n = kTileTexels;
-  // Level 0 is point-sampled at texel centres: 0.25 m is finer than any
-  // pixel footprint we fly (>= 0.37 m at 150 m), the mip levels do the filtering.
-  std::vector<float>& l0 = tile->level[0];
-  l0.resize(static_cast<size_t>(n) * n);
-  const double n_origin = tx * kTileM, e_origin = ty * kTileM;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      l0[static_cast<size_t>(i) * n + j] = terrain_.albedo(n_origin + (i + 0.5) * kTexelM, e_origin + (j + 0.5) * kTexelM);
-  for (int level = 1; level < kLevels; ++level) {
+  tile->tx = tx;
+  tile->ty = ty;
+  const int n1 = n / 2;
+  std::vector<uint8_t>& l1 = tile->level[1];
+  l1.resize(static_cast<size_t>(n1) * n1);
+  const double n_origin = tx * kTileM, e_origin = ty * kTileM, texel1 = 2.0 * kTexelM;
+  for (int i = 0; i < n1; ++i)
+    for (int j = 0; j < n1; ++j)
+      l1[static_cast<size_t>(i) * n1 + j] = static_cast<uint8_t>(
+          terrain_.albedo(n_origin + (i + 0.5) * texel1, e_origin + (j + 0.5) * texel1) + 0.5f);
+  for (int level = 2; level < kLevels; ++level) {
     const int size = n >> level, prev = size * 2;
-    const std::vector<float>& src = tile->level[level - 1];
-    std::vector<float>& dst = tile->level[level];
+    const std::vector<uint8_t>& src = tile->level[level - 1];
+    std::vector<uint8_t>& dst = tile->level[level];
     dst.resize(static_cast<size_t>(size) * size);
     for (int i = 0; i < size; ++i)
       for (int j = 0; j < size; ++j) {
         const size_t a = static_cast<size_t>(2 * i) * prev + 2 * j;
-        dst[static_cast<size_t>(i) * size + j] = 0.25f * (src[a] + src[a + 1] + src[a + prev] + src[a + prev + 1]);
+        dst[static_cast<size_t>(i) * size + j] =
+            static_cast<uint8_t>((src[a] + src[a + 1] + src[a + prev] + src[a + prev + 1] + 2) / 4);
       }
   }
   ++generated_;
@@ -80,47 +84,43 @@ void TextureCache::evict(int64_t frame, int64_t keep_frames) {
   grid_nx_ = grid_ny_ = 0;
 }
 
+void TextureCache::make_level0(Tile* tile) {
+  const int n = kTileTexels;
+  std::vector<uint8_t>& l0 = tile->level[0];
+  l0.resize(static_cast<size_t>(n) * n);
+  const double n_origin = tile->tx * kTileM, e_origin = tile->ty * kTileM;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      l0[static_cast<size_t>(i) * n + j] = static_cast<uint8_t>(
+          terrain_.albedo(n_origin + (i + 0.5) * kTexelM, e_origin + (j + 0.5) * kTexelM) + 0.5f);
+  ++level0_generated_;
+}
+
 float TextureCache::texel(int32_t i, int32_t j, int level) {
   const int shift = kTileLog2 - level;
   Tile* t = tile_at(i >> shift, j >> shift);
+  if (t->level[level].empty()) make_level0(t);
   const int32_t mask = (1 << shift) - 1;
   return t->level[level][static_cast<size_t>(i & mask) * (1 << shift) + (j & mask)];
 }
 
-float TextureCache::sample_level(double north, double east, int level) {
-  const double texel_m = kTexelM * (1 << level);
-  const double gx = north / texel_m - 0.5, gy = east / texel_m - 0.5;
-  const double fx = std::floor(gx), fy = std::floor(gy);
-  const int32_t i = static_cast<int32_t>(fx), j = static_cast<int32_t>(fy);
-  const float ax = static_cast<float>(gx - fx), ay = static_cast<float>(gy - fy);
-  const int shift = kTileLog2 - level;
-  const int32_t mask = (1 << shift) - 1;
-  float v00, v01, v10, v11;
-  if ((i & mask) != mask && (j & mask) != mask) {
-    // Fast path: all four texels in one tile.
-    const Tile* t = tile_at(i >> shift, j >> shift);
-    const int size = 1 << shift;
-    const float* p = &t->level[level][static_cast<size_t>(i & mask) * size + (j & mask)];
-    v00 = p[0];
-    v01 = p[1];
-    v10 = p[size];
-    v11 = p[size + 1];
-  } else {
-    v00 = texel(i, j, level);
-    v01 = texel(i, j + 1, level);
-    v10 = texel(i + 1, j, level);
-    v11 = texel(i + 1, j + 1, level);
-  }
-  const float top = v00 + (v01 - v00) * ay, bottom = v10 + (v11 - v10) * ay;
-  return top + (bottom - top) * ax;
-}
-
 float TextureCache::sample(double north, double east, double footprint_m) {
-  const double lambda = std::log2(std::max(footprint_m, 1e-6) / kTexelM);
+  // log2 from the float's exponent and a linear mantissa: the mip blend
+  // weight only needs to be monotone and continuous.
+  const float ratio = static_cast<float>(std::max(footprint_m, 1e-6) / kTexelM);
+  uint32_t bits;
+  std::memcpy(&bits, &ratio, sizeof bits);
+  const int exponent = static_cast<int>((bits >> 23) & 0xff) - 127;
+  const float mantissa = static_cast<float>(bits & 0x7fffff) * (1.0f / 8388608.0f);  // ratio = (1 + m) 2^e
+  const double lambda = exponent + mantissa;
   if (lambda <= 0.0) return sample_level(north, east, 0);
   if (lambda >= kLevels - 1) return sample_level(north, east, kLevels - 1);
   const int l0 = static_cast<int>(lambda);
   const float w = static_cast<float>(lambda - l0);
+  // Near a level, one bilinear lookup is as good as the blend (and halves
+  // the cost of the renderer's most expensive step).
+  if (w < 0.25f) return sample_level(north, east, l0);
+  if (w > 0.75f) return sample_level(north, east, l0 + 1);
   const float a = sample_level(north, east, l0);
   const float b = sample_level(north, east, l0 + 1);
   return a + (b - a) * w;
