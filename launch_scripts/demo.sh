@@ -23,7 +23,7 @@ mkdir -p "$run_dir/report"
 echo "demo: flying profile '$profile' (seed $seed) through the live sim set; output in $run_dir"
 NADIR_PROFILE="$profile" NADIR_SEED="$seed" NADIR_CAPTURE_DIR="$run_dir" \
   nadir_in_netns "$NADIR_ROOT/launch_scripts/run_set.sh" sim 2>&1 | tee "$run_dir/run.txt" |
-  grep -E '^\[run_set\]|error|GIVING UP' || true
+  grep -E '^\[run_set\]|: error|GIVING UP' || true
 capture="$run_dir/capture.lcmlog"
 [ -s "$capture" ] || { echo "demo: error: no capture at $capture (see $run_dir/run.txt)" >&2; exit 1; }
 nadir_log info "$capture" >"$run_dir/log_info.txt"

@@ -25,6 +25,7 @@
 #include "common/shutdown.h"
 #include "common/status.h"
 #include "common/time_base.h"
+#include "processes/sim/render_ahead.h"
 #include "processes/sim/sim_rotation.h"
 #include "processes/sim/simulator.h"
 
@@ -131,6 +132,9 @@ int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us
   nadir::LcmBus bus(bus_options);
   nadir::install_shutdown_handlers();
   std::fprintf(stderr, "nadir_sim: live on %s at %.2fx real time\n", bus.url().c_str(), args.rate);
+  // Render ahead so each message leaves at its due time (a real camera does
+  // not take a render time to deliver a frame).
+  nadir::sim::RenderAhead ahead(sim, 256);
   const int64_t start_mono = nadir::monotonic_now_us();
   int64_t next_status = start_mono;
   int64_t published = 0;
@@ -138,11 +142,12 @@ int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us
     nadir::StatusReport report;
     report.state = state;
     report.published = published;
-    report.dropped = sim.counts().dropped_frames;
-    report.counters = {{"sim_time_s", sim.sim_time_s()},
-                       {"images", static_cast<double>(sim.counts().images)},
-                       {"ins", static_cast<double>(sim.counts().ins)},
-                       {"altimeter", static_cast<double>(sim.counts().altimeter)},
+    const nadir::sim::SimulatorCounts counts = ahead.counts();
+    report.dropped = counts.dropped_frames;
+    report.counters = {{"sim_time_s", ahead.sim_time_s()},
+                       {"images", static_cast<double>(counts.images)},
+                       {"ins", static_cast<double>(counts.ins)},
+                       {"altimeter", static_cast<double>(counts.altimeter)},
                        {"rate", args.rate}};
     nadir::status_t msg = nadir::make_status_message("sim", static_cast<int32_t>(getpid()),
                                                      nadir::vehicle_time_now_us(), report, bus.error_counts());
@@ -150,7 +155,7 @@ int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us
     bus.publish(nadir::channels::kStatus, msg);
   };
   nadir::sim::SimEvent event;
-  while (!nadir::shutdown_requested() && sim.next(&event)) {
+  while (!nadir::shutdown_requested() && ahead.pop(&event)) {
     const int64_t due = start_mono + static_cast<int64_t>((event.utime - epoch_us) / args.rate);
     for (;;) {
       const int64_t now = nadir::monotonic_now_us();
@@ -166,6 +171,7 @@ int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us
     bus.handle(0);
   }
   send_status(nadir::status_t::STATE_STOPPING);
+  ahead.stop();
   print_summary(args, sim, (nadir::monotonic_now_us() - start_mono) * 1e-6);
   return 0;
 }

@@ -59,6 +59,7 @@ bool FrameSync::ready(int64_t utime) const {
   if (cache_.count(utime)) return true;
   const int64_t settled = utime + options_.settle_us;
   if (ins_.empty() || ins_.rbegin()->first < settled) return false;
+  if (!options_.altimeter_interpolate) return true;
   if (!altimeter_.empty() && altimeter_.rbegin()->first >= settled) return true;
   return ins_.rbegin()->first >= settled + options_.altimeter_wait_us;
 }
@@ -117,9 +118,12 @@ void FrameSync::attitude_at(int64_t utime, FrameState* state) const {
 
 void FrameSync::range_at(int64_t utime, FrameState* state) const {
   // Nearest valid samples on each side of the frame.
-  auto after = altimeter_.lower_bound(utime);
+  // Without interpolation only samples up to the frame count, so the result
+  // cannot depend on whether a later sample had arrived (live = replay).
+  const bool interpolate = options_.altimeter_interpolate;
+  auto after = interpolate ? altimeter_.lower_bound(utime) : altimeter_.end();
   while (after != altimeter_.end() && !after->second.valid) ++after;
-  auto before = altimeter_.lower_bound(utime);
+  auto before = interpolate ? altimeter_.lower_bound(utime) : altimeter_.upper_bound(utime);
   bool has_before = false;
   while (before != altimeter_.begin()) {
     --before;

@@ -21,6 +21,11 @@ struct SyncOptions {
   int64_t altimeter_staleness_us = 200000;   // nearest valid range farther than this: stale
   int64_t altimeter_wait_us = 300000;        // INS time to wait for an altimeter sample after a frame
   int64_t settle_us = 0;                     // extra sensor time to wait when a channel can reorder itself
+  // false ("latest"): use only altimeter samples at or before the frame and
+  // never wait for a later one -- the frame is solved as soon as the INS
+  // sample after it is there (lowest latency). true ("interpolate"): wait up
+  // to altimeter_wait_us for the sample after the frame and interpolate.
+  bool altimeter_interpolate = false;
   int64_t max_frame_interval_us = 250000;    // prev -> curr longer than this: frame gap
   int max_pending_frames = 64;               // TRACKS waiting for INS; the oldest is flushed flagged
   int max_ins_samples = 3000;                // buffer sizes (oldest by utime dropped first)

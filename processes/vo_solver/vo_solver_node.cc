@@ -158,7 +158,8 @@ StatusReport VoSolverNode::status() const {
   StatusReport r;
   r.received = received_;
   r.published = published_;
-  r.dropped = dropped_ + sync_.dropped_samples();
+  // Old INS/altimeter samples leaving the bounded history are not drops.
+  r.dropped = dropped_;
   r.errors = errors_;
   if (last_quality_ != 0) {
     r.state = status_t::STATE_WARN;
@@ -169,6 +170,7 @@ StatusReport VoSolverNode::status() const {
     r.detail = "last VO_DELTA flagged: " + why;
   }
   r.counters = {{"pending_frames", static_cast<double>(pending_.size())},
+                {"history_evicted", static_cast<double>(sync_.dropped_samples())},
                 {"ins_buffered", static_cast<double>(sync_.ins_samples())},
                 {"altimeter_buffered", static_cast<double>(sync_.altimeter_samples())},
                 {"altimeter_invalid", static_cast<double>(sync_.invalid_altimeter_samples())},

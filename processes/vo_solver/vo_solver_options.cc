@@ -52,6 +52,11 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   t.altimeter_staleness_us = ms_to_us(y.get_in_range("altimeter_staleness_ms", 200.0, 0.001, 60000.0));
   t.altimeter_wait_us = ms_to_us(y.get_in_range("altimeter_wait_ms", 300.0, 0.0, 10000.0));
   t.settle_us = ms_to_us(y.get_in_range("settle_ms", 0.0, 0.0, 10000.0));
+  const std::string altimeter_mode = y.get<std::string>("altimeter_mode", "latest");
+  if (altimeter_mode != "latest" && altimeter_mode != "interpolate") {
+    throw y.error("altimeter_mode", "= '" + altimeter_mode + "' must be latest or interpolate");
+  }
+  t.altimeter_interpolate = altimeter_mode == "interpolate";
   t.max_frame_interval_us = ms_to_us(y.get_in_range("max_frame_interval_ms", 250.0, 0.001, 60000.0));
   t.max_pending_frames = y.get_in_range("max_pending_frames", t.max_pending_frames, 1, 10000);
   t.max_ins_samples = y.get_in_range("max_ins_samples", t.max_ins_samples, 2, 1000000);

@@ -66,7 +66,8 @@ std::vector<pose_t> YawFusionEstimator::add_vo_delta(const vo_delta_t& delta) {
   ++counters_.vo_deltas_received;
   std::vector<pose_t> out;
   const int64_t interval = delta.utime - delta.prev_utime;
-  if (delta.prev_utime <= 0 || interval <= 0 || interval > static_cast<int64_t>(options_.max_delta_interval_s * 1e6)) {
+  if (delta.prev_utime <= 0) return out;  // the first frame: no motion yet, nothing wrong
+  if ( interval <= 0 || interval > static_cast<int64_t>(options_.max_delta_interval_s * 1e6)) {
     ++counters_.vo_deltas_invalid;
     note_problem(utime_label("VO_DELTA", delta.utime) + "prev_utime " + std::to_string(delta.prev_utime) +
                  " gives an interval outside (0, max_delta_interval_s]");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "common/bus.h"
 #include "common/channels.h"
 #include "common/log_file.h"
 #include "nadir/vo_delta_t.hpp"
@@ -37,6 +38,13 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
   LogEvent e;
   const bool truth_here = truth_path.empty() || truth_path == log_path;
   while (reader.next(&e)) {
+    if (e.channel == channels::kCameraImage || e.channel == channels::kTracks || e.channel == channels::kVoDelta ||
+        e.channel == channels::kPose) {
+      int64_t utime = 0;
+      if (encoded_utime(e.data, e.size, &utime)) {
+        data.stage_latency_ms[e.channel].push_back(static_cast<float>((e.timestamp - utime) * 1e-3));
+      }
+    }
     if (e.channel == channels::kPose) {
       pose_t p;
       if (decode(e, &p)) {

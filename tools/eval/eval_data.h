@@ -25,6 +25,8 @@ struct EvalData {
   int64_t vo_deltas_flagged = 0;
   int64_t corrupt_records = 0;
   std::map<std::string, status_t> last_status;  // per process name
+  // Logger receive time - sensor time, ms, per pipeline stage (live captures).
+  std::map<std::string, std::vector<float>> stage_latency_ms;
 };
 
 // Reads POSE (and STATUS, counts) from `log_path`, GROUND_TRUTH and INS from

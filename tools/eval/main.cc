@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "common/paths.h"
+#include "common/status.h"
 #include "tools/eval/eval_outputs.h"
 #include "tools/eval/trajectory_metrics.h"
 
@@ -65,11 +66,19 @@ int main(int argc, char** argv) {
                   static_cast<long long>(m.poses), static_cast<long long>(m.poses_flagged));
       std::printf("latency             %10.1f ms p50, %.1f ms p99 (POSE logged - frame sensor time; live runs only)\n",
                   m.latency_p50_ms, m.latency_p99_ms);
+      std::printf("latency by stage   ");
+      for (const char* stage : {"CAMERA_IMAGE", "TRACKS", "VO_DELTA", "POSE"}) {
+        const auto it = data.stage_latency_ms.find(stage);
+        if (it == data.stage_latency_ms.end()) continue;
+        std::printf("  %s %.1f/%.1f", stage, nadir::percentile(it->second, 50), nadir::percentile(it->second, 99));
+      }
+      std::printf("  (p50/p99 ms)\n");
       for (const auto& [name, s] : data.last_status) {
-        std::printf("process %-12s rx %lld tx %lld dropped %lld errors %lld malformed %lld\n", name.c_str(),
-                    static_cast<long long>(s.received), static_cast<long long>(s.published),
+        std::printf("process %-12s rx %lld tx %lld dropped %lld errors %lld malformed %lld latency p50 %.1f ms p99 %.1f ms%s%s\n",
+                    name.c_str(), static_cast<long long>(s.received), static_cast<long long>(s.published),
                     static_cast<long long>(s.dropped), static_cast<long long>(s.errors),
-                    static_cast<long long>(s.malformed));
+                    static_cast<long long>(s.malformed), s.latency_p50_ms, s.latency_p99_ms,
+                    s.detail.empty() ? "" : " -- ", s.detail.c_str());
       }
       std::printf("report              %s\n", out_dir.c_str());
     }

@@ -65,6 +65,7 @@ TEST(FrameSync, AFrameKeepsItsFirstAttitude) {
 
 TEST(FrameSync, WaitsForTheAltimeterThenGivesUp) {
   SyncOptions options;
+  options.altimeter_interpolate = true;
   options.altimeter_wait_us = 300000;
   FrameSync sync(options, Eigen::Vector3d::UnitZ());
   sync.add_altimeter(altimeter_at(900000, 150));
@@ -75,8 +76,24 @@ TEST(FrameSync, WaitsForTheAltimeterThenGivesUp) {
   EXPECT_TRUE(sync.ready(1000000));
 }
 
+TEST(FrameSync, LatestModeUsesOnlyEarlierRangesAndNeverWaits) {
+  SyncOptions options;  // altimeter_mode: latest (default)
+  FrameSync sync(options, Eigen::Vector3d::UnitZ());
+  sync.add_altimeter(altimeter_at(900000, 150));
+  sync.add_ins(ins_at(990000, 0, 0, 0));
+  sync.add_ins(ins_at(1000000, 0, 0, 0));
+  EXPECT_TRUE(sync.ready(1000000)) << "the INS sample at the frame is enough";
+  sync.add_altimeter(altimeter_at(1000000, 160));  // at the frame time: counts
+  sync.add_altimeter(altimeter_at(1010000, 170));  // after the frame: must not count
+  const FrameState s = sync.frame_state(1000000);
+  EXPECT_TRUE(s.has_range);
+  EXPECT_NEAR(s.range_m, 160, 1e-12);
+  EXPECT_NEAR(sync.frame_state(995000).range_m, 150, 1e-12);
+}
+
 TEST(FrameSync, AltimeterRangeIsInterpolatedAndStalenessFlagged) {
   SyncOptions options;
+  options.altimeter_interpolate = true;
   options.altimeter_staleness_us = 200000;
   FrameSync sync(options, Eigen::Vector3d::UnitZ());
   sync.add_altimeter(altimeter_at(1000000, 100));

@@ -31,7 +31,9 @@ camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5, 
 altimeter: {beam_body: [0, 0, 1]}
 vo_solver:
   variant: paper
-  sync: {altimeter_staleness_ms: 200, altimeter_wait_ms: 300, max_pending_frames: 8}
+  # interpolate: waits for the range after each frame, so channels may lag
+  # each other by up to altimeter_wait_ms (the arrival-order tests need it).
+  sync: {altimeter_mode: interpolate, altimeter_staleness_ms: 200, altimeter_wait_ms: 300, max_pending_frames: 8}
 )";
 
 constexpr int64_t kStart = 1700000000000000;
