@@ -82,12 +82,12 @@ double vertical_range(double range_m, const Eigen::Vector3d& beam_body, double r
   return range_m * level.z();
 }
 
-std::optional<double> AltimeterHistory::height_agl(int64_t utime, int64_t max_age_us, double roll,
-                                                   double pitch) const {
+std::optional<double> AltimeterHistory::height_agl(int64_t utime, int64_t max_age_us, double roll, double pitch,
+                                                   bool use_later) const {
   if (samples_.empty()) return std::nullopt;
   const size_t upper = upper_index(samples_, utime);
   const RangeSample* before = upper > 0 ? &samples_[upper - 1] : nullptr;
-  const RangeSample* after = upper < samples_.size() ? &samples_[upper] : nullptr;
+  const RangeSample* after = use_later && upper < samples_.size() ? &samples_[upper] : nullptr;
   if (before != nullptr && utime - before->utime > max_age_us) before = nullptr;
   if (after != nullptr && after->utime - utime > max_age_us) after = nullptr;
   if (before != nullptr && after != nullptr && after->utime > before->utime) {

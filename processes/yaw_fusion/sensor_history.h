@@ -79,7 +79,10 @@ class AltimeterHistory {
   // nearest within max_age_us, else nothing; levelled with the roll and pitch
   // at t. (Not with the INS at each sample's own time: the INS after t may
   // not have arrived yet, and the answer must not depend on arrival order.)
-  std::optional<double> height_agl(int64_t utime, int64_t max_age_us, double roll, double pitch) const;
+  // With `use_later` false only samples at or before t count (no waiting for
+  // the next sample; the answer cannot depend on whether it has arrived).
+  std::optional<double> height_agl(int64_t utime, int64_t max_age_us, double roll, double pitch,
+                                   bool use_later = true) const;
   void forget_before(int64_t utime);
   int64_t dropped() const { return dropped_; }
 

@@ -149,6 +149,7 @@ bool YawFusionEstimator::delta_ready(const vo_delta_t& delta) const {
   if (sensor_now_ >= delta.utime + options_.ins_wait_us()) return true;
   if (static_cast<int>(pending_.size()) > options_.max_pending_deltas) return true;
   if (ins_.newest_utime() < delta.utime) return false;
+  if (!options_.altimeter_interpolate) return true;
   return altimeter_.newest_utime() >= delta.utime || sensor_now_ >= delta.utime + options_.altimeter_wait_us();
 }
 
@@ -397,7 +398,8 @@ int32_t YawFusionEstimator::update_attitude(int64_t utime) {
 
 int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height) {
   const auto height =
-      altimeter_.height_agl(utime, static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_);
+      altimeter_.height_agl(utime, static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_,
+                            options_.altimeter_interpolate);
   const bool level_terrain = options_.altitude_mode == AltitudeMode::kLevelTerrain;
   if (!height) {
     ++counters_.frames_without_altimeter;

@@ -31,6 +31,11 @@ YawFusionOptions YawFusionOptions::from_config(const Config& root) {
   o.frame_time_tolerance_s = c.get_in_range("frame_time_tolerance_s", o.frame_time_tolerance_s, 0.0, 0.05);
   o.ins_wait_s = c.get_in_range("ins_wait_s", o.ins_wait_s, 0.0, 30.0);
   o.altimeter_wait_s = c.get_in_range("altimeter_wait_s", o.altimeter_wait_s, 0.0, 30.0);
+  const std::string altimeter_mode = c.get<std::string>("altimeter_mode", "latest");
+  if (altimeter_mode != "latest" && altimeter_mode != "interpolate") {
+    throw c.error("altimeter_mode", "= '" + altimeter_mode + "' must be latest or interpolate");
+  }
+  o.altimeter_interpolate = altimeter_mode == "interpolate";
   o.max_pending_deltas = c.get_in_range("max_pending_deltas", o.max_pending_deltas, 1, 100000);
   o.velocity_window_s = c.get_in_range("velocity_window_s", o.velocity_window_s, 0.0, 10.0);
   o.max_time_jump_s = c.get_in_range("max_time_jump_s", o.max_time_jump_s, 0.1, 1e6);

@@ -31,7 +31,10 @@ struct YawFusionOptions {
 
   // Order robustness (sensor time).
   double ins_wait_s = 0.5;        // a delta waits at most this long (sensor time) for INS covering it
-  double altimeter_wait_s = 0.5;  // ... and for an altimeter sample covering it
+  double altimeter_wait_s = 0.5;  // ... and for an altimeter sample covering it (interpolate mode)
+  // false ("latest", default): height from ranges at or before the frame, no
+  // waiting for the next one (lowest latency); true ("interpolate").
+  bool altimeter_interpolate = false;
   int max_pending_deltas = 200;   // beyond, the oldest is processed with what is there
   // Published velocity = displacement over this window of VO positions. Per
   // frame, INS roll/pitch noise moves the position by ~h*sigma (0.26 m at

@@ -79,7 +79,9 @@ TEST(YawFusionEstimator, RecoversPositionExactlyFromNoiseFreeInputs) {
   spec.frames = 600;  // 43 s: two turns, heading crosses +-180 deg
   const SyntheticFlight flight = test::make_flight(spec);
   YawFusionCounters counters;
-  const auto poses = run_flight(flight, YawFusionOptions{}, &counters);
+  YawFusionOptions options;
+  options.altimeter_interpolate = true;  // exact height needs the range after each frame too
+  const auto poses = run_flight(flight, options, &counters);
   ASSERT_EQ(poses.size(), flight.truth.size());
   const auto truth = truth_by_time(flight);
   const Eigen::Vector3d origin = flight.truth.front().position;
@@ -297,9 +299,13 @@ TEST(YawFusionEstimator, ArrivalOrderDoesNotChangePoses) {
   spec.translation_stddev_m = 0.05;
   SyntheticFlight flight = test::make_flight(spec);
   flight.deltas.erase(flight.deltas.begin() + 100, flight.deltas.begin() + 110);  // and a gap
-  YawFusionEstimator a{YawFusionOptions{}};
-  YawFusionEstimator b{YawFusionOptions{}};
-  YawFusionEstimator c{YawFusionOptions{}};
+  // interpolate mode waits for the altimeter sample after each frame, so even
+  // a random 250 ms interleaving of the channels gives the same poses.
+  YawFusionOptions interpolate;
+  interpolate.altimeter_interpolate = true;
+  YawFusionEstimator a{interpolate};
+  YawFusionEstimator b{interpolate};
+  YawFusionEstimator c{interpolate};
   const auto pa = run(a, test::arrival_order(flight, 80'000, 2'000, 5'000));
   const auto pb = run(b, test::arrival_order(flight, 0, 300'000, 150'000));   // INS 300 ms late
   const auto pc = run(c, test::arrival_order(flight, 0, 0, 0, 99, 250'000));   // random interleaving
@@ -309,6 +315,14 @@ TEST(YawFusionEstimator, ArrivalOrderDoesNotChangePoses) {
     EXPECT_EQ(first_difference(pa[i], pb[i]), "") << "pose " << i;
     EXPECT_EQ(first_difference(pa[i], pc[i]), "") << "pose " << i;
   }
+  // latest mode (the default, no altimeter wait) needs the altimeter to be
+  // no later than the INS on arrival; with that, order still does not matter.
+  YawFusionEstimator d{YawFusionOptions{}};
+  YawFusionEstimator e{YawFusionOptions{}};
+  const auto pd = run(d, test::arrival_order(flight, 80'000, 2'000, 1'000));
+  const auto pe = run(e, test::arrival_order(flight, 0, 300'000, 150'000));
+  ASSERT_EQ(pd.size(), pe.size());
+  for (size_t i = 0; i < pd.size(); ++i) EXPECT_EQ(first_difference(pd[i], pe[i]), "") << "pose " << i;
 }
 
 TEST(YawFusionEstimator, MalformedValuesAreCountedAndSurvived) {
