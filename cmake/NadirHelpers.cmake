@@ -42,9 +42,18 @@ function(nadir_test name)
   add_test(NAME ${name} COMMAND ${name} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
   set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}"
     ENVIRONMENT "NADIR_BIN_DIR=${CMAKE_BINARY_DIR}/bin")
-  # Tests on the shared udpm group must not overlap (they would hear each other).
+  # Tests on the shared udpm group must not overlap (they would hear each
+  # other), nor may tests that host Aravis fake GigE cameras on the same
+  # loopback (label netns): they share the GigE Vision control port.
+  set(locks "")
   if("udpm" IN_LIST ARG_LABELS)
-    set_tests_properties(${name} PROPERTIES RESOURCE_LOCK udpm)
+    list(APPEND locks udpm)
+  endif()
+  if("netns" IN_LIST ARG_LABELS)
+    list(APPEND locks gige_loopback)
+  endif()
+  if(locks)
+    set_tests_properties(${name} PROPERTIES RESOURCE_LOCK "${locks}")
   endif()
 endfunction()
 
