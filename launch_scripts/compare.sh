@@ -29,7 +29,7 @@ done
 } | tee "$out/compare.md"
 for t in test1 test2 test3; do
   /usr/bin/python3 "$NADIR_ROOT/tools/eval/plot_bars.py" --out "$out/compare-$t.png" \
-    --title "Solver variants on $t (error % of distance)" --metrics error_pct_h error_pct_v \
-    --labels "horizontal %" "vertical %" $(for v in "${variants[@]}"; do echo "$v=$out/$t-$v"; done)
+    --title "Solver variants on $t (error % of distance)" --metrics error_pct_h,error_pct_v \
+    --labels "horizontal %,vertical %" $(for v in "${variants[@]}"; do echo "$v=$out/$t-$v"; done)
 done
 echo "charts: $out/compare-test*.png"

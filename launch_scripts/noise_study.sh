@@ -34,6 +34,6 @@ done
   done
 } | tee "$out/noise_study.md"
 /usr/bin/python3 "$NADIR_ROOT/tools/eval/plot_bars.py" --out "$out/noise_study.png" \
-  --title "Drift with added sensor noise ($profile)" --metrics error_pct_h error_pct_v \
-  --labels "horizontal %" "vertical %" $(for c in "${cases[@]}"; do echo "$c=$out/$c"; done)
+  --title "Drift with added sensor noise ($profile)" --metrics error_pct_h,error_pct_v \
+  --labels "horizontal %,vertical %" $(for c in "${cases[@]}"; do echo "$c=$out/$c"; done)
 echo "chart: $out/noise_study.png"

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 #include <memory>
 #include <thread>
 
@@ -33,10 +34,16 @@ int main(int argc, char** argv) {
   app.add_option("--max-frames", max_frames, "frames to load from the log (memory bound)")->capture_default_str();
   bool paced = false;
   double start_delay_s = 0.0;
+  int64_t log_origin_us = 0;
+  int64_t vehicle_origin_us = 0;
   double speed = 1.0;
   app.add_flag("--paced", paced,
                "with --log: trigger each frame at its log time (start + (utime - first utime) / speed); run "
                "nadir_camera_capture with --trigger-mode software --software-rate-hz 0");
+  app.add_option("--log-origin-us", log_origin_us, "paced: log utime played at --vehicle-origin-us");
+  app.add_option("--vehicle-origin-us", vehicle_origin_us,
+                 "paced: vehicle time (us) at which log utime --log-origin-us is played; lets several "
+                 "players of one log (e.g. nadir_sim_serial) share one clock. Overrides --start-delay");
   app.add_option("--start-delay", start_delay_s, "paced: seconds from start to the first frame")
       ->check(CLI::Range(0.0, 3600.0));
   app.add_option("--speed", speed, "paced: log seconds per wall second")->check(CLI::Range(0.01, 100.0));
@@ -69,8 +76,14 @@ int main(int argc, char** argv) {
       const int64_t first = log_source->frame_utime(0);
       const int64_t period = n > 1 ? (log_source->frame_utime(n - 1) - first) / static_cast<int64_t>(n - 1) : 71429;
       const int64_t lap = log_source->frame_utime(n - 1) - first + period;
-      const int64_t start_mono = nadir::monotonic_now_us() + nadir::s_to_us(start_delay_s);
-      const int64_t start_vehicle = nadir::vehicle_time_now_us() + nadir::s_to_us(start_delay_s);
+      int64_t start_mono = nadir::monotonic_now_us() + nadir::s_to_us(start_delay_s);
+      int64_t start_vehicle = nadir::vehicle_time_now_us() + nadir::s_to_us(start_delay_s);
+      if (vehicle_origin_us != 0) {
+        start_vehicle = vehicle_origin_us + static_cast<int64_t>(static_cast<double>(first - log_origin_us) / speed);
+        const int64_t ahead = start_vehicle - nadir::vehicle_time_now_us();
+        if (ahead < 0) throw std::invalid_argument("--vehicle-origin-us puts the first frame in the past");
+        start_mono = nadir::monotonic_now_us() + ahead;
+      }
       std::fprintf(stderr, "nadir_fake_camera: paced: log utime %lld is vehicle time %lld (offset %lld us), speed %g\n",
                    static_cast<long long>(first), static_cast<long long>(start_vehicle),
                    static_cast<long long>(start_vehicle - first), speed);

@@ -16,23 +16,29 @@ bool decode(const LogEvent& e, Msg* msg) {
   return msg->decode(e.data, 0, static_cast<int>(e.size)) == static_cast<int>(e.size);
 }
 
-void read_truth(const std::string& path, EvalData* data) {
+void read_truth(const std::string& path, int64_t shift_us, EvalData* data) {
   LogReader reader(path);
   LogEvent e;
   while (reader.next(&e)) {
     if (e.channel == channels::kGroundTruth) {
       ground_truth_t t;
-      if (decode(e, &t)) data->truth.push_back(t);
+      if (decode(e, &t)) {
+        t.utime += shift_us;
+        data->truth.push_back(t);
+      }
     } else if (e.channel == channels::kIns && data->ins.size() < 100000) {
       ins_t m;
-      if (decode(e, &m)) data->ins.push_back(m);
+      if (decode(e, &m)) {
+        m.utime += shift_us;
+        data->ins.push_back(m);
+      }
     }
   }
 }
 
 }  // namespace
 
-EvalData load_eval_data(const std::string& log_path, const std::string& truth_path) {
+EvalData load_eval_data(const std::string& log_path, const std::string& truth_path, int64_t truth_shift_us) {
   EvalData data;
   LogReader reader(log_path);
   LogEvent e;
@@ -75,7 +81,7 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
     }
   }
   data.corrupt_records = reader.corrupt_records();
-  if (!truth_here) read_truth(truth_path, &data);
+  if (!truth_here) read_truth(truth_path, truth_shift_us, &data);
   if (data.poses.empty()) throw std::runtime_error(log_path + ": no POSE messages (run the estimator first)");
   if (data.truth.size() < 2) {
     throw std::runtime_error((truth_here ? log_path : truth_path) +

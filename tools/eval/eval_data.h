@@ -32,6 +32,8 @@ struct EvalData {
 // Reads POSE (and STATUS, counts) from `log_path`, GROUND_TRUTH and INS from
 // `truth_path` (the same file when empty). Throws std::runtime_error naming
 // the file and the missing channel.
-EvalData load_eval_data(const std::string& log_path, const std::string& truth_path);
+// `truth_shift_us` is added to every GROUND_TRUTH/INS utime from `truth_path`
+// (a simulator log replayed on another clock, e.g. the hil set).
+EvalData load_eval_data(const std::string& log_path, const std::string& truth_path, int64_t truth_shift_us = 0);
 
 }  // namespace nadir

@@ -23,9 +23,12 @@ int main(int argc, char** argv) {
   std::string log_path, truth_path, out_dir;
   bool json = false;
   bool no_plots = false;
+  int64_t truth_shift_us = 0;
   app.add_option("--log", log_path, "log with POSE (a replay output or a live capture)")->required();
   app.add_option("--truth", truth_path, "log with GROUND_TRUTH (default: the same log)");
   app.add_option("--out", out_dir, "output folder (created)")->required();
+  app.add_option("--truth-shift-us", truth_shift_us,
+                 "added to the sensor times of --truth (a simulator log played on another clock, e.g. the hil set)");
   app.add_flag("--json", json, "print metrics.json to stdout instead of the summary");
   app.add_flag("--no-plots", no_plots, "skip the PNG plots (no matplotlib needed)");
   try {
@@ -34,7 +37,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
   try {
-    const nadir::EvalData data = nadir::load_eval_data(log_path, truth_path);
+    const nadir::EvalData data = nadir::load_eval_data(log_path, truth_path, truth_shift_us);
     const nadir::EvalResult result = nadir::evaluate(data);
     fs::create_directories(out_dir);
     const std::string metrics = nadir::metrics_json(result.metrics);

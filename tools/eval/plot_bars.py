@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Grouped bar chart of metrics from several nadir_eval folders.
-Usage: plot_bars.py --out PNG --title T --metrics K1 K2 --labels L1 L2 NAME=DIR [NAME=DIR ...]"""
+Usage: plot_bars.py --out PNG --title T --metrics K1,K2 --labels "L1,L2" NAME=DIR [NAME=DIR ...]"""
 import argparse
 import json
 
@@ -14,11 +14,12 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--out", required=True)
     p.add_argument("--title", default="")
-    p.add_argument("--metrics", nargs="+", required=True)
-    p.add_argument("--labels", nargs="+")
+    p.add_argument("--metrics", required=True, help="comma-separated metrics.json keys")
+    p.add_argument("--labels", help="comma-separated legend labels, one per metric")
     p.add_argument("cases", nargs="+", help="NAME=DIR with DIR/metrics.json")
     a = p.parse_args()
-    labels = a.labels or a.metrics
+    a.metrics = a.metrics.split(",")
+    labels = a.labels.split(",") if a.labels else a.metrics
     names, values = [], []
     for case in a.cases:
         name, folder = case.split("=", 1)

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 #include <exception>
 #include <memory>
 #include <queue>
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
   double speed = 1.0;
   bool no_stddev = false;
   double linger_s = 0.5, start_delay_s = 0.0;
+  int64_t log_origin_us = 0, vehicle_origin_us = 0;
   sim_serial::GeneratedFlightOptions generated;
   app.add_option("--config", config_path, "YAML config (default: <checkout>/config/default.yaml): IMU mount, beam");
   app.add_option("--log", log_path, "simulator LCM log to read INS and ALTIMETER from (default: generate a flight)");
@@ -55,6 +57,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 1000.0));
   app.add_option("--height-agl", generated.height_agl_m, "generated flight height above ground, m");
   app.add_option("--seed", generated.seed, "generated altimeter noise seed");
+  app.add_option("--log-origin-us", log_origin_us, "log utime played at --vehicle-origin-us");
+  app.add_option("--vehicle-origin-us", vehicle_origin_us,
+                 "vehicle time (us) at which log utime --log-origin-us is played (with --time now); lets "
+                 "several players of one log (e.g. nadir_fake_camera --paced) share one clock");
   app.add_option("--start-delay", start_delay_s, "seconds between creating the ptys and the first sample")
       ->check(CLI::Range(0.0, 3600.0));
   app.add_option("--linger", linger_s,
@@ -90,10 +96,20 @@ int main(int argc, char** argv) {
     using Clock = std::chrono::steady_clock;
     const auto delay_end = Clock::now() + std::chrono::microseconds(static_cast<int64_t>(start_delay_s * 1e6));
     while (Clock::now() < delay_end && !shutdown_requested()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    const auto start = Clock::now();
-    const int64_t start_unix_us = vehicle_time_now_us();
     bool have_t0 = false;
     int64_t t0 = 0;
+    if (vehicle_origin_us != 0) {
+      // Shared clock: log time t is played at vehicle_origin + (t - log_origin) / speed.
+      if (vehicle_origin_us < vehicle_time_now_us()) throw std::invalid_argument("--vehicle-origin-us is in the past");
+      while (vehicle_time_now_us() < vehicle_origin_us && !shutdown_requested()) {
+        std::this_thread::sleep_for(std::chrono::microseconds(
+            std::min<int64_t>(10000, std::max<int64_t>(1, vehicle_origin_us - vehicle_time_now_us()))));
+      }
+      have_t0 = true;
+      t0 = log_origin_us;
+    }
+    const auto start = Clock::now();
+    const int64_t start_unix_us = vehicle_origin_us != 0 ? vehicle_origin_us : vehicle_time_now_us();
     int64_t ins_written = 0, alt_written = 0, dropped = 0, bytes = 0, last_gps_us = -1;
     auto next_report = start + std::chrono::seconds(10);
     // A real device's bytes are on the line for size * character time after
