@@ -127,6 +127,22 @@ void AravisCamera::configure() {
   check("reading DeviceID");
   s.serial = str(arv_camera_get_device_serial_number(camera_, &error));
   if (error != nullptr) g_clear_error(&error);  // optional on some cameras
+  // The device that answers must be the one asked for: two devices sharing a
+  // control address (seen with two fake cameras on one interface) would
+  // otherwise hand us another camera's frames.
+  // Aravis ids end in the serial number ("Vendor-Model-Serial"), so the
+  // check needs the serial; cameras that do not report one are not checked.
+  if (!options_.id.empty() && !s.serial.empty()) {
+    const std::string& want = options_.id;
+    auto ends_with = [](const std::string& a, const std::string& b) {
+      return !b.empty() && a.size() >= b.size() && a.compare(a.size() - b.size(), b.size(), b) == 0;
+    };
+    const bool same = want == s.serial || want == s.device_id || ends_with(want, "-" + s.serial);
+    if (!same) {
+      throw std::runtime_error("camera '" + want + "' answered as device '" + s.device_id + "' (serial '" + s.serial +
+                               "'): another device shares its address; not using it");
+    }
+  }
   s.vendor = str(arv_camera_get_vendor_name(camera_, &error));
   if (error != nullptr) g_clear_error(&error);
   s.model = str(arv_camera_get_model_name(camera_, &error));
