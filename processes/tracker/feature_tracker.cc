@@ -14,6 +14,7 @@ FeatureTracker::FeatureTracker(const TrackerOptions& options)
     : options_(options),
       detector_(options),
       win_(options.klt_window_px, options.klt_window_px),
+      fb_win_(options.fb_window_px, options.fb_window_px),
       max_level_(options.klt_pyramid_levels - 1),
       fb_max_level_(options.fb_pyramid_levels - 1),
       criteria_(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.klt_max_iterations, options.klt_epsilon_px) {
@@ -141,7 +142,7 @@ void FeatureTracker::track(TrackStepResult& result) {
     // Backward pass starts from the original positions: a consistent track
     // returns there in a few iterations.
     group_back_ = group_prev_;
-    cv::calcOpticalFlowPyrLK(curr_pyramid_, prev_pyramid_, group_curr_, group_back_, group_status_bwd_, err_, win_,
+    cv::calcOpticalFlowPyrLK(curr_pyramid_, prev_pyramid_, group_curr_, group_back_, group_status_bwd_, err_, fb_win_,
                              std::min(levels, fb_max_level_), criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
                              options_.klt_min_eig_threshold);
     for (size_t g = 0; g < group_index_.size(); ++g) {

@@ -74,6 +74,7 @@ class FeatureTracker {
   TrackerOptions options_;
   GridCornerDetector detector_;
   cv::Size win_;
+  cv::Size fb_win_;
   int max_level_;
   int fb_max_level_;
   cv::TermCriteria criteria_;

@@ -36,6 +36,7 @@ TrackerOptions TrackerOptions::from_config(const Config& root) {
   o.klt_min_eig_threshold = c.get<double>("klt_min_eig_threshold", o.klt_min_eig_threshold);
   o.fb_threshold_px = c.get<double>("fb_threshold_px", o.fb_threshold_px);
   o.fb_pyramid_levels = c.get<int>("fb_pyramid_levels", o.fb_pyramid_levels);
+  o.fb_window_px = c.get<int>("fb_window_px", o.fb_window_px);
   o.patch_error_factor = c.get<double>("patch_error_factor", o.patch_error_factor);
   o.patch_error_floor = c.get<double>("patch_error_floor", o.patch_error_floor);
   o.min_tracks = c.get<int>("min_tracks", o.min_tracks);
@@ -69,6 +70,8 @@ void TrackerOptions::Check(const std::string& source) const {
   check_range(source, "klt_min_eig_threshold", klt_min_eig_threshold, 0.0, 1.0);
   check_range(source, "fb_threshold_px", fb_threshold_px, 0.01, 1e6);
   check_range(source, "fb_pyramid_levels", fb_pyramid_levels, 1, klt_pyramid_levels);
+  check_range(source, "fb_window_px", fb_window_px, 5, klt_window_px);
+  require_option(fb_window_px % 2 == 1, source, "tracker.fb_window_px", "must be odd");
   check_range(source, "patch_error_factor", patch_error_factor, 1.0, 1e6);
   check_range(source, "patch_error_floor", patch_error_floor, 0.0, 255.0);
   check_range(source, "min_tracks", min_tracks, 0, max_features());

@@ -47,6 +47,10 @@ struct TrackerOptions {
   // 2 levels (+-20 px) caught the same occlusion errors as 3 in the tests
   // and save ~0.7 ms of the ~5 ms per frame (README.md, benchmark).
   int fb_pyramid_levels = 2;
+  // Window of the backward pass. It only has to confirm a match it starts
+  // next to, so a smaller window than the forward pass's does (about half the
+  // cost of the backward pass at 13 vs 21).
+  int fb_window_px = 13;
   // Photometric check: a track is dropped when its KLT patch error (mean
   // absolute grey difference over the window) exceeds
   // max(patch_error_floor, patch_error_factor x the frame's median).
