@@ -15,12 +15,8 @@ namespace nadir::vo {
 
 Estimate solve_flow(const FramePair& pair, const SolverOptions& options) {
   Estimate est;
+  if (!start_estimate(pair, &est)) return est;
   const size_t n = pair.prev_norm.size();
-  est.weights.assign(n, 0.0);
-  if (pair.curr_norm.size() != n) {
-    est.quality |= kTooFewFeatures;
-    return est;
-  }
   const Eigen::Matrix3d prev_level = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
   const Eigen::Matrix3d curr_level = level_from_camera(pair.curr_roll, pair.curr_pitch, pair.body_from_camera);
   // Vertical heights: slant range times the down component of the levelled beam.

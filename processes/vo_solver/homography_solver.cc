@@ -21,12 +21,8 @@ namespace nadir::vo {
 
 Estimate solve_homography(const FramePair& pair, const SolverOptions& options) {
   Estimate est;
+  if (!start_estimate(pair, &est)) return est;
   const size_t n = pair.prev_norm.size();
-  est.weights.assign(n, 0.0);
-  if (pair.curr_norm.size() != n) {
-    est.quality |= kTooFewFeatures;
-    return est;
-  }
   std::vector<cv::Point2d> curr, prev;
   std::vector<int> index;
   for (size_t i = 0; i < n; ++i) {

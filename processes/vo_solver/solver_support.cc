@@ -6,6 +6,13 @@
 
 namespace nadir::vo {
 
+bool start_estimate(const FramePair& pair, Estimate* est) {
+  est->weights.assign(pair.prev_norm.size(), 0.0);
+  if (pair.curr_norm.size() == pair.prev_norm.size()) return true;
+  est->quality |= kTooFewFeatures;
+  return false;
+}
+
 double median_of(const std::vector<double>& values) {
   if (values.empty()) return 0.0;
   std::vector<double> copy(values);

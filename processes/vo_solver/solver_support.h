@@ -6,8 +6,13 @@
 #include <vector>
 
 #include "processes/vo_solver/plane_model.h"
+#include "processes/vo_solver/translation_solver.h"
 
 namespace nadir::vo {
+
+// Starts every variant's estimate: one zero weight per feature. False (and
+// flagged too few features) when the two frames' point lists differ in size.
+bool start_estimate(const FramePair& pair, Estimate* est);
 
 // Median of the finite values (infinite ones count as larger than all); 0 if empty.
 double median_of(const std::vector<double>& values);

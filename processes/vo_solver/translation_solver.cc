@@ -237,12 +237,8 @@ int levenberg_marquardt(PaperProblem* problem, Params* params, const std::vector
 
 Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
   Estimate est;
+  if (!start_estimate(pair, &est)) return est;
   const size_t n = pair.prev_norm.size();
-  est.weights.assign(n, 0.0);
-  if (pair.curr_norm.size() != n) {
-    est.quality |= kTooFewFeatures;
-    return est;
-  }
   PaperProblem problem;
   problem.num_params = estimate_tilt ? 5 : 3;
   problem.prev_level_from_camera = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
