@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "processes/vo_solver/plane_model.h"
 #include "processes/vo_solver/solver_support.h"
@@ -49,10 +50,27 @@ void SolverOptions::Check() const {
   require(homography_ransac_px > 0 && homography_ransac_px <= 100, "homography_ransac_px", "in (0, 100]");
 }
 
+FramePair reversed(const FramePair& pair) {
+  FramePair r = pair;
+  std::swap(r.prev_norm, r.curr_norm);
+  std::swap(r.prev_roll, r.curr_roll);
+  std::swap(r.prev_pitch, r.curr_pitch);
+  std::swap(r.prev_yaw, r.curr_yaw);
+  std::swap(r.prev_range_m, r.curr_range_m);
+  std::swap(r.prev_beam_body, r.curr_beam_body);
+  return r;
+}
+
+namespace {
+Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& options, bool estimate_tilt);
+}  // namespace
+
 Estimate solve(const FramePair& pair, const SolverOptions& options) {
   switch (options.variant) {
-    case Variant::kPaper: return solve_paper(pair, options, true);
-    case Variant::kLevelGround: return solve_paper(pair, options, false);
+    case Variant::kPaper:
+      return options.symmetric_dz ? solve_paper_symmetric(pair, options, true) : solve_paper(pair, options, true);
+    case Variant::kLevelGround:
+      return options.symmetric_dz ? solve_paper_symmetric(pair, options, false) : solve_paper(pair, options, false);
     case Variant::kHomography: return solve_homography(pair, options);
     case Variant::kFlow: return solve_flow(pair, options);
   }
@@ -233,9 +251,16 @@ int levenberg_marquardt(PaperProblem* problem, Params* params, const std::vector
   return iterations;
 }
 
-}  // namespace
+// A start near the solution (the reverse of a solved pair): no linear
+// initialization, weights and ground attitude taken over.
+struct WarmStart {
+  Params params = Params::Zero();
+  Eigen::Matrix3d relevel = Eigen::Matrix3d::Identity();
+  const std::vector<double>* weights = nullptr;  // per input feature
+};
 
-Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
+Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, bool estimate_tilt,
+                          const WarmStart* warm) {
   Estimate est;
   if (!start_estimate(pair, &est)) return est;
   const size_t n = pair.prev_norm.size();
@@ -273,11 +298,15 @@ Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool e
   }
 
   Params params;
-  if (!linear_initialization(problem, &params)) {
+  std::vector<double> w(m, 1.0), ire;
+  if (warm) {
+    params = warm->params;
+    if (estimate_tilt) problem.plane.relevel = warm->relevel;
+    for (int i = 0; i < m; ++i) w[i] = (*warm->weights)[problem.index[i]];
+  } else if (!linear_initialization(problem, &params)) {
     est.quality |= kNotConverged;
     return est;
   }
-  std::vector<double> w(m, 1.0), ire;
   double dz = estimate_dz(problem, params, w, nullptr);
   bool converged = false, degenerate = false;
   for (int outer = 0; outer < options.max_robust_iterations && !degenerate; ++outer) {
@@ -390,6 +419,39 @@ Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool e
   }
   if (!est.translation.allFinite() || !std::isfinite(est.dyaw)) est.quality |= kNotConverged;
   return est;
+}
+
+
+// dz from eq. (7) of the pair and of the pair reversed in time (whose dz is
+// -dz): their mean cancels the term h * delta * epsilon that a relative
+// levelling error delta = eps(k-1) - eps(k) leaves in either one
+// (DERIVATION.md section 7a). The reverse solve starts from the forward
+// solution. Where either solve failed, the forward one stands.
+Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
+  constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
+  Estimate forward = solve_paper_from(pair, options, estimate_tilt, nullptr);
+  if (forward.quality & kFailed) return forward;
+  // Forward: X(k-1) = Rz(dyaw) X(k) + t. Reverse: X(k) = Rz(-dyaw) (X(k-1) - t).
+  WarmStart warm;
+  const Eigen::Vector3d t_reverse = -(rot_z(-forward.dyaw) * forward.translation);
+  warm.params << t_reverse.x(), t_reverse.y(), -forward.dyaw, 0.0, 0.0;
+  warm.relevel = rot_z(forward.dyaw) * level_from_camera(forward.ground_roll, forward.ground_pitch,
+                                                         Eigen::Matrix3d::Identity());
+  warm.weights = &forward.weights;
+  const Estimate backward = solve_paper_from(reversed(pair), options, estimate_tilt, &warm);
+  if ((backward.quality & kFailed) || !std::isfinite(backward.translation.z())) return forward;
+  forward.translation.z() = 0.5 * (forward.translation.z() - backward.translation.z());
+  // The two estimates share their data: their dz errors are far from
+  // independent, so the variance of the mean is bounded by the mean sigma.
+  const double sigma = 0.5 * (std::sqrt(forward.covariance(2, 2)) + std::sqrt(backward.covariance(2, 2)));
+  forward.covariance(2, 2) = sigma * sigma;
+  return forward;
+}
+
+}  // namespace
+
+Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
+  return solve_paper_from(pair, options, estimate_tilt, nullptr);
 }
 
 }  // namespace nadir::vo

@@ -29,6 +29,10 @@ struct SolverOptions {
   double max_residual_rms_px = 3.0;    // inlier IRE RMS above this: QUALITY_HIGH_RESIDUAL
   double min_inlier_fraction = 0.3;    // inlier share below this: QUALITY_HIGH_RESIDUAL
   double homography_ransac_px = 3.0;   // homography variant: RANSAC threshold
+  // paper / level_ground: dz from eq. (7) in the forward pair only, or the
+  // mean of the forward and the time-reversed pair, which cancels the
+  // second-order dz bias of INS levelling noise (DERIVATION.md section 7a).
+  bool symmetric_dz = true;
   // Throws std::invalid_argument naming the field and the allowed range.
   void Check() const;
 };
@@ -80,6 +84,8 @@ struct Estimate {
 Estimate solve(const FramePair& pair, const SolverOptions& options);
 
 Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt);
+// The same pair seen backwards in time: curr becomes prev and vice versa.
+FramePair reversed(const FramePair& pair);
 Estimate solve_homography(const FramePair& pair, const SolverOptions& options);
 Estimate solve_flow(const FramePair& pair, const SolverOptions& options);
 

@@ -44,6 +44,11 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   s.max_residual_rms_px = c.get_in_range("max_residual_rms_px", s.max_residual_rms_px, 0.01, 100.0);
   s.min_inlier_fraction = c.get_in_range("min_inlier_fraction", s.min_inlier_fraction, 0.0, 1.0);
   s.homography_ransac_px = c.get_in_range("homography_ransac_px", s.homography_ransac_px, 0.01, 100.0);
+  const std::string dz_mode = c.get<std::string>("dz_mode", "symmetric");
+  if (dz_mode != "symmetric" && dz_mode != "forward") {
+    throw c.error("dz_mode", "= '" + dz_mode + "' must be symmetric or forward");
+  }
+  s.symmetric_dz = dz_mode == "symmetric";
 
   const Config y = c.section_or_empty("sync");
   auto& t = o.sync;
