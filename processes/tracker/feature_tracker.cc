@@ -142,8 +142,10 @@ void FeatureTracker::track(TrackStepResult& result) {
     // Backward pass starts from the original positions: a consistent track
     // returns there in a few iterations.
     group_back_ = group_prev_;
-    cv::calcOpticalFlowPyrLK(curr_pyramid_, prev_pyramid_, group_curr_, group_back_, group_status_bwd_, err_, fb_win_,
-                             std::min(levels, fb_max_level_), criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
+    // No error output: the patch check uses the forward pass's, and leaving
+    // it out spares OpenCV a pass over every window (same positions, status).
+    cv::calcOpticalFlowPyrLK(curr_pyramid_, prev_pyramid_, group_curr_, group_back_, group_status_bwd_, cv::noArray(),
+                             fb_win_, std::min(levels, fb_max_level_), criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
                              options_.klt_min_eig_threshold);
     for (size_t g = 0; g < group_index_.size(); ++g) {
       const size_t i = group_index_[g];

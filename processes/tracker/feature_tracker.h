@@ -89,7 +89,6 @@ class FeatureTracker {
   // Buffers reused between frames.
   std::vector<cv::Point2f> prev_pts_, curr_pts_, back_pts_;
   std::vector<uchar> status_fwd_, status_bwd_;
-  std::vector<float> err_;
   std::vector<size_t> group_index_;
   std::vector<cv::Point2f> group_prev_, group_curr_, group_back_;
   std::vector<uchar> group_status_fwd_, group_status_bwd_;

@@ -136,8 +136,9 @@ void TrackerNode::on_image(const image_t& msg) {
     prev_px[i] = t.prev_px;
     curr_px[i] = t.curr_px;
   }
-  const std::vector<cv::Point2d> prev_norm = camera_.undistort(prev_px);
+  const std::vector<cv::Point2d> prev_norm = track_end_norms_.undistort_prev(out.track_id, prev_px, camera_);
   const std::vector<cv::Point2d> curr_norm = camera_.undistort(curr_px);
+  track_end_norms_.remember(out.track_id, curr_px, curr_norm);
   for (size_t i = 0; i < n; ++i) {
     out.prev_norm[i][0] = prev_norm[i].x;
     out.prev_norm[i][1] = prev_norm[i].y;

@@ -19,6 +19,7 @@
 #include "nadir/image_t.hpp"
 #include "nadir/tracks_t.hpp"
 #include "processes/tracker/feature_tracker.h"
+#include "processes/tracker/track_end_norms.h"
 #include "processes/tracker/tracker_options.h"
 
 namespace nadir {
@@ -44,6 +45,7 @@ class TrackerNode : public Node {
   TrackerOptions options_;
   CameraModel camera_;
   FeatureTracker tracker_;
+  TrackEndNorms track_end_norms_;  // last frame's curr_norm: this frame's prev_norm
   cv::Mat convert_buffer_;
 
   bool have_last_ = false;     // any image accepted in order

@@ -105,5 +105,18 @@ TEST(ImageQuality, BlackSaturatedFeaturelessAndGood) {
   EXPECT_TRUE(good.reason.empty());
 }
 
+TEST(ImageQuality, StatisticsCountEveryPixelOfAnOddWidthView) {
+  // 7 columns: the counting loop's tail; a view into a wider image: the stride.
+  cv::Mat parent(4, 10, CV_8UC1, cv::Scalar(99));
+  cv::Mat view = parent(cv::Rect(1, 0, 7, 4));
+  view.setTo(0);
+  view.row(0).setTo(255);          // 7 saturated
+  view(cv::Rect(6, 1, 1, 3)).setTo(100);  // 3 in the last column
+  const ImageQualityCheck check = check_image_quality(view, TrackerOptions{});
+  EXPECT_DOUBLE_EQ(check.saturated_fraction, 7.0 / 28.0);
+  EXPECT_DOUBLE_EQ(check.dark_fraction, 18.0 / 28.0);
+  EXPECT_DOUBLE_EQ(check.mean, (7.0 * 255 + 3.0 * 100) / 28.0);
+}
+
 }  // namespace
 }  // namespace nadir
