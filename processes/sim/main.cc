@@ -37,6 +37,7 @@ struct Arguments {
   double duration_s = -1.0;
   std::string out;
   bool live = false;
+  int render_nice = 10;
   double rate = 1.0;
   std::string lcm_url;
   std::string config_path;
@@ -134,7 +135,7 @@ int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us
   std::fprintf(stderr, "nadir_sim: live on %s at %.2fx real time\n", bus.url().c_str(), args.rate);
   // Render ahead so each message leaves at its due time (a real camera does
   // not take a render time to deliver a frame).
-  nadir::sim::RenderAhead ahead(sim, 256);
+  nadir::sim::RenderAhead ahead(sim, 256, args.render_nice);
   const int64_t start_mono = nadir::monotonic_now_us();
   int64_t next_status = start_mono;
   int64_t published = 0;
@@ -193,6 +194,10 @@ int main(int argc, char** argv) {
   auto* out = app.add_option("--out", args.out, "LCM log file to write");
   auto* live = app.add_flag("--live", args.live, "publish live in (scaled) real time instead of writing a log");
   out->excludes(live);
+  app.add_option("--render-nice", args.render_nice,
+                 "live mode: niceness of the render-ahead thread, so rendering never delays the estimators "
+                 "on a shared machine (default 10; 0 = same priority)")
+      ->check(CLI::Range(0, 19));
   app.add_option("--rate", args.rate, "live mode: simulated seconds per wall second")->check(CLI::Range(0.01, 100.0));
   app.add_option("--lcm-url", args.lcm_url, "live mode: LCM URL (default: $LCM_DEFAULT_URL or udpm with TTL 0)");
   app.add_option("--config", args.config_path, "config with the camera: section (default: config/default.yaml)");

@@ -1,13 +1,23 @@
 #include "processes/sim/render_ahead.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cstdio>
+
 namespace nadir::sim {
 
-RenderAhead::RenderAhead(Simulator& sim, size_t capacity)
-    : sim_(sim), capacity_(capacity < 1 ? 1 : capacity), producer_([this] { produce(); }) {}
+RenderAhead::RenderAhead(Simulator& sim, size_t capacity, int niceness)
+    : niceness_(niceness), sim_(sim), capacity_(capacity < 1 ? 1 : capacity), producer_([this] { produce(); }) {}
 
 RenderAhead::~RenderAhead() { stop(); }
 
 void RenderAhead::produce() {
+  // Linux: niceness is per thread (PRIO_PROCESS with the thread id).
+  if (niceness_ > 0 && setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), niceness_) != 0) {
+    std::perror("nadir_sim: render thread niceness not set");
+  }
   for (;;) {
     Item item;
     {

@@ -16,8 +16,11 @@ namespace nadir::sim {
 
 class RenderAhead {
  public:
-  // Starts producing at once; `capacity` events are kept ready (~1 s of flight at 256).
-  RenderAhead(Simulator& sim, size_t capacity);
+  // Starts producing at once; `capacity` events are kept ready (~1 s of flight
+  // at 256). The producer thread runs at `niceness` (0..19, lower priority
+  // than the publisher and than the estimator processes fed by it: the
+  // renderer stands in for a camera, which takes no CPU from them).
+  RenderAhead(Simulator& sim, size_t capacity, int niceness = 0);
   ~RenderAhead();
   RenderAhead(const RenderAhead&) = delete;
   RenderAhead& operator=(const RenderAhead&) = delete;
@@ -37,6 +40,7 @@ class RenderAhead {
     double sim_time_s;
   };
   void produce();
+  int niceness_;
 
   Simulator& sim_;
   size_t capacity_;

@@ -44,7 +44,7 @@ EvalResult evaluate(const EvalData& data) {
   TruthAt truth0{};
   TruthAt previous{};
   double distance = 0;
-  double sum_v2 = 0, sum_yaw2 = 0;
+  double sum_v2 = 0, sum_yaw2 = 0, sum_e2_h = 0, sum_e2_v = 0;
   std::vector<float> latencies;
   for (size_t i = 0; i < data.poses.size(); ++i) {
     const pose_t& p = data.poses[i];
@@ -76,6 +76,8 @@ EvalResult evaluate(const EvalData& data) {
     sum_yaw2 += s.yaw_error_deg * s.yaw_error_deg;
     m.max_velocity_error_h = std::max(m.max_velocity_error_h, i == 0 ? 0.0 : v_h);
     m.max_error_h_m = std::max(m.max_error_h_m, s.error_h_m);
+    sum_e2_h += s.error_h_m * s.error_h_m;
+    sum_e2_v += s.error_v_m * s.error_v_m;
     if (p.flags != 0) ++m.poses_flagged;
     latencies.push_back(static_cast<float>(us_to_s(data.pose_log_timestamps[i] - p.utime) * 1e3));
     result.samples.push_back(s);
@@ -98,6 +100,9 @@ EvalResult evaluate(const EvalData& data) {
     m.error_pct_3d = 100.0 * m.final_error_3d_m / m.distance_m;
   }
   m.rms_velocity_error_h = std::sqrt(sum_v2 / n);
+  m.rms_error_h_m = std::sqrt(sum_e2_h / n);
+  m.rms_error_3d_m = std::sqrt((sum_e2_h + sum_e2_v) / n);
+  if (m.distance_m > 0) m.rms_error_pct_3d = 100.0 * m.rms_error_3d_m / m.distance_m;
   m.rms_yaw_error_deg = std::sqrt(sum_yaw2 / n);
   m.images = data.images;
   m.triggers = data.triggers;
@@ -128,6 +133,8 @@ std::string metrics_json(const EvalMetrics& m) {
   j.field("final_error_h_m", m.final_error_h_m).field("final_error_v_m", m.final_error_v_m);
   j.field("final_error_3d_m", m.final_error_3d_m).field("error_pct_h", m.error_pct_h);
   j.field("error_pct_v", m.error_pct_v).field("error_pct_3d", m.error_pct_3d);
+  j.field("rms_error_h_m", m.rms_error_h_m).field("rms_error_3d_m", m.rms_error_3d_m);
+  j.field("rms_error_pct_3d", m.rms_error_pct_3d);
   j.field("max_error_h_m", m.max_error_h_m).field("rms_velocity_error_h", m.rms_velocity_error_h);
   j.field("max_velocity_error_h", m.max_velocity_error_h).field("rms_yaw_error_deg", m.rms_yaw_error_deg);
   j.field("poses", m.poses).field("poses_flagged", m.poses_flagged).field("images", m.images);

@@ -34,6 +34,9 @@ struct EvalMetrics {
   double error_pct_v = 0;
   double error_pct_3d = 0;    // the paper's "accuracy" column
   double max_error_h_m = 0;
+  double rms_error_h_m = 0;    // over every aligned pose: the whole flight, not only its end
+  double rms_error_3d_m = 0;
+  double rms_error_pct_3d = 0; // rms_error_3d_m as % of the distance flown
   double rms_velocity_error_h = 0;
   double max_velocity_error_h = 0;
   double rms_yaw_error_deg = 0;

@@ -65,6 +65,14 @@ TEST(Eval, MetricsMatchAKnownError) {
   EXPECT_NEAR(m.final_error_v_m, 0.0, 1e-9);
   EXPECT_NEAR(m.rms_velocity_error_h, 0.2, 1e-9);
   EXPECT_NEAR(m.rms_yaw_error_deg, 0.01 * 180 / M_PI, 1e-9);
+  // The error over the whole flight, from the known error at each pose's distance.
+  double sum_sq = 0;
+  for (const EvalSample& s : r.samples) sum_sq += std::pow(std::hypot(0.01 * s.truth[0], s.truth[0] / 3960.0), 2);
+  const double expected_rms = std::sqrt(sum_sq / static_cast<double>(r.samples.size()));
+  EXPECT_NEAR(m.rms_error_h_m, expected_rms, 1e-6);
+  EXPECT_NEAR(m.rms_error_3d_m, expected_rms, 1e-6);
+  EXPECT_NEAR(m.rms_error_pct_3d, 100.0 * expected_rms / flown, 1e-6);
+  EXPECT_LT(m.rms_error_h_m, m.final_error_h_m);  // the error grows linearly: its rms is below its end
 }
 
 TEST(Eval, TruthFromASeparateLog) {
