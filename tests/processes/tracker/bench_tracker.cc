@@ -4,12 +4,19 @@
 //   BM_FeatureTracker: the algorithm (pyramid, KLT forward+backward, replenish)
 //   BM_TrackerNode:    the whole image_t -> tracks_t path (checks, undistortion,
 //                      LCM encoding) minus the transport.
+// Each on two image sources: `synthetic` (a generated texture, above) and
+// `sim_test1` (the simulator's renderer along the test1 profile: what replay
+// of a simulated flight costs; its terrain texture makes KLT work harder).
 #include <benchmark/benchmark.h>
 #include <opencv2/core.hpp>
 
 #include <vector>
 
 #include "common/bus.h"
+#include "common/config.h"
+#include "processes/sim/flight_profile.h"
+#include "processes/sim/renderer.h"
+#include "processes/sim/sim_camera.h"
 #include "processes/tracker/feature_tracker.h"
 #include "processes/tracker/tracker_node.h"
 #include "synthetic_scene.h"
@@ -36,10 +43,38 @@ const std::vector<cv::Mat>& frames() {
   return sequence;
 }
 
+// 40 frames of the simulator along test1 from t = 100 s at the camera rate,
+// then back, like frames().
+const std::vector<cv::Mat>& sim_frames() {
+  static const std::vector<cv::Mat> sequence = [] {
+    cv::setNumThreads(1);
+    const std::string root = NADIR_SOURCE_DIR;
+    const auto camera = nadir::sim::SimCamera::from_config(nadir::Config::load_file(root + "/config/default.yaml"));
+    const auto profile = nadir::sim::FlightProfile::load(root + "/config/profiles/test1.yaml");
+    nadir::sim::TerrainOptions terrain_options = profile.terrain;
+    terrain_options.seed = 101;  // the terrain of table1.sh's test1 flight
+    const nadir::sim::Terrain terrain(terrain_options);
+    const nadir::sim::Trajectory trajectory(profile, 101);
+    nadir::sim::Renderer renderer(camera, terrain, nadir::sim::RendererOptions{});
+    std::vector<cv::Mat> out;
+    std::vector<uint8_t> image;
+    for (int k = 0; k < kFrames; ++k) {
+      const nadir::sim::TruthState s = trajectory.at(100.0 + k / camera.rate_hz);
+      renderer.render(s.position_ned, s.world_from_body() * camera.body_from_camera, static_cast<uint64_t>(k), &image);
+      out.push_back(cv::Mat(camera.height, camera.width, CV_8UC1, image.data()).clone());
+    }
+    for (int k = kFrames - 2; k > 0; --k) out.push_back(out[static_cast<size_t>(k)]);
+    return out;
+  }();
+  return sequence;
+}
+
+using FrameSource = const std::vector<cv::Mat>& (*)();
+
 // Argument: pyramid levels of the backward (forward-backward check) pass.
-void BM_FeatureTracker(benchmark::State& state) {
+void BM_FeatureTracker(benchmark::State& state, FrameSource source) {
   cv::setNumThreads(1);
-  const auto& seq = frames();
+  const auto& seq = source();
   nadir::TrackerOptions options;
   options.fb_pyramid_levels = static_cast<int>(state.range(0));
   nadir::FeatureTracker tracker{options};
@@ -55,7 +90,8 @@ void BM_FeatureTracker(benchmark::State& state) {
   state.counters["tracks"] = static_cast<double>(tracks) / static_cast<double>(steps);
   state.counters["new_per_frame"] = static_cast<double>(replenished) / static_cast<double>(steps);
 }
-BENCHMARK(BM_FeatureTracker)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FeatureTracker, synthetic, frames)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FeatureTracker, sim_test1, sim_frames)->Arg(2)->Unit(benchmark::kMillisecond);
 
 // Counts what the node publishes; the transport is not what is measured.
 class SinkBus : public nadir::Bus {
@@ -65,9 +101,9 @@ class SinkBus : public nadir::Bus {
   int64_t bytes = 0;
 };
 
-void BM_TrackerNode(benchmark::State& state) {
+void BM_TrackerNode(benchmark::State& state, FrameSource source) {
   cv::setNumThreads(1);
-  const auto& seq = frames();
+  const auto& seq = source();
   std::vector<nadir::image_t> images;
   for (size_t k = 0; k < seq.size(); ++k) images.push_back(nadir::testing::make_image_msg(seq[k], 0, 0));
   const nadir::Config config = nadir::Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml");
@@ -84,6 +120,7 @@ void BM_TrackerNode(benchmark::State& state) {
   }
   state.counters["kB_out_per_frame"] = static_cast<double>(bus.bytes) / 1024.0 / static_cast<double>(counter);
 }
-BENCHMARK(BM_TrackerNode)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TrackerNode, synthetic, frames)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TrackerNode, sim_test1, sim_frames)->Unit(benchmark::kMillisecond);
 
 }  // namespace
