@@ -63,11 +63,19 @@ std::vector<uint8_t> DeviceFormatter::ins_bytes(const ins_t& ins, int64_t gps_us
     ins_bridge::InsStdDev s;
     s.gps_week = pva.gps_week;
     s.gps_seconds = pva.gps_seconds;
+    // Attitude sigmas: the simulator's own where the log carries them (a
+    // receiver reporting its attitude as better than it is makes yaw fusion
+    // gate out good INS yaw). Fixed, SPAN-like figures otherwise.
     s.latitude_m = s.longitude_m = 0.02f;
     s.height_m = 0.03f;
     s.north_velocity = s.east_velocity = s.up_velocity = 0.01f;
     s.roll_deg = s.pitch_deg = 0.005f;
     s.azimuth_deg = 0.02f;
+    if (ins.has_stddev) {
+      s.roll_deg = static_cast<float>(rad_to_deg(ins.attitude_stddev[0]));
+      s.pitch_deg = static_cast<float>(rad_to_deg(ins.attitude_stddev[1]));
+      s.azimuth_deg = static_cast<float>(rad_to_deg(ins.attitude_stddev[2]));
+    }
     const std::string text = ins_bridge::encode_insstdev_ascii(header, s);
     out.assign(text.begin(), text.end());
   }

@@ -73,6 +73,29 @@ TEST(DeviceFormatter, EveryFormatDecodesBackToTheSameAttitude) {
   }
 }
 
+// INSSTDEVA (once per GPS second) reports the attitude sigmas of the log's
+// INS messages, so that the bridge and yaw fusion see how good the simulated
+// INS really is; without them in the log, fixed figures.
+TEST(DeviceFormatter, StdDevReportsTheLogsAttitudeSigmas) {
+  for (const bool from_log : {true, false}) {
+    DeviceFormatter formatter(InsFormat::kAscii, Eigen::Vector3d::Zero(), true);
+    ins_bridge::NovatelParser parser;
+    ins_t m = sample_ins(0);
+    m.has_stddev = from_log;
+    m.attitude_stddev[0] = m.attitude_stddev[1] = deg_to_rad(0.05);
+    m.attitude_stddev[2] = deg_to_rad(0.1);
+    const std::vector<uint8_t> bytes = formatter.ins_bytes(m, ins_bridge::gps_time_us(2300, 1000.0));
+    std::vector<ins_bridge::NovatelFrame> frames;
+    parser.feed(bytes.data(), bytes.size(), 0, 0, &frames);
+    ASSERT_EQ(frames.size(), 2u) << parser.counts().last_error;
+    ASSERT_EQ(frames[0].kind, ins_bridge::NovatelFrame::Kind::kInsStdDev);
+    const ins_bridge::InsStdDev& s = frames[0].stddev;
+    EXPECT_NEAR(s.roll_deg, from_log ? 0.05 : 0.005, 1e-6);
+    EXPECT_NEAR(s.pitch_deg, from_log ? 0.05 : 0.005, 1e-6);
+    EXPECT_NEAR(s.azimuth_deg, from_log ? 0.1 : 0.02, 1e-6);
+  }
+}
+
 TEST(DeviceFormatter, AltimeterLinesCarryRangeQualityAndNoReturn) {
   altimeter_t a{};
   a.range_m = 301.256;
