@@ -2,6 +2,9 @@
 # The paper's Fig. 8b on the test1 profile: the standard sensor set, then
 # sigma 3 deg roll/pitch noise, sigma 3 deg yaw noise, 3 % altimeter noise.
 # Prints the table and draws a bar chart of horizontal and vertical drift %.
+# Every case flies the same seed, so the difference between a noisy run and
+# the standard run is the error the added noise caused: tools/eval/added_drift.py
+# tabulates and plots it against distance flown (bounded or growing).
 # Usage: noise_study.sh [--reuse] [--profile NAME]
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
@@ -10,7 +13,7 @@ while (($#)); do
   case "$1" in
     --reuse) export NADIR_REUSE=1; shift ;;
     --profile) profile="$2"; shift 2 ;;
-    -h|--help) sed -n '2,5p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "noise_study: error: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -27,13 +30,18 @@ for c in "${cases[@]}"; do
   replay_and_eval "$out/$c.lcmlog" "$out/$c"
 done
 {
-  echo "| added noise ($profile) | horizontal drift % | vertical drift % | final error m |"
-  echo "|---|---|---|---|"
+  echo "| added noise ($profile) | horizontal drift % | vertical drift % | final error m | fused yaw error rms deg |"
+  echo "|---|---|---|---|---|"
   for c in "${cases[@]}"; do
-    echo "| $c | $(metric "$out/$c" error_pct_h) | $(metric "$out/$c" error_pct_v) | $(metric "$out/$c" final_error_3d_m) |"
+    echo "| $c | $(metric "$out/$c" error_pct_h) | $(metric "$out/$c" error_pct_v) | $(metric "$out/$c" final_error_3d_m)" \
+      "| $(metric "$out/$c" rms_yaw_error_deg) |"
   done
+  echo
+  /usr/bin/python3 "$NADIR_ROOT/tools/eval/added_drift.py" --reference "$out/standard" \
+    --out-png "$out/added_drift.png" --out-json "$out/added_drift.json" \
+    $(for c in "${cases[@]:1}"; do echo "$c=$out/$c"; done)
 } | tee "$out/noise_study.md"
 /usr/bin/python3 "$NADIR_ROOT/tools/eval/plot_bars.py" --out "$out/noise_study.png" \
   --title "Drift with added sensor noise ($profile)" --metrics error_pct_h,error_pct_v \
   --labels "horizontal %,vertical %" $(for c in "${cases[@]}"; do echo "$c=$out/$c"; done)
-echo "chart: $out/noise_study.png"
+echo "charts: $out/noise_study.png $out/added_drift.png"
