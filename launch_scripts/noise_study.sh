@@ -1,47 +1,58 @@
 #!/usr/bin/env bash
 # The paper's Fig. 8b on the test1 profile: the standard sensor set, then
 # sigma 3 deg roll/pitch noise, sigma 3 deg yaw noise, 3 % altimeter noise.
-# Prints the table and draws a bar chart of horizontal and vertical drift %.
-# Every case flies the same seed, so the difference between a noisy run and
-# the standard run is the error the added noise caused: tools/eval/added_drift.py
-# tabulates and plots it against distance flown (bounded or growing).
-# Usage: noise_study.sh [--reuse] [--profile NAME]
+# Prints the table (seed 201) and draws a bar chart of horizontal and vertical
+# drift %. Every case flies the same seed, so the difference between a noisy
+# run and the standard run is the error the added noise caused:
+# tools/eval/added_drift.py tabulates and plots it against distance flown
+# (bounded or growing), averaged over the seeds flown.
+# Usage: noise_study.sh [--reuse] [--profile NAME] [--seeds N]   (N = 1..3 seeds: 201, 202, 203; default 3)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
 profile=test1
+n_seeds=3
 while (($#)); do
   case "$1" in
     --reuse) export NADIR_REUSE=1; shift ;;
     --profile) profile="$2"; shift 2 ;;
-    -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --seeds) n_seeds="$2"; shift 2 ;;
+    -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "noise_study: error: unknown option $1" >&2; exit 2 ;;
   esac
 done
+[[ "$n_seeds" =~ ^[123]$ ]] || { echo "noise_study: error: --seeds must be 1, 2 or 3" >&2; exit 2; }
 "$NADIR_ROOT/launch_scripts/setup.sh" >/dev/null
 out="$NADIR_ROOT/logs/noise_study-$profile"
-mkdir -p "$out"
 cases=(standard roll_pitch_3deg yaw_3deg altimeter_3pct)
 declare -A args=([standard]="" [roll_pitch_3deg]="--roll-pitch-noise-deg 3" [yaw_3deg]="--yaw-noise-deg 3"
                  [altimeter_3pct]="--altimeter-noise-pct 3")
-for c in "${cases[@]}"; do
-  echo "$c:"
-  # shellcheck disable=SC2086
-  simulate "$profile" 201 "$out/$c.lcmlog" ${args[$c]}
-  replay_and_eval "$out/$c.lcmlog" "$out/$c"
+seeds=(201 202 203)
+seeds=("${seeds[@]:0:$n_seeds}")
+seed_dir() { if [ "$1" = 201 ]; then echo "$out"; else echo "$out/seed-$1"; fi; }   # 201: the table's flight
+for s in "${seeds[@]}"; do
+  dir=$(seed_dir "$s")
+  mkdir -p "$dir"
+  for c in "${cases[@]}"; do
+    echo "$c (seed $s):"
+    # shellcheck disable=SC2086
+    simulate "$profile" "$s" "$dir/$c.lcmlog" ${args[$c]}
+    replay_and_eval "$dir/$c.lcmlog" "$dir/$c"
+  done
 done
 {
-  echo "| added noise ($profile) | horizontal drift % | vertical drift % | final error m | fused yaw error rms deg |"
+  echo "| added noise ($profile, seed 201) | horizontal drift % | vertical drift % | final error m | fused yaw error rms deg |"
   echo "|---|---|---|---|---|"
   for c in "${cases[@]}"; do
     echo "| $c | $(metric "$out/$c" error_pct_h) | $(metric "$out/$c" error_pct_v) | $(metric "$out/$c" final_error_3d_m)" \
       "| $(metric "$out/$c" rms_yaw_error_deg) |"
   done
   echo
-  /usr/bin/python3 "$NADIR_ROOT/tools/eval/added_drift.py" --reference "$out/standard" \
+  /usr/bin/python3 "$NADIR_ROOT/tools/eval/added_drift.py" \
+    $(for s in "${seeds[@]}"; do echo "--reference $(seed_dir "$s")/standard"; done) \
     --out-png "$out/added_drift.png" --out-json "$out/added_drift.json" \
-    $(for c in "${cases[@]:1}"; do echo "$c=$out/$c"; done)
+    $(for c in "${cases[@]:1}"; do echo "$c=$(for s in "${seeds[@]}"; do printf '%s,' "$(seed_dir "$s")/$c"; done | sed 's/,$//')"; done)
 } | tee "$out/noise_study.md"
 /usr/bin/python3 "$NADIR_ROOT/tools/eval/plot_bars.py" --out "$out/noise_study.png" \
-  --title "Drift with added sensor noise ($profile)" --metrics error_pct_h,error_pct_v \
+  --title "Drift with added sensor noise ($profile, seed 201)" --metrics error_pct_h,error_pct_v \
   --labels "horizontal %,vertical %" $(for c in "${cases[@]}"; do echo "$c=$out/$c"; done)
 echo "charts: $out/noise_study.png $out/added_drift.png"

@@ -11,7 +11,11 @@ horizontal error over the last quarter / over the first quarter: about 1 for
 a bounded error, above 1 for one that grows with distance), writes them as
 JSON, and plots added error against distance flown.
 
-Usage: added_drift.py --reference DIR --out-png PNG --out-json JSON NAME=DIR [NAME=DIR ...]
+With several seeds, repeat --reference (one per seed) and give each case one
+DIR per reference: the quarter means are averaged over the flights.
+
+Usage: added_drift.py --reference DIR [--reference DIR ...] --out-png PNG --out-json JSON
+                      NAME=DIR[,DIR...] [NAME=DIR[,DIR...] ...]
 (each DIR holds the series.csv that nadir_eval writes)"""
 import argparse
 import csv
@@ -20,6 +24,7 @@ import math
 import sys
 
 import matplotlib
+import numpy
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -78,32 +83,59 @@ def running_mean(values, width):
     return out
 
 
+def mean_summary(summaries):
+    """Per-quarter means averaged over flights (seeds); growth from the averages."""
+    n = len(summaries)
+    quarters = [{"from": q["from"], "to": q["to"],
+                 "mean_horizontal_m": sum(s["quarters"][i]["mean_horizontal_m"] for s in summaries) / n,
+                 "mean_vertical_m": sum(s["quarters"][i]["mean_vertical_m"] for s in summaries) / n}
+                for i, q in enumerate(summaries[0]["quarters"])]
+    first, last = quarters[0]["mean_horizontal_m"], quarters[-1]["mean_horizontal_m"]
+    return {"flights": n, "per_flight": summaries, "quarters": quarters,
+            "end_vertical_m": sum(abs(s["end_vertical_m"]) for s in summaries) / n,
+            "growth_ratio_h": last / first if first > 0 else float("inf")}
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--reference", required=True, help="eval folder of the run without the added noise")
+    p.add_argument("--reference", required=True, action="append",
+                   help="eval folder of the run without the added noise; repeat it for more seeds")
     p.add_argument("--out-png", required=True)
     p.add_argument("--out-json", required=True)
     p.add_argument("--title", default="Error added by each noise (paired with the same flight without it)")
-    p.add_argument("cases", nargs="+", help="NAME=DIR")
+    p.add_argument("cases", nargs="+", help="NAME=DIR[,DIR...]: one DIR per --reference, in the same order")
     a = p.parse_args()
-    reference = read_series(a.reference)
+    references = [read_series(r) for r in a.reference]
     results = {}
     fig, (ax_h, ax_v) = plt.subplots(1, 2, figsize=(12, 4.5))
     for case in a.cases:
-        if "=" not in case:
-            print(f"added_drift: error: case '{case}' is not NAME=DIR", file=sys.stderr)
+        name, _, folders = case.partition("=")
+        folders = folders.split(",") if folders else []
+        if len(folders) != len(references):
+            print(f"added_drift: error: case '{case}' needs NAME= and {len(references)} folder(s), one per "
+                  "--reference", file=sys.stderr)
             return 2
-        name, folder = case.split("=", 1)
-        series = added_error(reference, read_series(folder))
-        if len(series) < 8:
-            print(f"added_drift: error: {folder}: fewer than 8 frame times shared with {a.reference}",
-                  file=sys.stderr)
-            return 1
-        results[name] = quarter_summary(series)
-        km = [s[0] / 1000 for s in series]
-        for ax, values in ((ax_h, [s[1] for s in series]), (ax_v, [abs(s[2]) for s in series])):
-            line, = ax.plot(km, values, lw=0.5, alpha=0.25)
-            ax.plot(km, running_mean(values, 140), lw=2, color=line.get_color(), label=f"{name} (10 s mean)")
+        summaries, curves = [], []
+        for reference_dir, reference, folder in zip(a.reference, references, folders):
+            series = added_error(reference, read_series(folder))
+            if len(series) < 8:
+                print(f"added_drift: error: {folder}: fewer than 8 frame times shared with {reference_dir}",
+                      file=sys.stderr)
+                return 1
+            summaries.append(quarter_summary(series))
+            curves.append(series)
+        results[name] = mean_summary(summaries)
+        # The first flight drawn as measured; the 10 s mean over all flights on
+        # a common distance axis.
+        total = min(c[-1][0] for c in curves)
+        grid = [total * i / 400 for i in range(401)]
+        for ax, index in ((ax_h, 1), (ax_v, 2)):
+            values = [abs(s[index]) for s in curves[0]]
+            line, = ax.plot([s[0] / 1000 for s in curves[0]], values, lw=0.5, alpha=0.25)
+            smoothed = [numpy.interp(grid, [s[0] for s in c], running_mean([abs(s[index]) for s in c], 140))
+                        for c in curves]
+            ax.plot([g / 1000 for g in grid], numpy.mean(smoothed, axis=0), lw=2, color=line.get_color(),
+                    label=f"{name} (10 s mean{f', {len(curves)} flights' if len(curves) > 1 else ''})")
     for ax, what in ((ax_h, "horizontal"), (ax_v, "vertical")):
         ax.set_xlabel("distance flown (km)")
         ax.set_ylabel(f"added {what} error (m)")
@@ -115,7 +147,8 @@ def main() -> int:
     fig.savefig(a.out_png, dpi=110)
     with open(a.out_json, "w") as f:
         json.dump(results, f, indent=1)
-    print("| added noise | mean added horizontal error per quarter of the distance (m) | growth ratio"
+    flights = f" (mean of {len(references)} flights)" if len(references) > 1 else ""
+    print(f"| added noise | mean added horizontal error per quarter of the distance (m){flights} | growth ratio"
           " (last / first quarter) | added vertical error at the end (m) |")
     print("|---|---|---|---|")
     for name, r in results.items():
