@@ -187,7 +187,14 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
         }
         const vo_delta_t delta = next;
         pending_.erase(pending_.begin());
-        if (!started_) start(delta, out);
+        if (!started_) {
+          std::string why;
+          if (!delta_quality_ok(delta) || !delta_values_valid(delta, &why)) {
+            ++counters_.vo_deltas_before_start;
+            continue;
+          }
+          start(delta, out);
+        }
         process_delta(delta, out);
         continue;
       }
@@ -280,7 +287,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   }
   std::string why;
   const bool valid = delta_values_valid(delta, &why);
-  const bool quality_ok = (delta.quality & options_.reject_quality_mask) == 0;
+  const bool quality_ok = delta_quality_ok(delta);
   if (!valid) {
     ++counters_.vo_deltas_invalid;
     note_problem(utime_label("VO_DELTA", delta.utime) + why);

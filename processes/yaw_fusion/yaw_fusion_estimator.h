@@ -18,6 +18,11 @@
 // gap poses are published at the camera rate (driven by INS sensor time), and
 // the delta that ends a gap first gets a pose at its prev_utime; all of these
 // carry FLAG_VO_GAP.
+//
+// Start: the pose origin is the first frame of the first usable delta. Deltas
+// before it that cannot be used (flagged, e.g. no altimeter yet) publish no
+// pose: there is no motion to dead-reckon yet, and an origin set there would
+// lose the motion until VO works (counted in vo_deltas_before_start).
 
 #include <Eigen/Core>
 
@@ -42,6 +47,7 @@ struct YawFusionCounters {
   int64_t vo_deltas_integrated = 0;
   int64_t vo_deltas_invalid = 0;           // bad timing or non-finite values (named in last_problem)
   int64_t vo_deltas_quality_rejected = 0;  // a quality bit in reject_quality_mask
+  int64_t vo_deltas_before_start = 0;      // unusable deltas before the first usable one (no pose)
   int64_t vo_deltas_duplicate = 0;
   int64_t vo_deltas_late = 0;              // arrived after their frame time was already published
   int64_t vo_deltas_without_ins = 0;       // processed on timeout, INS not covering them
@@ -92,6 +98,7 @@ class YawFusionEstimator {
   int32_t update_height(int64_t utime, double fallback_height);
   pose_t make_pose(int64_t utime, int32_t flags) const;
   bool delta_values_valid(const vo_delta_t& delta, std::string* why) const;
+  bool delta_quality_ok(const vo_delta_t& delta) const { return (delta.quality & options_.reject_quality_mask) == 0; }
   void note_problem(const std::string& text) { counters_.last_problem = text; }
   // False for a utime far ahead of all sensor time seen, unless the previous
   // such message on the same channel (its candidate) agrees with it.

@@ -46,6 +46,7 @@ class YawFusionNode : public Node {
         {"vo_deltas_integrated", static_cast<double>(c.vo_deltas_integrated)},
         {"vo_deltas_invalid", static_cast<double>(c.vo_deltas_invalid)},
         {"vo_deltas_quality_rejected", static_cast<double>(c.vo_deltas_quality_rejected)},
+        {"vo_deltas_before_start", static_cast<double>(c.vo_deltas_before_start)},
         {"vo_deltas_duplicate", static_cast<double>(c.vo_deltas_duplicate)},
         {"vo_deltas_late", static_cast<double>(c.vo_deltas_late)},
         {"vo_deltas_without_ins", static_cast<double>(c.vo_deltas_without_ins)},

@@ -25,7 +25,8 @@ struct YawFusionOptions {
   // VO delta use.
   double min_translation_stddev_m = 0.01;  // floor on dx/dy/dz stddev (solver covariance may be 0)
   double min_dyaw_stddev_deg = 0.01;       // floor on dyaw stddev
-  int32_t reject_quality_mask = 1 | 8 | 16;  // TOO_FEW_FEATURES | NOT_CONVERGED | NO_ATTITUDE
+  // TOO_FEW_FEATURES | NO_ALTIMETER | NOT_CONVERGED | NO_ATTITUDE: no translation in those.
+  int32_t reject_quality_mask = 1 | 2 | 8 | 16;
   double max_delta_interval_s = 5.0;     // longer deltas are invalid
   double frame_time_tolerance_s = 0.001; // prev_utime this close to the last frame is continuous
 

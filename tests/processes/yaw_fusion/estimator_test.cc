@@ -268,6 +268,28 @@ TEST(YawFusionEstimator, VoGapsAreFlaggedDeadReckonedAndSurvived) {
   for (size_t i = 1; i < poses.size(); ++i) EXPECT_GT(poses[i].utime, poses[i - 1].utime);
 }
 
+// Flagged deltas at the start (e.g. no altimeter yet) publish no poses: the
+// origin is the first frame VO measures from, so no motion is lost there.
+TEST(YawFusionEstimator, StartsAtTheFirstUsableDelta) {
+  FlightSpec spec;
+  spec.frames = 120;
+  SyntheticFlight flight = test::make_flight(spec);
+  for (size_t k = 0; k < 8; ++k) flight.deltas[k].quality = vo_delta_t::QUALITY_NO_ALTIMETER;
+  YawFusionCounters counters;
+  const auto poses = run_flight(flight, YawFusionOptions{}, &counters);
+  EXPECT_EQ(counters.vo_deltas_before_start, 8);
+  ASSERT_FALSE(poses.empty());
+  EXPECT_EQ(poses.front().utime, flight.deltas[8].prev_utime);
+  EXPECT_TRUE(poses.front().flags & pose_t::FLAG_INITIALIZING);
+  EXPECT_EQ(poses.size(), flight.truth.size() - 8);
+  // Exact, as from a flight that had started there.
+  const Eigen::Vector3d origin = truth_by_time(flight).at(poses.front().utime)->position;
+  const pose_t& last = poses.back();
+  const Eigen::Vector3d expected = flight.truth.back().position - origin;
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(last.position_ned[i], expected[i], 1e-6) << i;
+  for (const pose_t& p : poses) EXPECT_FALSE(p.flags & pose_t::FLAG_VO_GAP);
+}
+
 TEST(YawFusionEstimator, LongGapHoldsPositionAfterMaxPropagation) {
   FlightSpec spec;
   spec.frames = 200;
@@ -461,8 +483,9 @@ TEST(YawFusionOptions, CheckedInDefaultConfigLoads) {
   const Config root = Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml");
   const YawFusionOptions o = YawFusionOptions::from_config(root);
   EXPECT_EQ(o.altitude_mode, AltitudeMode::kVoDz);
-  EXPECT_EQ(o.reject_quality_mask, vo_delta_t::QUALITY_TOO_FEW_FEATURES | vo_delta_t::QUALITY_NOT_CONVERGED |
-                                       vo_delta_t::QUALITY_NO_ATTITUDE);
+  EXPECT_EQ(o.reject_quality_mask, vo_delta_t::QUALITY_TOO_FEW_FEATURES | vo_delta_t::QUALITY_NO_ALTIMETER |
+                                       vo_delta_t::QUALITY_NOT_CONVERGED | vo_delta_t::QUALITY_NO_ATTITUDE);
+  EXPECT_EQ(o.reject_quality_mask, YawFusionOptions{}.reject_quality_mask);
 }
 
 }  // namespace
