@@ -50,27 +50,10 @@ void SolverOptions::Check() const {
   require(homography_ransac_px > 0 && homography_ransac_px <= 100, "homography_ransac_px", "in (0, 100]");
 }
 
-FramePair reversed(const FramePair& pair) {
-  FramePair r = pair;
-  std::swap(r.prev_norm, r.curr_norm);
-  std::swap(r.prev_roll, r.curr_roll);
-  std::swap(r.prev_pitch, r.curr_pitch);
-  std::swap(r.prev_yaw, r.curr_yaw);
-  std::swap(r.prev_range_m, r.curr_range_m);
-  std::swap(r.prev_beam_body, r.curr_beam_body);
-  return r;
-}
-
-namespace {
-Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& options, bool estimate_tilt);
-}  // namespace
-
 Estimate solve(const FramePair& pair, const SolverOptions& options) {
   switch (options.variant) {
-    case Variant::kPaper:
-      return options.symmetric_dz ? solve_paper_symmetric(pair, options, true) : solve_paper(pair, options, true);
-    case Variant::kLevelGround:
-      return options.symmetric_dz ? solve_paper_symmetric(pair, options, false) : solve_paper(pair, options, false);
+    case Variant::kPaper: return solve_paper(pair, options, true);
+    case Variant::kLevelGround: return solve_paper(pair, options, false);
     case Variant::kHomography: return solve_homography(pair, options);
     case Variant::kFlow: return solve_flow(pair, options);
   }
@@ -421,6 +404,17 @@ Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, b
   return est;
 }
 
+// The same pair seen backwards in time: curr becomes prev and vice versa.
+FramePair reversed(const FramePair& pair) {
+  FramePair r = pair;
+  std::swap(r.prev_norm, r.curr_norm);
+  std::swap(r.prev_roll, r.curr_roll);
+  std::swap(r.prev_pitch, r.curr_pitch);
+  std::swap(r.prev_yaw, r.curr_yaw);
+  std::swap(r.prev_range_m, r.curr_range_m);
+  std::swap(r.prev_beam_body, r.curr_beam_body);
+  return r;
+}
 
 // dz from eq. (7) of the pair and of the pair reversed in time (whose dz is
 // -dz): their mean cancels the term h * delta * epsilon that a relative
@@ -435,6 +429,7 @@ Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& optio
   WarmStart warm;
   const Eigen::Vector3d t_reverse = -(rot_z(-forward.dyaw) * forward.translation);
   warm.params << t_reverse.x(), t_reverse.y(), -forward.dyaw, 0.0, 0.0;
+  // Re-levelled camera whose z axis is the forward ground normal (Ry(pitch) Rx(roll) e_z), seen from k-1.
   warm.relevel = rot_z(forward.dyaw) * level_from_camera(forward.ground_roll, forward.ground_pitch,
                                                          Eigen::Matrix3d::Identity());
   warm.weights = &forward.weights;
@@ -451,7 +446,8 @@ Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& optio
 }  // namespace
 
 Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
-  return solve_paper_from(pair, options, estimate_tilt, nullptr);
+  return options.symmetric_dz ? solve_paper_symmetric(pair, options, estimate_tilt)
+                              : solve_paper_from(pair, options, estimate_tilt, nullptr);
 }
 
 }  // namespace nadir::vo

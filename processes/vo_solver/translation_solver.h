@@ -83,9 +83,8 @@ struct Estimate {
 // gives an Estimate with quality bits set.
 Estimate solve(const FramePair& pair, const SolverOptions& options);
 
+// paper (estimate_tilt) / level_ground; dz one-way or symmetric per options.symmetric_dz.
 Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt);
-// The same pair seen backwards in time: curr becomes prev and vice versa.
-FramePair reversed(const FramePair& pair);
 Estimate solve_homography(const FramePair& pair, const SolverOptions& options);
 Estimate solve_flow(const FramePair& pair, const SolverOptions& options);
 

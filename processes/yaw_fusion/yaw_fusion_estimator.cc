@@ -188,8 +188,7 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
         const vo_delta_t delta = next;
         pending_.erase(pending_.begin());
         if (!started_) {
-          std::string why;
-          if (!delta_quality_ok(delta) || !delta_values_valid(delta, &why)) {
+          if (!delta_usable(delta)) {
             ++counters_.vo_deltas_before_start;
             continue;
           }

@@ -99,6 +99,10 @@ class YawFusionEstimator {
   pose_t make_pose(int64_t utime, int32_t flags) const;
   bool delta_values_valid(const vo_delta_t& delta, std::string* why) const;
   bool delta_quality_ok(const vo_delta_t& delta) const { return (delta.quality & options_.reject_quality_mask) == 0; }
+  bool delta_usable(const vo_delta_t& delta) const {
+    std::string why;
+    return delta_quality_ok(delta) && delta_values_valid(delta, &why);
+  }
   void note_problem(const std::string& text) { counters_.last_problem = text; }
   // False for a utime far ahead of all sensor time seen, unless the previous
   // such message on the same channel (its candidate) agrees with it.
