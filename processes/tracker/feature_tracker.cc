@@ -70,11 +70,8 @@ bool FeatureTracker::fit_motion(double fb_sq, cv::Matx23d* motion) const {
   // pass the forward-backward check, refitted once without the points it
   // explains worst (moving objects, parallax). Plain sums: deterministic.
   std::vector<size_t> use;
-  for (size_t i = 0; i < status_fwd_.size(); ++i) {
-    if (!status_fwd_[i] || !status_bwd_[i]) continue;
-    const double dx = back_pts_[i].x - prev_pts_[i].x, dy = back_pts_[i].y - prev_pts_[i].y;
-    if (dx * dx + dy * dy <= fb_sq) use.push_back(i);
-  }
+  for (size_t i = 0; i < status_fwd_.size(); ++i)
+    if (!failed(i, fb_sq)) use.push_back(i);
   cv::Matx23d fit;
   for (int round = 0; round < 2; ++round) {
     if (use.size() < 6) return false;
@@ -103,6 +100,44 @@ bool FeatureTracker::fit_motion(double fb_sq, cv::Matx23d* motion) const {
   return true;
 }
 
+void FeatureTracker::track_group(int max_level, const cv::Matx23d* motion) {
+  group_prev_.clear();
+  group_curr_.clear();
+  for (size_t i : group_index_) {
+    const cv::Point2f& p = features_[i].px;
+    group_prev_.push_back(p);
+    group_curr_.push_back(motion ? cv::Point2f(static_cast<float>((*motion)(0, 0) * p.x + (*motion)(0, 1) * p.y + (*motion)(0, 2)),
+                                               static_cast<float>((*motion)(1, 0) * p.x + (*motion)(1, 1) * p.y + (*motion)(1, 2)))
+                                 : p);
+  }
+  cv::calcOpticalFlowPyrLK(prev_pyramid_, curr_pyramid_, group_prev_, group_curr_, group_status_fwd_, group_error_, win_,
+                           max_level, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, options_.klt_min_eig_threshold);
+  // Backward pass starts from the original positions: a consistent track
+  // returns there in a few iterations.
+  group_back_ = group_prev_;
+  // No error output: the patch check uses the forward pass's, and leaving
+  // it out spares OpenCV a pass over every window (same positions, status).
+  cv::calcOpticalFlowPyrLK(curr_pyramid_, prev_pyramid_, group_curr_, group_back_, group_status_bwd_, cv::noArray(),
+                           fb_win_, std::min(max_level, fb_max_level_), criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
+                           options_.klt_min_eig_threshold);
+  for (size_t g = 0; g < group_index_.size(); ++g) {
+    const size_t i = group_index_[g];
+    prev_pts_[i] = group_prev_[g];
+    curr_pts_[i] = group_curr_[g];
+    back_pts_[i] = group_back_[g];
+    status_fwd_[i] = group_status_fwd_[g];
+    status_bwd_[i] = group_status_bwd_[g];
+    patch_error_[i] = group_error_[g];
+    level_used_[i] = max_level;
+  }
+}
+
+bool FeatureTracker::failed(size_t i, double fb_sq) const {
+  if (!status_fwd_[i] || !status_bwd_[i]) return true;
+  const double dx = back_pts_[i].x - prev_pts_[i].x, dy = back_pts_[i].y - prev_pts_[i].y;
+  return !(dx * dx + dy * dy <= fb_sq);
+}
+
 void FeatureTracker::track(TrackStepResult& result) {
   const size_t n = features_.size();
   result.attempted = static_cast<int>(n);
@@ -113,53 +148,60 @@ void FeatureTracker::track(TrackStepResult& result) {
   status_fwd_.assign(n, 0);
   status_bwd_.assign(n, 0);
   patch_error_.assign(n, 0.0f);
+  level_used_.assign(n, -1);
+  usable_level_.resize(n);
+  size_t full_reach = 0;
+  for (size_t i = 0; i < n; ++i) {
+    usable_level_[i] = usable_levels(features_[i].px);
+    if (usable_level_[i] == max_level_) ++full_reach;
+  }
 
-  // Group the features by how many pyramid levels they can use; most use
-  // all. The full-pyramid group goes first, starting from the previous
-  // pair's motion (constant velocity: fewer LK iterations, same reach). An
-  // affine motion fitted to its tracks then predicts where the near-edge
-  // features went, so that their few levels only refine a good first guess.
   const double fb_sq = options_.fb_threshold_px * options_.fb_threshold_px;
   bool have_motion = have_last_motion_;
   cv::Matx23d motion = last_motion_;
   bool fitted = false;
-  for (int levels = max_level_; levels >= 0; --levels) {
+  // Scouts: an even spread of the features that can use the full pyramid,
+  // tracked with its full reach from the previous pair's motion (constant
+  // velocity). The affine motion fitted to them is this pair's.
+  const int predicted_max_level = options_.klt_predicted_levels - 1;
+  const bool scouting = predicted_max_level < max_level_;
+  if (scouting) {
+    const size_t stride = std::max<size_t>(1, full_reach / static_cast<size_t>(options_.klt_scout_features));
     group_index_.clear();
-    group_prev_.clear();
-    group_curr_.clear();
+    for (size_t i = 0, k = 0; i < n; ++i)
+      if (usable_level_[i] == max_level_ && k++ % stride == 0) group_index_.push_back(i);
+    if (!group_index_.empty()) {
+      track_group(max_level_, have_motion ? &motion : nullptr);
+      fitted = fit_motion(fb_sq, &motion);
+      have_motion = have_motion || fitted;
+    }
+  }
+  // The rest, grouped by the levels they may use: all their window allows
+  // (edge features: a few, refining a good first guess), at most
+  // klt_predicted_levels once this pair's motion is known. Without scouts
+  // the full-pyramid group goes first and its fit predicts the others.
+  for (int level = max_level_; level >= 0; --level) {
+    group_index_.clear();
     for (size_t i = 0; i < n; ++i) {
-      if (usable_levels(features_[i].px) != levels) continue;
-      group_index_.push_back(i);
-      const cv::Point2f& p = features_[i].px;
-      group_prev_.push_back(p);
-      group_curr_.push_back(have_motion ? cv::Point2f(static_cast<float>(motion(0, 0) * p.x + motion(0, 1) * p.y + motion(0, 2)),
-                                                      static_cast<float>(motion(1, 0) * p.x + motion(1, 1) * p.y + motion(1, 2)))
-                                        : p);
+      if (level_used_[i] >= 0) continue;
+      const int use = fitted && scouting ? std::min(usable_level_[i], predicted_max_level) : usable_level_[i];
+      if (use == level) group_index_.push_back(i);
     }
     if (group_index_.empty()) continue;
-    cv::calcOpticalFlowPyrLK(prev_pyramid_, curr_pyramid_, group_prev_, group_curr_, group_status_fwd_, group_error_,
-                             win_, levels, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, options_.klt_min_eig_threshold);
-    // Backward pass starts from the original positions: a consistent track
-    // returns there in a few iterations.
-    group_back_ = group_prev_;
-    // No error output: the patch check uses the forward pass's, and leaving
-    // it out spares OpenCV a pass over every window (same positions, status).
-    cv::calcOpticalFlowPyrLK(curr_pyramid_, prev_pyramid_, group_curr_, group_back_, group_status_bwd_, cv::noArray(),
-                             fb_win_, std::min(levels, fb_max_level_), criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
-                             options_.klt_min_eig_threshold);
-    for (size_t g = 0; g < group_index_.size(); ++g) {
-      const size_t i = group_index_[g];
-      prev_pts_[i] = group_prev_[g];
-      curr_pts_[i] = group_curr_[g];
-      back_pts_[i] = group_back_[g];
-      status_fwd_[i] = group_status_fwd_[g];
-      status_bwd_[i] = group_status_bwd_[g];
-      patch_error_[i] = group_error_[g];
-    }
+    track_group(level, have_motion ? &motion : nullptr);
     if (!fitted && fit_motion(fb_sq, &motion)) {
       fitted = true;
       have_motion = true;
     }
+  }
+  // A feature that failed with fewer levels than it may use gets the rest:
+  // the prediction was off by more than the short reach (a moving object,
+  // strong relief), or the match is wrong. Occluded ones fail again.
+  for (int level = max_level_; level > 0; --level) {
+    group_index_.clear();
+    for (size_t i = 0; i < n; ++i)
+      if (usable_level_[i] == level && level_used_[i] < level && failed(i, fb_sq)) group_index_.push_back(i);
+    if (!group_index_.empty()) track_group(level, have_motion ? &motion : nullptr);
   }
   have_last_motion_ = fitted;
   last_motion_ = motion;

@@ -69,6 +69,12 @@ class FeatureTracker {
   int usable_levels(const cv::Point2f& p) const;
   // Affine image motion from the tracks found so far; false when too few.
   bool fit_motion(double fb_sq, cv::Matx23d* motion) const;
+  // Tracks the features in group_index_ forward with `max_level` pyramid
+  // levels above full resolution, starting from `motion`'s prediction (or
+  // their own position when null), and back again; stores the results.
+  void track_group(int max_level, const cv::Matx23d* motion);
+  // Tracked, but lost by KLT or beyond the forward-backward threshold.
+  bool failed(size_t i, double fb_sq) const;
   void replenish(const cv::Mat& image, TrackStepResult& result);
 
   TrackerOptions options_;
@@ -89,6 +95,7 @@ class FeatureTracker {
   // Buffers reused between frames.
   std::vector<cv::Point2f> prev_pts_, curr_pts_, back_pts_;
   std::vector<uchar> status_fwd_, status_bwd_;
+  std::vector<int> usable_level_, level_used_;  // per feature; level_used_ -1: not tracked yet
   std::vector<size_t> group_index_;
   std::vector<cv::Point2f> group_prev_, group_curr_, group_back_;
   std::vector<uchar> group_status_fwd_, group_status_bwd_;

@@ -34,6 +34,8 @@ TrackerOptions TrackerOptions::from_config(const Config& root) {
   o.klt_max_iterations = c.get<int>("klt_max_iterations", o.klt_max_iterations);
   o.klt_epsilon_px = c.get<double>("klt_epsilon_px", o.klt_epsilon_px);
   o.klt_min_eig_threshold = c.get<double>("klt_min_eig_threshold", o.klt_min_eig_threshold);
+  o.klt_scout_features = c.get<int>("klt_scout_features", o.klt_scout_features);
+  o.klt_predicted_levels = c.get<int>("klt_predicted_levels", o.klt_predicted_levels);
   o.fb_threshold_px = c.get<double>("fb_threshold_px", o.fb_threshold_px);
   o.fb_pyramid_levels = c.get<int>("fb_pyramid_levels", o.fb_pyramid_levels);
   o.fb_window_px = c.get<int>("fb_window_px", o.fb_window_px);
@@ -68,6 +70,8 @@ void TrackerOptions::Check(const std::string& source) const {
   check_range(source, "klt_max_iterations", klt_max_iterations, 1, 1000);
   check_range(source, "klt_epsilon_px", klt_epsilon_px, 1e-6, 1.0);
   check_range(source, "klt_min_eig_threshold", klt_min_eig_threshold, 0.0, 1.0);
+  check_range(source, "klt_scout_features", klt_scout_features, 6, 100000);
+  check_range(source, "klt_predicted_levels", klt_predicted_levels, 1, klt_pyramid_levels);
   check_range(source, "fb_threshold_px", fb_threshold_px, 0.01, 1e6);
   check_range(source, "fb_pyramid_levels", fb_pyramid_levels, 1, klt_pyramid_levels);
   check_range(source, "fb_window_px", fb_window_px, 5, klt_window_px);

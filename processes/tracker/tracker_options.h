@@ -38,6 +38,16 @@ struct TrackerOptions {
   int klt_max_iterations = 30;
   double klt_epsilon_px = 0.01;
   double klt_min_eig_threshold = 1e-4;  // cv::calcOpticalFlowPyrLK minEigThreshold
+  // Scouted tracking. klt_scout_features tracks (an even spread) first go
+  // through the full pyramid; the affine motion fitted to them predicts where
+  // every other feature went, to well under a pixel on terrain seen from
+  // altitude, so those need only klt_predicted_levels levels (1: full
+  // resolution only - the same final refinement as the full pyramid's, a
+  // third of its cost). A feature that fails that way (KLT lost or
+  // forward-backward error too large) is tracked again with the full
+  // pyramid. klt_predicted_levels = klt_pyramid_levels turns it off.
+  int klt_scout_features = 48;
+  int klt_predicted_levels = 1;
   // Forward-backward check: a track survives when tracking it back from the
   // current frame lands within this distance of where it started.
   double fb_threshold_px = 1.0;
