@@ -28,6 +28,12 @@ void FeatureTracker::reset() {
 }
 
 TrackStepResult FeatureTracker::process(const cv::Mat& image) {
+  TrackStepResult result = track_frame(image);
+  prepare_next(image, result);
+  return result;
+}
+
+TrackStepResult FeatureTracker::track_frame(const cv::Mat& image) {
   if (image.empty() || image.type() != CV_8UC1) {
     throw std::invalid_argument("FeatureTracker::process needs a non-empty 8-bit single-channel image");
   }
@@ -45,10 +51,13 @@ TrackStepResult FeatureTracker::process(const cv::Mat& image) {
   } else {
     track(result);
   }
+  return result;
+}
+
+void FeatureTracker::prepare_next(const cv::Mat& image, TrackStepResult& result) {
   replenish(image, result);
   std::swap(prev_pyramid_, curr_pyramid_);
   result.features_after = static_cast<int>(features_.size());
-  return result;
 }
 
 int FeatureTracker::usable_levels(const cv::Point2f& p) const {

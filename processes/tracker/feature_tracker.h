@@ -47,7 +47,17 @@ class FeatureTracker {
   // Tracks from the reference frame into `image` (CV_8UC1), replenishes, and
   // makes `image` the new reference. The first call (or after reset) only
   // detects. Throws std::invalid_argument for an image that is not 8-bit mono.
+  // The same as track_frame() then prepare_next(), for callers that do not
+  // publish in between.
   TrackStepResult process(const cv::Mat& image);
+
+  // The two halves of process(), so that the tracks can go out before the
+  // work that only the next frame needs. track_frame() fills everything but
+  // replenished, cells_replenished and features_after, which prepare_next()
+  // adds: it must follow with the same image (still valid) and result before
+  // the next track_frame().
+  TrackStepResult track_frame(const cv::Mat& image);
+  void prepare_next(const cv::Mat& image, TrackStepResult& result);
 
   // Forgets the reference frame and all features (ids keep counting up).
   void reset();

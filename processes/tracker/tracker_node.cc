@@ -98,15 +98,16 @@ void TrackerNode::on_image(const image_t& msg) {
   }
   TrackStepResult step;
   try {
-    step = tracker_.process(gray);
+    step = tracker_.track_frame(gray);
+    // A first frame's TRACKS reports how many corners it found; otherwise
+    // the new corners are only for the next frame and wait until this
+    // frame's tracks are out.
+    if (step.first_frame) tracker_.prepare_next(gray, step);
   } catch (const std::exception& e) {
     // Not expected after the checks above; still one flagged TRACKS per
     // image, a counted error and a fresh start rather than a lost message.
-    ++errors_;
-    tracker_.reset();
-    have_reference_ = false;
     out.flags |= tracks_t::FLAG_BAD_IMAGE;
-    publish(out, "CAMERA_IMAGE utime " + std::to_string(msg.utime) + ": tracking failed: " + e.what());
+    publish(out, tracking_failed(e, msg.utime));
     return;
   }
   if (step.first_frame) out.flags |= tracks_t::FLAG_FIRST_FRAME;
@@ -150,7 +151,7 @@ void TrackerNode::on_image(const image_t& msg) {
     ++tracked_frames_;
     tracks_total_ += static_cast<int64_t>(n);
   }
-  replenished_ += step.replenished;
+  if (step.first_frame) replenished_ += step.replenished;
   fb_rejected_ += step.fb_rejected;
   patch_rejected_ += step.patch_rejected;
   klt_lost_ += step.klt_lost;
@@ -160,6 +161,21 @@ void TrackerNode::on_image(const image_t& msg) {
   ref_utime_ = msg.utime;
   ref_frame_counter_ = msg.frame_counter;
   publish(out, "");
+  if (step.first_frame) return;
+  try {
+    tracker_.prepare_next(gray, step);
+    replenished_ += step.replenished;
+  } catch (const std::exception& e) {
+    // This frame's TRACKS is out; the next frame starts afresh.
+    last_problem_ = tracking_failed(e, msg.utime);
+  }
+}
+
+std::string TrackerNode::tracking_failed(const std::exception& e, int64_t utime) {
+  ++errors_;
+  tracker_.reset();
+  have_reference_ = false;
+  return "CAMERA_IMAGE utime " + std::to_string(utime) + ": tracking failed: " + e.what();
 }
 
 StatusReport TrackerNode::status() const {

@@ -10,7 +10,10 @@
 // measured in, 0 when there is none (FLAG_FIRST_FRAME); age is the number of
 // frames a feature has been seen in (2 the first time it is published).
 
+#include <cstdint>
+#include <exception>
 #include <memory>
+#include <string>
 
 #include "common/bus.h"
 #include "common/camera_model.h"
@@ -39,6 +42,8 @@ class TrackerNode : public Node {
  private:
   tracks_t make_header(const image_t& msg) const;
   void publish(tracks_t& out, const std::string& problem);
+  // Counts the error and starts afresh; returns the problem for STATUS.
+  std::string tracking_failed(const std::exception& e, int64_t utime);
   int32_t gap_flags(const image_t& msg, bool* too_long) const;
 
   Bus& bus_;
