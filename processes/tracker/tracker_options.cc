@@ -65,7 +65,6 @@ void TrackerOptions::Check(const std::string& source) const {
   check_range(source, "quality_level", quality_level, 0.0, 1.0);
   check_range(source, "min_harris_response", min_harris_response, 0.0, 1.0);
   check_range(source, "klt_window_px", klt_window_px, 5, 101);
-  require_option(klt_window_px % 2 == 1, source, "tracker.klt_window_px", "must be odd");
   check_range(source, "klt_pyramid_levels", klt_pyramid_levels, 1, 8);
   check_range(source, "klt_max_iterations", klt_max_iterations, 1, 1000);
   check_range(source, "klt_epsilon_px", klt_epsilon_px, 1e-6, 1.0);
@@ -75,7 +74,6 @@ void TrackerOptions::Check(const std::string& source) const {
   check_range(source, "fb_threshold_px", fb_threshold_px, 0.01, 1e6);
   check_range(source, "fb_pyramid_levels", fb_pyramid_levels, 1, klt_pyramid_levels);
   check_range(source, "fb_window_px", fb_window_px, 5, klt_window_px);
-  require_option(fb_window_px % 2 == 1, source, "tracker.fb_window_px", "must be odd");
   check_range(source, "patch_error_factor", patch_error_factor, 1.0, 1e6);
   check_range(source, "patch_error_floor", patch_error_floor, 0.0, 255.0);
   check_range(source, "min_tracks", min_tracks, 0, max_features());

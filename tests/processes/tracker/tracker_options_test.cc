@@ -32,10 +32,15 @@ TEST(TrackerOptions, MissingSectionMeansDefaults) {
 }
 
 TEST(TrackerOptions, BadValuesNameTheKeyAndTheRange) {
-  const std::string even = error_of("tracker: {klt_window_px: 20}");
-  EXPECT_NE(even.find("test.yaml"), std::string::npos) << even;
-  EXPECT_NE(even.find("tracker.klt_window_px"), std::string::npos) << even;
-  EXPECT_NE(even.find("odd"), std::string::npos) << even;
+  const std::string small = error_of("tracker: {klt_window_px: 4}");
+  EXPECT_NE(small.find("test.yaml"), std::string::npos) << small;
+  EXPECT_NE(small.find("tracker.klt_window_px"), std::string::npos) << small;
+  EXPECT_NE(small.find("[5, 101]"), std::string::npos) << small;
+  EXPECT_EQ(error_of("tracker: {klt_window_px: 24, fb_window_px: 8}"), "");  // even sizes are fine
+
+  const std::string levels = error_of("tracker: {klt_pyramid_levels: 3, klt_predicted_levels: 4}");
+  EXPECT_NE(levels.find("tracker.klt_predicted_levels"), std::string::npos) << levels;
+  EXPECT_NE(levels.find("[1, 3]"), std::string::npos) << levels;
 
   const std::string range = error_of("tracker: {fb_threshold_px: -1}");
   EXPECT_NE(range.find("tracker.fb_threshold_px"), std::string::npos) << range;
