@@ -1,7 +1,5 @@
 #include "processes/tracker/feature_tracker.h"
 
-#include <opencv2/video/tracking.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,16 +8,28 @@
 
 namespace nadir {
 
+namespace {
+
+LkOptions klt_options(const TrackerOptions& options, int window_px) {
+  options.Check();
+  LkOptions o;
+  o.window_px = window_px;
+  o.max_iterations = options.klt_max_iterations;
+  o.epsilon_px = options.klt_epsilon_px;
+  o.min_eig_threshold = options.klt_min_eig_threshold;
+  return o;
+}
+
+}  // namespace
+
 FeatureTracker::FeatureTracker(const TrackerOptions& options)
     : options_(options),
       detector_(options),
-      win_(options.klt_window_px, options.klt_window_px),
-      fb_win_(options.fb_window_px, options.fb_window_px),
+      forward_klt_(klt_options(options, options.klt_window_px)),
+      backward_klt_(klt_options(options, options.fb_window_px)),
+      pyramid_border_(LucasKanade::border_for(std::max(options.klt_window_px, options.fb_window_px))),
       max_level_(options.klt_pyramid_levels - 1),
-      fb_max_level_(options.fb_pyramid_levels - 1),
-      criteria_(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.klt_max_iterations, options.klt_epsilon_px) {
-  options_.Check();
-}
+      fb_max_level_(options.fb_pyramid_levels - 1) {}
 
 void FeatureTracker::reset() {
   have_last_motion_ = false;
@@ -41,10 +51,9 @@ TrackStepResult FeatureTracker::track_frame(const cv::Mat& image) {
   if (has_reference() && image.size() != image_size_) reset();
   image_size_ = image.size();
 
-  // One pyramid per frame, with derivatives, copied (never referencing the
-  // caller's buffer, which may be an LCM message that goes away).
-  cv::buildOpticalFlowPyramid(image, curr_pyramid_, win_, max_level_, true, cv::BORDER_REFLECT_101,
-                              cv::BORDER_CONSTANT, false);
+  // One pyramid per frame, copied as float (never referencing the caller's
+  // buffer, which may be an LCM message that goes away).
+  curr_pyramid_.build(image, max_level_ + 1, pyramid_border_);
   if (!has_reference()) {
     result.first_frame = true;
     features_.clear();
@@ -56,7 +65,7 @@ TrackStepResult FeatureTracker::track_frame(const cv::Mat& image) {
 
 void FeatureTracker::prepare_next(const cv::Mat& image, TrackStepResult& result) {
   replenish(image, result);
-  std::swap(prev_pyramid_, curr_pyramid_);
+  prev_pyramid_.swap(curr_pyramid_);
   result.features_after = static_cast<int>(features_.size());
 }
 
@@ -68,7 +77,7 @@ int FeatureTracker::usable_levels(const cv::Point2f& p) const {
   // its window (half_win pixels there, half_win * 2^L at full resolution)
   // stays inside the image.
   const float d = std::min(std::min(p.x, p.y), std::min(image_size_.width - 1 - p.x, image_size_.height - 1 - p.y));
-  const float half_win = static_cast<float>(win_.width / 2);
+  const float half_win = static_cast<float>(options_.klt_window_px / 2);
   int level = 0;
   while (level < max_level_ && d >= half_win * static_cast<float>(2 << level)) ++level;
   return level;
@@ -110,33 +119,24 @@ bool FeatureTracker::fit_motion(double fb_sq, cv::Matx23d* motion) const {
 }
 
 void FeatureTracker::track_group(int max_level, const cv::Matx23d* motion) {
-  group_prev_.clear();
-  group_curr_.clear();
+  const int back_level = std::min(max_level, fb_max_level_);
   for (size_t i : group_index_) {
-    const cv::Point2f& p = features_[i].px;
-    group_prev_.push_back(p);
-    group_curr_.push_back(motion ? cv::Point2f(static_cast<float>((*motion)(0, 0) * p.x + (*motion)(0, 1) * p.y + (*motion)(0, 2)),
-                                               static_cast<float>((*motion)(1, 0) * p.x + (*motion)(1, 1) * p.y + (*motion)(1, 2)))
-                                 : p);
-  }
-  cv::calcOpticalFlowPyrLK(prev_pyramid_, curr_pyramid_, group_prev_, group_curr_, group_status_fwd_, group_error_, win_,
-                           max_level, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, options_.klt_min_eig_threshold);
-  // Backward pass starts from the original positions: a consistent track
-  // returns there in a few iterations.
-  group_back_ = group_prev_;
-  // No error output: the patch check uses the forward pass's, and leaving
-  // it out spares OpenCV a pass over every window (same positions, status).
-  cv::calcOpticalFlowPyrLK(curr_pyramid_, prev_pyramid_, group_curr_, group_back_, group_status_bwd_, cv::noArray(),
-                           fb_win_, std::min(max_level, fb_max_level_), criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
-                           options_.klt_min_eig_threshold);
-  for (size_t g = 0; g < group_index_.size(); ++g) {
-    const size_t i = group_index_[g];
-    prev_pts_[i] = group_prev_[g];
-    curr_pts_[i] = group_curr_[g];
-    back_pts_[i] = group_back_[g];
-    status_fwd_[i] = group_status_fwd_[g];
-    status_bwd_[i] = group_status_bwd_[g];
-    patch_error_[i] = group_error_[g];
+    const cv::Point2f p = features_[i].px;
+    cv::Point2f c = motion ? cv::Point2f(static_cast<float>((*motion)(0, 0) * p.x + (*motion)(0, 1) * p.y + (*motion)(0, 2)),
+                                         static_cast<float>((*motion)(1, 0) * p.x + (*motion)(1, 1) * p.y + (*motion)(1, 2)))
+                           : p;
+    float error = 0.f;
+    const bool forward = forward_klt_.track(prev_pyramid_, curr_pyramid_, p, &c, max_level, &error);
+    // Backward from the original position: a consistent track returns there
+    // in a few iterations. A track lost forward is not followed back.
+    cv::Point2f back = p;
+    const bool backward = forward && backward_klt_.track(curr_pyramid_, prev_pyramid_, c, &back, back_level, nullptr);
+    prev_pts_[i] = p;
+    curr_pts_[i] = c;
+    back_pts_[i] = back;
+    status_fwd_[i] = forward;
+    status_bwd_[i] = backward;
+    patch_error_[i] = error;
     level_used_[i] = max_level;
   }
 }

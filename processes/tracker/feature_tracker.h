@@ -6,8 +6,8 @@
 // frame and used for the forward pass, the backward pass and, as the previous
 // pyramid, for the next frame.
 //
-// Deterministic: no randomness, no clock; KLT works point by point, so the
-// result does not depend on OpenCV's thread count.
+// Deterministic: no randomness, no clock, no threads; KLT (lucas_kanade.h)
+// gives the same bits on every instruction set.
 
 #include <opencv2/core.hpp>
 
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "processes/tracker/grid_corner_detector.h"
+#include "processes/tracker/lucas_kanade.h"
 #include "processes/tracker/tracker_options.h"
 
 namespace nadir {
@@ -89,15 +90,15 @@ class FeatureTracker {
 
   TrackerOptions options_;
   GridCornerDetector detector_;
-  cv::Size win_;
-  cv::Size fb_win_;
+  LucasKanade forward_klt_;
+  LucasKanade backward_klt_;
+  int pyramid_border_;
   int max_level_;
   int fb_max_level_;
-  cv::TermCriteria criteria_;
   int64_t next_id_ = 1;
   std::vector<Feature> features_;
-  std::vector<cv::Mat> prev_pyramid_;
-  std::vector<cv::Mat> curr_pyramid_;
+  LkPyramid prev_pyramid_;
+  LkPyramid curr_pyramid_;
   cv::Size image_size_;
   bool have_last_motion_ = false;
   cv::Matx23d last_motion_;  // affine prev -> curr of the last tracked pair
@@ -107,9 +108,7 @@ class FeatureTracker {
   std::vector<uchar> status_fwd_, status_bwd_;
   std::vector<int> usable_level_, level_used_;  // per feature; level_used_ -1: not tracked yet
   std::vector<size_t> group_index_;
-  std::vector<cv::Point2f> group_prev_, group_curr_, group_back_;
-  std::vector<uchar> group_status_fwd_, group_status_bwd_;
-  std::vector<float> group_error_, patch_error_, patch_errors_sorted_;
+  std::vector<float> patch_error_, patch_errors_sorted_;
 };
 
 }  // namespace nadir
