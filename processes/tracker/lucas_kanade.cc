@@ -49,6 +49,18 @@ struct BilinearWeights {
       : w00((1.f - a) * (1.f - b)), w01(a * (1.f - b)), w10((1.f - a) * b), w11(a * b) {}
 };
 
+// Eight consecutive bilinear samples starting at column c of the row pair
+// (p0, p1). Written through a pointer: a vector returned by value would
+// depend on the vector ABI of the caller's target.
+__attribute__((always_inline)) inline void bilinear8(const float* p0, const float* p1, int c, const BilinearWeights& w, Lanes8* out) {
+  Lanes8 a, b, cc, d;
+  std::memcpy(&a, p0 + c, sizeof a);
+  std::memcpy(&b, p0 + c + 1, sizeof b);
+  std::memcpy(&cc, p1 + c, sizeof cc);
+  std::memcpy(&d, p1 + c + 1, sizeof d);
+  *out = a * w.w00 + b * w.w01 + cc * w.w10 + d * w.w11;
+}
+
 // Bilinear samples of `rows` x (8 * blocks) pixels starting at `src` (the
 // top-left integer pixel) into `dst` (rows of 8 * blocks floats).
 NADIR_LK_CLONES
@@ -57,12 +69,8 @@ void sample_block_rows(const float* src, size_t stride, int rows, int blocks, co
     const float* p0 = src + static_cast<size_t>(r) * stride;
     const float* p1 = p0 + stride;
     for (int k = 0; k < blocks; ++k) {
-      Lanes8 a, b, c, d;
-      std::memcpy(&a, p0 + k * kLanes, sizeof a);
-      std::memcpy(&b, p0 + k * kLanes + 1, sizeof b);
-      std::memcpy(&c, p1 + k * kLanes, sizeof c);
-      std::memcpy(&d, p1 + k * kLanes + 1, sizeof d);
-      const Lanes8 v = a * w.w00 + b * w.w01 + c * w.w10 + d * w.w11;
+      Lanes8 v;
+      bilinear8(p0, p1, k * kLanes, w, &v);
       std::memcpy(dst + (static_cast<size_t>(r) * blocks + k) * kLanes, &v, sizeof v);
     }
   }
@@ -73,22 +81,19 @@ void sample_block_rows(const float* src, size_t stride, int rows, int blocks, co
 // fraction. Padding lanes have zero gradient and add nothing.
 NADIR_LK_CLONES
 void mismatch_sums(const float* j, size_t stride, const float* templ, const float* grad_x, const float* grad_y,
-                   int rows, int blocks, float w00, float w01, float w10, float w11, float* sum_x, float* sum_y) {
+                   int rows, int blocks, const BilinearWeights& w, float* sum_x, float* sum_y) {
   Lanes8 sx = {}, sy = {};
   for (int r = 0; r < rows; ++r) {
     const float* p0 = j + static_cast<size_t>(r) * stride;
     const float* p1 = p0 + stride;
     const size_t row = static_cast<size_t>(r) * static_cast<size_t>(blocks) * kLanes;
     for (int k = 0; k < blocks; ++k) {
-      Lanes8 a, b, c, d, t, gx, gy;
-      std::memcpy(&a, p0 + k * kLanes, sizeof a);
-      std::memcpy(&b, p0 + k * kLanes + 1, sizeof b);
-      std::memcpy(&c, p1 + k * kLanes, sizeof c);
-      std::memcpy(&d, p1 + k * kLanes + 1, sizeof d);
+      Lanes8 v, t, gx, gy;
+      bilinear8(p0, p1, k * kLanes, w, &v);
       std::memcpy(&t, templ + row + k * kLanes, sizeof t);
       std::memcpy(&gx, grad_x + row + k * kLanes, sizeof gx);
       std::memcpy(&gy, grad_y + row + k * kLanes, sizeof gy);
-      const Lanes8 diff = a * w00 + b * w01 + c * w10 + d * w11 - t;
+      const Lanes8 diff = v - t;
       sx += diff * gx;
       sy += diff * gy;
     }
@@ -159,14 +164,11 @@ void abs_difference_sums(const float* j, size_t stride, const float* templ, cons
     const size_t row = static_cast<size_t>(r) * static_cast<size_t>(blocks) * kLanes;
     for (int k = 0; k < blocks; ++k) {
       const int c = k * kLanes;
-      Lanes8 a, b, cc, d, t, mask, abs_diff;
-      std::memcpy(&a, p0 + c, sizeof a);
-      std::memcpy(&b, p0 + c + 1, sizeof b);
-      std::memcpy(&cc, p1 + c, sizeof cc);
-      std::memcpy(&d, p1 + c + 1, sizeof d);
+      Lanes8 v, t, mask, abs_diff;
+      bilinear8(p0, p1, c, w, &v);
       std::memcpy(&t, templ + row + c, sizeof t);
       std::memcpy(&mask, mask_lanes + c, sizeof mask);
-      const Lanes8 diff = a * w.w00 + b * w.w01 + cc * w.w10 + d * w.w11 - t;
+      const Lanes8 diff = v - t;
       Bits8 bits;
       std::memcpy(&bits, &diff, sizeof bits);
       bits &= magnitude;
@@ -308,8 +310,7 @@ bool LucasKanade::track(const LkPyramid& prev, const LkPyramid& curr, cv::Point2
       const BilinearWeights w(next_corner.x - static_cast<float>(ix), next_corner.y - static_cast<float>(iy));
       float bx = 0.f, by = 0.f;
       mismatch_sums(curr.origin(level) + static_cast<ptrdiff_t>(iy) * static_cast<ptrdiff_t>(stride) + ix, stride,
-                    templ_.data(), grad_x_.data(), grad_y_.data(), window_, blocks_, w.w00, w.w01, w.w10, w.w11, &bx,
-                    &by);
+                    templ_.data(), grad_x_.data(), grad_y_.data(), window_, blocks_, w, &bx, &by);
       const cv::Point2f delta(static_cast<float>((a12_ * by - a22_ * bx) * inv_det),
                               static_cast<float>((a12_ * bx - a11_ * by) * inv_det));
       next_corner += delta;

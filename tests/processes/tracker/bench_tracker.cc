@@ -4,11 +4,16 @@
 //   BM_FeatureTracker: the algorithm (pyramid, KLT forward+backward, replenish)
 //   BM_TrackerNode:    the whole image_t -> tracks_t path (checks, undistortion,
 //                      LCM encoding) minus the transport.
+//   BM_Klt*, BM_Pyramid*: one KLT pass (450 corners, 21x21, 3 levels, from
+//                      their own position) and one pyramid, OpenCV's against
+//                      lucas_kanade.h's, on a pair of frames.
 // Each on two image sources: `synthetic` (a generated texture, above) and
 // `sim_test1` (the simulator's renderer along the test1 profile: what replay
 // of a simulated flight costs; its terrain texture makes KLT work harder).
 #include <benchmark/benchmark.h>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
 
 #include <vector>
 
@@ -18,6 +23,7 @@
 #include "processes/sim/renderer.h"
 #include "processes/sim/sim_camera.h"
 #include "processes/tracker/feature_tracker.h"
+#include "processes/tracker/lucas_kanade.h"
 #include "processes/tracker/tracker_node.h"
 #include "synthetic_scene.h"
 
@@ -122,5 +128,71 @@ void BM_TrackerNode(benchmark::State& state, FrameSource source) {
 }
 BENCHMARK_CAPTURE(BM_TrackerNode, synthetic, frames)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_TrackerNode, sim_test1, sim_frames)->Unit(benchmark::kMillisecond);
+
+// 450 corners of frame 0 of `source`, tracked into frame 1.
+struct KltJob {
+  cv::Mat prev, curr;
+  std::vector<cv::Point2f> points;
+};
+
+KltJob klt_job(FrameSource source) {
+  KltJob job{source()[0], source()[1], {}};
+  cv::goodFeaturesToTrack(job.prev, job.points, 450, 0.01, 10, cv::noArray(), 3, true, 0.04);
+  return job;
+}
+
+const cv::TermCriteria kCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
+
+void BM_KltOpenCv(benchmark::State& state, FrameSource source) {
+  cv::setNumThreads(1);
+  const KltJob job = klt_job(source);
+  std::vector<cv::Mat> prev, curr;
+  cv::buildOpticalFlowPyramid(job.prev, prev, cv::Size(21, 21), 2, true);
+  cv::buildOpticalFlowPyramid(job.curr, curr, cv::Size(21, 21), 2, true);
+  std::vector<cv::Point2f> next;
+  std::vector<uchar> status;
+  std::vector<float> error;
+  for (auto _ : state) {
+    cv::calcOpticalFlowPyrLK(prev, curr, job.points, next, status, error, cv::Size(21, 21), 2, kCriteria, 0, 1e-4);
+    benchmark::DoNotOptimize(next.data());
+  }
+}
+BENCHMARK_CAPTURE(BM_KltOpenCv, sim_test1, sim_frames)->Unit(benchmark::kMillisecond);
+
+void BM_KltNadir(benchmark::State& state, FrameSource source) {
+  const KltJob job = klt_job(source);
+  const int border = nadir::LucasKanade::border_for(21);
+  nadir::LkPyramid prev, curr;
+  prev.build(job.prev, 3, border);
+  curr.build(job.curr, 3, border);
+  nadir::LucasKanade klt{nadir::LkOptions{}};
+  std::vector<cv::Point2f> next(job.points.size());
+  std::vector<float> error(job.points.size());
+  for (auto _ : state) {
+    for (size_t i = 0; i < job.points.size(); ++i) {
+      next[i] = job.points[i];
+      klt.track(prev, curr, job.points[i], &next[i], 2, &error[i]);
+    }
+    benchmark::DoNotOptimize(next.data());
+  }
+}
+BENCHMARK_CAPTURE(BM_KltNadir, sim_test1, sim_frames)->Unit(benchmark::kMillisecond);
+
+void BM_PyramidOpenCv(benchmark::State& state, FrameSource source) {
+  cv::setNumThreads(1);
+  const cv::Mat image = source()[0];
+  std::vector<cv::Mat> pyramid;
+  for (auto _ : state) cv::buildOpticalFlowPyramid(image, pyramid, cv::Size(21, 21), 2, true, cv::BORDER_REFLECT_101,
+                                                   cv::BORDER_CONSTANT, false);
+}
+BENCHMARK_CAPTURE(BM_PyramidOpenCv, sim_test1, sim_frames)->Unit(benchmark::kMicrosecond);
+
+void BM_PyramidNadir(benchmark::State& state, FrameSource source) {
+  cv::setNumThreads(1);
+  const cv::Mat image = source()[0];
+  nadir::LkPyramid pyramid;
+  for (auto _ : state) pyramid.build(image, 3, nadir::LucasKanade::border_for(21));
+}
+BENCHMARK_CAPTURE(BM_PyramidNadir, sim_test1, sim_frames)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

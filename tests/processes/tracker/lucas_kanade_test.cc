@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <vector>
@@ -158,6 +159,77 @@ TEST(LucasKanade, EachPointsResultIsIndependentOfTheOthers) {
   EXPECT_EQ(oka, okb);
   EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof a[0]), 0);
   EXPECT_EQ(std::memcmp(ea.data(), eb.data(), ea.size() * sizeof ea[0]), 0);
+}
+
+// An 8-bit texture made with integer arithmetic only (hashed noise, box
+// filters, block means), so that the images are the same on every machine:
+// the 4x-resolution texture seen through 4x4 block means, moved by `shift_q`
+// quarter pixels.
+cv::Mat integer_texture_view(cv::Size size, cv::Point shift_q) {
+  const int fine_w = (size.width + 8) * 4, fine_h = (size.height + 8) * 4;
+  std::vector<int32_t> fine(static_cast<size_t>(fine_w) * static_cast<size_t>(fine_h));
+  for (int y = 0; y < fine_h; ++y)
+    for (int x = 0; x < fine_w; ++x) {
+      uint32_t h = static_cast<uint32_t>(x / 6) * 73856093u ^ static_cast<uint32_t>(y / 6) * 19349663u;
+      h ^= h >> 13;
+      h *= 0x5bd1e995u;
+      h ^= h >> 15;
+      fine[static_cast<size_t>(y) * static_cast<size_t>(fine_w) + static_cast<size_t>(x)] = static_cast<int32_t>(h & 255u);
+    }
+  cv::Mat view(size, CV_8UC1);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      int32_t sum = 0;
+      for (int dy = 0; dy < 12; ++dy)
+        for (int dx = 0; dx < 12; ++dx)
+          sum += fine[static_cast<size_t>(y * 4 + 16 + shift_q.y + dy) * static_cast<size_t>(fine_w) +
+                      static_cast<size_t>(x * 4 + 16 + shift_q.x + dx)];
+      view.at<uint8_t>(y, x) = static_cast<uint8_t>(sum / 144);
+    }
+  return view;
+}
+
+// The same bits on every machine: a digest of every output bit of a fixed
+// job. CI runs this in the normal build (on x86-64 with AVX2 the cloned
+// loops run on AVX2) and in the sanitizer build (no clones: SSE2), so both
+// code paths are held to the recorded value.
+TEST(LucasKanade, OutputBitsMatchTheRecordedDigest) {
+  const cv::Size size(160, 128);
+  const cv::Mat a = integer_texture_view(size, {0, 0});
+  const cv::Mat b = integer_texture_view(size, {7, -5});  // (1.75, -1.25) px
+  LkPyramid prev, curr;
+  prev.build(a, 3, LucasKanade::border_for(21));
+  curr.build(b, 3, LucasKanade::border_for(21));
+  LucasKanade forward{LkOptions{}};
+  LkOptions back_options;
+  back_options.window_px = 8;
+  LucasKanade backward{back_options};
+  uint64_t digest = 1469598103934665603ull;  // FNV-1a
+  auto mix = [&digest](const void* data, size_t n) {
+    for (size_t i = 0; i < n; ++i) digest = (digest ^ static_cast<const uint8_t*>(data)[i]) * 1099511628211ull;
+  };
+  int tracked = 0;
+  double worst = 0;
+  for (int y = 4; y < size.height; y += 8)
+    for (int x = 4; x < size.width; x += 8) {
+      const cv::Point2f p(static_cast<float>(x) + 0.3f, static_cast<float>(y) + 0.6f);
+      cv::Point2f next = p, back = p;
+      float error = 0.f;
+      const uint8_t ok = forward.track(prev, curr, p, &next, 2, &error);
+      const uint8_t ok_back = backward.track(curr, prev, next, &back, 1, nullptr);
+      mix(&ok, 1);
+      mix(&ok_back, 1);
+      mix(&next, sizeof next);
+      mix(&back, sizeof back);
+      mix(&error, sizeof error);
+      if (ok && x > 24 && y > 24 && x < size.width - 24 && y < size.height - 24) {
+        ++tracked;
+        worst = std::max(worst, static_cast<double>(cv::norm(next - p - cv::Point2f(-1.75f, 1.25f))));
+      }
+    }
+  EXPECT_GT(tracked, 100);
+  EXPECT_LT(worst, 0.2);  // a sane job: block means are not an exact shift
+  EXPECT_EQ(digest, 0x9f35d96e70d220f1ull) << std::hex << "digest 0x" << digest;
 }
 
 }  // namespace
