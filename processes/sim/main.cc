@@ -127,7 +127,10 @@ int run_snapshot(const Arguments& args, nadir::sim::Simulator& sim) {
   return 0;
 }
 
-int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us) {
+// `epoch_us` (vehicle time of t = 0) and `start_mono` (the monotonic clock at
+// t = 0) were taken together: message due times come from them, not from
+// when this function got going.
+int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us, int64_t start_mono) {
   nadir::LcmBusOptions bus_options;
   bus_options.url = args.lcm_url;
   nadir::LcmBus bus(bus_options);
@@ -136,8 +139,7 @@ int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us
   // Render ahead so each message leaves at its due time (a real camera does
   // not take a render time to deliver a frame).
   nadir::sim::RenderAhead ahead(sim, 256, args.render_nice);
-  const int64_t start_mono = nadir::monotonic_now_us();
-  int64_t next_status = start_mono;
+  int64_t next_status = nadir::monotonic_now_us();
   int64_t published = 0;
   auto send_status = [&](int8_t state) {
     nadir::StatusReport report;
@@ -253,9 +255,15 @@ int main(int argc, char** argv) {
     if (args.snapshot_s >= 0) return run_snapshot(args, sim);
     if (args.live) {
       sim.warm_up();  // the first view's texture, before the live clock starts
-      const int64_t epoch = nadir::vehicle_time_now_us();
+      // t = 0 lies a little ahead, so that the bus and the render-ahead
+      // thread are up and the first frame is rendered when the first message
+      // is due. Taken when the clock started after that set-up instead, the
+      // epoch made every message leave ~1.3 ms after its sensor time.
+      const int64_t lead_us = 200000;
+      const int64_t epoch = nadir::vehicle_time_now_us() + lead_us;
+      const int64_t start_mono = nadir::monotonic_now_us() + lead_us;
       sim.set_epoch(epoch);
-      return run_live(args, sim, epoch);
+      return run_live(args, sim, epoch, start_mono);
     }
     return run_log(args, sim);
   } catch (const std::exception& e) {

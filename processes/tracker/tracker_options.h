@@ -33,10 +33,9 @@ struct TrackerOptions {
   double min_harris_response = 1e-7;
 
   // --- Pyramidal Lucas-Kanade ---
-  // Square window. Any size >= 5 works; OpenCV 4.6's SIMD loops take 8
-  // pixels (iterations) and 4 (window set-up) at a time and the rest one by
-  // one, so a multiple of 8 costs less per pixel: 24 costs 10 % fewer
-  // instructions per frame than 21 (README.md). 21 is the default.
+  // Square window. Any size >= 5 works; lucas_kanade.cc processes window
+  // rows in blocks of 8 pixels, so a size costs what the next multiple of 8
+  // costs (21 as much as 24). 21 is the default.
   int klt_window_px = 21;
   int klt_pyramid_levels = 3;       // levels including full resolution
   int klt_max_iterations = 30;
@@ -59,12 +58,12 @@ struct TrackerOptions {
   // forward pass's start point, so a consistent track converges at once; the
   // coarse levels only widen the search for where a wrong match came from.
   // 2 levels (+-20 px) caught the same occlusion errors as 3 in the tests
-  // and save ~0.7 ms of the ~5 ms per frame (README.md, benchmark).
+  // at less cost (benchmark BM_FeatureTracker/synthetic/N).
   int fb_pyramid_levels = 2;
   // Window of the backward pass. It only has to confirm a match it starts
-  // next to, so a much smaller window than the forward pass's does: 8 (a
-  // multiple of 8, see klt_window_px) rejects every occluded track in the
-  // tests and costs 11 % fewer instructions per frame than 13.
+  // next to, so a much smaller window than the forward pass's does: 8 (one
+  // block, see klt_window_px) rejects every occluded track in the tests and
+  // cost 11 % fewer instructions per frame than 13.
   int fb_window_px = 8;
   // Photometric check: a track is dropped when its KLT patch error (mean
   // absolute grey difference over the window) exceeds

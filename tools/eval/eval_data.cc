@@ -71,7 +71,13 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
       }
     } else if (e.channel == channels::kStatus) {
       status_t s;
-      if (decode(e, &s)) data.last_status[s.name] = s;
+      if (decode(e, &s)) {
+        data.last_status[s.name] = s;
+        if (s.latency_max_ms > 0.f) {
+          data.publish_p50_ms[s.name].push_back(s.latency_p50_ms);
+          data.publish_p99_ms[s.name].push_back(s.latency_p99_ms);
+        }
+      }
     } else if (truth_here && e.channel == channels::kGroundTruth) {
       ground_truth_t t;
       if (decode(e, &t)) data.truth.push_back(t);

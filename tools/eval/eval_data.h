@@ -25,6 +25,9 @@ struct EvalData {
   int64_t vo_deltas_flagged = 0;
   int64_t corrupt_records = 0;
   std::map<std::string, status_t> last_status;  // per process name
+  // Per process, the publish latency (sensor time -> publish, measured by the
+  // process) of every 1 s STATUS period that published anything: p50s, p99s.
+  std::map<std::string, std::vector<float>> publish_p50_ms, publish_p99_ms;
   // Logger receive time - sensor time, ms, per pipeline stage (live captures).
   std::map<std::string, std::vector<float>> stage_latency_ms;
 };
