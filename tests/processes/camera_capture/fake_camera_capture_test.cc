@@ -95,6 +95,13 @@ void run_for(CameraCapture& capture, LcmBus& bus, double seconds) {
   }
 }
 
+// Runs until `received` holds `count` images, or for 2 s at most: a test
+// that keeps one trigger outstanding at a time.
+void run_until_images(CameraCapture& capture, LcmBus& bus, const Received& received, size_t count) {
+  const int64_t deadline = monotonic_now_us() + s_to_us(2.0);
+  while (received.images.size() < count && monotonic_now_us() < deadline) run_for(capture, bus, 0.005);
+}
+
 std::unique_ptr<LcmBus> memq_bus() {
   LcmBusOptions o;
   o.url = "memq://";
@@ -115,6 +122,10 @@ TEST(FakeCameraCapture, SoftwareTriggeredFramesCarryPatternAndScriptedTriggerTim
   ScriptedTriggerSource* edges = scripted.get();
   CaptureOptions options = base_options(fake.device_id());
   options.timing.trigger_delay_us = 40;
+  // One trigger is outstanding at a time (below), so a frame the loaded
+  // machine delivers late (the first after the stream starts has taken
+  // 100 ms in a ctest -j2 run) still has only its own edge in the window.
+  options.association.max_latency_us = 500000;
   CameraCapture capture(options, *bus, std::move(scripted));
   std::vector<TriggerEdge> emitted;
   capture.set_software_trigger_hook([&](int64_t now) { emitted.push_back(edges->emit(now)); });
@@ -128,6 +139,7 @@ TEST(FakeCameraCapture, SoftwareTriggeredFramesCarryPatternAndScriptedTriggerTim
   const int kFrames = 12;
   for (int i = 0; i < kFrames; ++i) {
     capture.request_software_trigger();
+    run_until_images(capture, *bus, received, static_cast<size_t>(i + 1));
     run_for(capture, *bus, 0.1);
   }
   run_for(capture, *bus, 0.3);
@@ -208,12 +220,15 @@ TEST(FakeCameraCapture, LogFramesArriveByteForByte) {
   subscribe_all(*bus, &received);
   auto scripted = std::make_unique<ScriptedTriggerSource>();
   ScriptedTriggerSource* edges = scripted.get();
-  CameraCapture capture(base_options(fake.device_id()), *bus, std::move(scripted));
+  CaptureOptions options = base_options(fake.device_id());
+  options.association.max_latency_us = 500000;  // one trigger outstanding at a time, as above
+  CameraCapture capture(options, *bus, std::move(scripted));
   capture.set_software_trigger_hook([&](int64_t now) { edges->emit(now); });
   capture.connect();
   run_for(capture, *bus, 0.3);
   for (int k = 0; k < 5; ++k) {
     capture.request_software_trigger();
+    run_until_images(capture, *bus, received, static_cast<size_t>(k + 1));
     run_for(capture, *bus, 0.1);
   }
   run_for(capture, *bus, 0.3);
@@ -246,8 +261,7 @@ TEST(FakeCameraCapture, HostTriggeredFramesAreTimedByTheCameraClock) {
     // The fake camera latches a trigger until its thread's next tick, so
     // two triggers within one stall of that thread (a loaded CI machine)
     // make one frame: each frame is in before the next trigger.
-    const int64_t deadline = monotonic_now_us() + s_to_us(1.0);
-    while (received.images.size() < fired.size() && monotonic_now_us() < deadline) run_for(capture, *bus, 0.005);
+    run_until_images(capture, *bus, received, fired.size());
     run_for(capture, *bus, 1.0 / 14);
   }
   run_for(capture, *bus, 0.3);
