@@ -122,9 +122,9 @@ void FeatureTracker::track_group(int max_level, const cv::Matx23d* motion) {
   const int back_level = std::min(max_level, fb_max_level_);
   for (size_t i : group_index_) {
     const cv::Point2f p = features_[i].px;
-    cv::Point2f c = motion ? cv::Point2f(static_cast<float>((*motion)(0, 0) * p.x + (*motion)(0, 1) * p.y + (*motion)(0, 2)),
-                                         static_cast<float>((*motion)(1, 0) * p.x + (*motion)(1, 1) * p.y + (*motion)(1, 2)))
-                           : p;
+    const cv::Matx23d& m = motion ? *motion : cv::Matx23d(1, 0, 0, 0, 1, 0);
+    cv::Point2f c(static_cast<float>(m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2)),
+                  static_cast<float>(m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)));
     float error = 0.f;
     const bool forward = forward_klt_.track(prev_pyramid_, curr_pyramid_, p, &c, max_level, &error);
     // Backward from the original position: a consistent track returns there

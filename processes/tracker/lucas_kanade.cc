@@ -21,7 +21,8 @@ constexpr int kLanes = 8;
 // arithmetic in program order: the same bits on every target.
 typedef float Lanes8 __attribute__((vector_size(kLanes * sizeof(float))));
 
-// On x86-64 the iteration loop also gets an AVX2 clone, chosen at load time.
+// On x86-64 the window loops also get an AVX2 clone, chosen at load time
+// (not under AddressSanitizer, so that build runs the plain code path).
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
 #define NADIR_LK_CLONES __attribute__((target_clones("avx2", "default")))
 #else
@@ -52,7 +53,8 @@ struct BilinearWeights {
 // Eight consecutive bilinear samples starting at column c of the row pair
 // (p0, p1). Written through a pointer: a vector returned by value would
 // depend on the vector ABI of the caller's target.
-__attribute__((always_inline)) inline void bilinear8(const float* p0, const float* p1, int c, const BilinearWeights& w, Lanes8* out) {
+__attribute__((always_inline)) inline void bilinear8(const float* p0, const float* p1, int c, const BilinearWeights& w,
+                                                    Lanes8* out) {
   Lanes8 a, b, cc, d;
   std::memcpy(&a, p0 + c, sizeof a);
   std::memcpy(&b, p0 + c + 1, sizeof b);
@@ -182,7 +184,8 @@ void abs_difference_sums(const float* j, size_t stride, const float* templ, cons
 }  // namespace
 
 void LkPyramid::build(const cv::Mat& image, int levels, int border) {
-  if (image.empty() || image.type() != CV_8UC1) throw std::invalid_argument("LkPyramid::build needs an 8-bit mono image");
+  if (image.empty() || image.type() != CV_8UC1)
+    throw std::invalid_argument("LkPyramid::build needs an 8-bit mono image");
   if (levels < 1 || border < 1) throw std::invalid_argument("LkPyramid::build: levels and border must be >= 1");
   border_ = border;
   levels_.resize(static_cast<size_t>(levels));
@@ -244,8 +247,8 @@ bool LucasKanade::load_template(const LkPyramid& prev, int level, cv::Point2f co
   const BilinearWeights w(corner.x - static_cast<float>(ix), corner.y - static_cast<float>(iy));
   sample_block_rows(src, stride, window_ + 2, patch_cols_ / kLanes, w, patch_.data());
   float lane_sums[3 * kLanes];
-  template_gradients(patch_.data(), static_cast<size_t>(patch_cols_), window_, blocks_, lane_mask_.data(), templ_.data(),
-                     grad_x_.data(), grad_y_.data(), lane_sums);
+  template_gradients(patch_.data(), static_cast<size_t>(patch_cols_), window_, blocks_, lane_mask_.data(),
+                     templ_.data(), grad_x_.data(), grad_y_.data(), lane_sums);
   a11_ = a12_ = a22_ = 0.0;
   for (int l = 0; l < kLanes; ++l) {
     a11_ += static_cast<double>(lane_sums[l]);

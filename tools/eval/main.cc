@@ -85,7 +85,8 @@ int main(int argc, char** argv) {
         if (p50 != data.publish_p50_ms.end()) {
           const std::vector<float>& p99 = data.publish_p99_ms.at(name);
           char text[128];
-          std::snprintf(text, sizeof text, "publish latency p50 %.1f ms, p99 %.1f ms (medians of 1 s periods; worst p99 %.1f ms)",
+          std::snprintf(text, sizeof text,
+                        "publish latency p50 %.1f ms, p99 %.1f ms (medians of 1 s periods; worst p99 %.1f ms)",
                         nadir::percentile(p50->second, 50), nadir::percentile(p99, 50),
                         *std::max_element(p99.begin(), p99.end()));
           latency = text;

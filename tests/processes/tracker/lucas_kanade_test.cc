@@ -174,7 +174,8 @@ cv::Mat integer_texture_view(cv::Size size, cv::Point shift_q) {
       h ^= h >> 13;
       h *= 0x5bd1e995u;
       h ^= h >> 15;
-      fine[static_cast<size_t>(y) * static_cast<size_t>(fine_w) + static_cast<size_t>(x)] = static_cast<int32_t>(h & 255u);
+      fine[static_cast<size_t>(y) * static_cast<size_t>(fine_w) + static_cast<size_t>(x)] =
+          static_cast<int32_t>(h & 255u);
     }
   cv::Mat view(size, CV_8UC1);
   for (int y = 0; y < size.height; ++y)
