@@ -10,8 +10,12 @@ namespace nadir {
 
 namespace {
 
-LkOptions klt_options(const TrackerOptions& options, int window_px) {
+const TrackerOptions& checked(const TrackerOptions& options) {
   options.Check();
+  return options;
+}
+
+LkOptions klt_options(const TrackerOptions& options, int window_px) {
   LkOptions o;
   o.window_px = window_px;
   o.max_iterations = options.klt_max_iterations;
@@ -23,7 +27,7 @@ LkOptions klt_options(const TrackerOptions& options, int window_px) {
 }  // namespace
 
 FeatureTracker::FeatureTracker(const TrackerOptions& options)
-    : options_(options),
+    : options_(checked(options)),
       detector_(options),
       forward_klt_(klt_options(options, options.klt_window_px)),
       backward_klt_(klt_options(options, options.fb_window_px)),

@@ -44,9 +44,15 @@ bool window_corner(cv::Point2f corner, int window, cv::Size size, int* ix, int* 
   return true;
 }
 
+// Weights of the four neighbours for a window whose top-left corner lies at
+// `corner`, in the pixel square starting at (ix, iy).
 struct BilinearWeights {
   float w00, w01, w10, w11;
-  explicit BilinearWeights(float a, float b)
+  BilinearWeights(cv::Point2f corner, int ix, int iy)
+      : BilinearWeights(corner.x - static_cast<float>(ix), corner.y - static_cast<float>(iy)) {}
+
+ private:
+  BilinearWeights(float a, float b)
       : w00((1.f - a) * (1.f - b)), w01(a * (1.f - b)), w10((1.f - a) * b), w11(a * b) {}
 };
 
@@ -244,7 +250,7 @@ bool LucasKanade::load_template(const LkPyramid& prev, int level, cv::Point2f co
   if (!window_corner(corner, window_, prev.size(level), &ix, &iy)) return false;
   const size_t stride = prev.stride(level);
   const float* src = prev.origin(level) + static_cast<ptrdiff_t>(iy - 1) * static_cast<ptrdiff_t>(stride) + (ix - 1);
-  const BilinearWeights w(corner.x - static_cast<float>(ix), corner.y - static_cast<float>(iy));
+  const BilinearWeights w(corner, ix, iy);
   sample_block_rows(src, stride, window_ + 2, patch_cols_ / kLanes, w, patch_.data());
   float lane_sums[3 * kLanes];
   template_gradients(patch_.data(), static_cast<size_t>(patch_cols_), window_, blocks_, lane_mask_.data(),
@@ -260,7 +266,7 @@ bool LucasKanade::load_template(const LkPyramid& prev, int level, cv::Point2f co
 
 float LucasKanade::mean_abs_difference(const LkPyramid& curr, int level, cv::Point2f corner, int ix, int iy) const {
   const size_t stride = curr.stride(level);
-  const BilinearWeights w(corner.x - static_cast<float>(ix), corner.y - static_cast<float>(iy));
+  const BilinearWeights w(corner, ix, iy);
   float lane_sums[kLanes];
   abs_difference_sums(curr.origin(level) + static_cast<ptrdiff_t>(iy) * static_cast<ptrdiff_t>(stride) + ix, stride,
                       templ_.data(), lane_mask_.data(), window_, blocks_, w, lane_sums);
@@ -310,7 +316,7 @@ bool LucasKanade::track(const LkPyramid& prev, const LkPyramid& curr, cv::Point2
         }
         break;
       }
-      const BilinearWeights w(next_corner.x - static_cast<float>(ix), next_corner.y - static_cast<float>(iy));
+      const BilinearWeights w(next_corner, ix, iy);
       float bx = 0.f, by = 0.f;
       mismatch_sums(curr.origin(level) + static_cast<ptrdiff_t>(iy) * static_cast<ptrdiff_t>(stride) + ix, stride,
                     templ_.data(), grad_x_.data(), grad_y_.data(), window_, blocks_, w, &bx, &by);

@@ -14,7 +14,7 @@
 // Reproducible bit for bit on any instruction set: every lane adds its terms
 // in a fixed order, the lanes are added in a fixed order, and nothing is
 // fused (the file is built with -ffp-contract=off), so the AVX2 clone of the
-// iteration loop and the SSE2 (or NEON) code give identical results.
+// window loops and the SSE2 (or NEON) code give identical results.
 
 #include <opencv2/core.hpp>
 
@@ -72,8 +72,6 @@ class LucasKanade {
   // absolute grey-level difference between the two windows at the end.
   bool track(const LkPyramid& prev, const LkPyramid& curr, cv::Point2f prev_px, cv::Point2f* next_px, int max_level,
              float* patch_error);
-
-  const LkOptions& options() const { return options_; }
 
  private:
   // Samples the window around top-left `corner` of `prev` level `level` and
