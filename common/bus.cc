@@ -5,15 +5,10 @@
 
 namespace nadir {
 
-void Bus::note_malformed(const std::string& channel, size_t size, int decoded) {
+void Bus::note_malformed(const std::string& channel, size_t size, const std::string& reason) {
   ++errors_.malformed;
   std::ostringstream text;
-  text << "malformed message on " << channel << ": " << size << " bytes";
-  if (decoded < 0) {
-    text << " do not decode (wrong type or fingerprint)";
-  } else {
-    text << ", only " << decoded << " decoded";
-  }
+  text << "malformed message on " << channel << ": " << size << " bytes: " << reason;
   errors_.last_error = text.str();
 }
 

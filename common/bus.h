@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "common/message_guard.h"
+
 namespace nadir {
 
 // Counts of what went wrong while delivering messages on one bus.
@@ -35,15 +37,17 @@ class Bus {
   }
 
   // The handler sees only messages that decode; others are counted as
-  // malformed and reported, never passed on. A handler that throws is counted
-  // too, so one bad message cannot stop a process.
+  // malformed and reported, never passed on. Declared lengths are checked
+  // against the bytes before the decoder allocates anything, and a decoder
+  // that throws counts as malformed too. A handler that throws is counted,
+  // so one bad message cannot stop a process.
   template <class Msg>
   void subscribe(const std::string& channel, std::function<void(const Msg&)> handler) {
     subscribe_raw(channel, [this, handler](const std::string& ch, const uint8_t* data, size_t size) {
       Msg msg;
-      const int decoded = msg.decode(data, 0, static_cast<int>(size));
-      if (decoded < 0 || static_cast<size_t>(decoded) != size) {
-        note_malformed(ch, size, decoded);
+      std::string reason;
+      if (!decode_message(data, size, &msg, &reason)) {
+        note_malformed(ch, size, reason);
         return;
       }
       deliver_guarded(ch, [&] { handler(msg); });
@@ -53,7 +57,7 @@ class Bus {
   const BusErrorCounts& error_counts() const { return errors_; }
 
  protected:
-  void note_malformed(const std::string& channel, size_t size, int decoded);
+  void note_malformed(const std::string& channel, size_t size, const std::string& reason);
   void deliver_guarded(const std::string& channel, const std::function<void()>& call);
 
  private:

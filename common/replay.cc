@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "common/channels.h"
+#include "common/message_guard.h"
 #include "common/paths.h"
 #include "common/process_main.h"
 #include "common/progress.h"
@@ -60,11 +61,13 @@ namespace {
 bool is_replaced_bookkeeping(const LogEvent& event, const std::set<std::string>& node_names) {
   if (event.channel == channels::kConfig) {
     config_t msg;
-    return msg.decode(event.data, 0, static_cast<int>(event.size)) > 0 && node_names.count(msg.name) != 0;
+    std::string reason;
+    return decode_message(event.data, event.size, &msg, &reason) && node_names.count(msg.name) != 0;
   }
   if (event.channel == channels::kStatus) {
     status_t msg;
-    return msg.decode(event.data, 0, static_cast<int>(event.size)) > 0 && node_names.count(msg.name) != 0;
+    std::string reason;
+    return decode_message(event.data, event.size, &msg, &reason) && node_names.count(msg.name) != 0;
   }
   return false;
 }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "common/log_file.h"
+#include "common/message_guard.h"
 #include "nadir/image_t.hpp"
 
 namespace nadir {
@@ -23,11 +24,12 @@ LogFrameSource::LogFrameSource(const std::string& path, const std::string& chann
   image_t image;
   while (frames_.size() < max_frames && reader.next(&event)) {
     if (event.channel != channel) continue;
-    const int decoded = image.decode(event.data, 0, static_cast<int>(event.size));
+    std::string reason;
+    const bool decoded = decode_message(event.data, event.size, &image, &reason);
     const bool mono8 = image.pixel_format == image_t::PIXEL_MONO8;
     const bool mono16 = image.pixel_format == image_t::PIXEL_MONO16;
     const size_t bpp = mono16 ? 2 : 1;
-    if (decoded != static_cast<int>(event.size) || (!mono8 && !mono16) || image.width <= 0 || image.height <= 0 ||
+    if (!decoded || (!mono8 && !mono16) || image.width <= 0 || image.height <= 0 ||
         image.stride < image.width * static_cast<int>(bpp) ||
         static_cast<size_t>(image.size) < static_cast<size_t>(image.stride) * (image.height - 1) + image.width * bpp) {
       ++skipped_;

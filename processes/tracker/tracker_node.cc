@@ -10,10 +10,21 @@
 
 namespace nadir {
 
+namespace {
+// One frame confirms a frame far ahead of the stream (it is held until then).
+InputCheckOptions image_checks(const Config& root) {
+  InputCheckOptions checks = InputCheckOptions::from_config(root);
+  checks.relock_messages = 2;
+  return checks;
+}
+}  // namespace
+
 TrackerNode::TrackerNode(const Config& root, Bus& bus)
     : bus_(bus),
       options_(TrackerOptions::from_config(root)),
       camera_(CameraModel::from_config(root)),
+      gate_(image_checks(root)),
+      max_ahead_us_(static_cast<int64_t>(image_checks(root).max_ahead_s * 1e6)),
       tracker_(options_) {
   bus_.subscribe<image_t>(channels::kCameraImage, [this](const image_t& msg) { on_image(msg); });
 }
@@ -57,6 +68,26 @@ void TrackerNode::publish(tracks_t& out, const std::string& problem) {
 
 void TrackerNode::on_image(const image_t& msg) {
   ++received_;
+  if (!gate_.admit(channels::kCameraImage, msg)) {
+    // A frame far ahead of the stream waits for the next one: if that agrees
+    // with it, the camera really moved on (a gap) and both are tracked; if the
+    // next one continues the old stream, the held frame was a stray.
+    if (held_) ++dropped_;
+    held_ = std::make_unique<image_t>(msg);
+    return;
+  }
+  if (held_) {
+    std::unique_ptr<image_t> held = std::move(held_);
+    if (have_last_ && msg.utime > held->utime && msg.utime - last_utime_ > max_ahead_us_) {
+      track_image(*held);
+    } else {
+      ++dropped_;
+    }
+  }
+  track_image(msg);
+}
+
+void TrackerNode::track_image(const image_t& msg) {
   if (have_last_ && msg.utime <= last_utime_) {
     ++dropped_;
     ++out_of_order_;
@@ -209,6 +240,8 @@ StatusReport TrackerNode::status() const {
       {"few_features", static_cast<double>(few_features_)},
       {"last_flags", static_cast<double>(last_flags_)},
   };
+  gate_.add_counters(&r);
+  gate_.warn_if_rejecting(&r);
   return r;
 }
 

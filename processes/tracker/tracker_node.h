@@ -18,6 +18,7 @@
 #include "common/bus.h"
 #include "common/camera_model.h"
 #include "common/config.h"
+#include "common/input_checks.h"
 #include "common/node.h"
 #include "nadir/image_t.hpp"
 #include "nadir/tracks_t.hpp"
@@ -38,6 +39,7 @@ class TrackerNode : public Node {
 
   // The subscription handler; public so a benchmark can drive it directly.
   void on_image(const image_t& msg);
+  void track_image(const image_t& msg);
 
  private:
   tracks_t make_header(const image_t& msg) const;
@@ -49,6 +51,9 @@ class TrackerNode : public Node {
   Bus& bus_;
   TrackerOptions options_;
   CameraModel camera_;
+  InputGate gate_;
+  int64_t max_ahead_us_;
+  std::unique_ptr<image_t> held_;  // a frame far ahead of the stream, until the next one confirms it
   FeatureTracker tracker_;
   TrackEndNorms track_end_norms_;  // last frame's curr_norm: this frame's prev_norm
   cv::Mat convert_buffer_;

@@ -12,8 +12,8 @@ const char* const kQualityNames[7] = {"too_few_features", "no_altimeter",  "stal
                                       "no_attitude",      "frame_gap",     "high_residual"};
 }  // namespace
 
-VoSolverNode::VoSolverNode(const VoSolverOptions& options, Bus& bus)
-    : options_(options), bus_(bus), sync_(options.sync, options.default_beam_body) {
+VoSolverNode::VoSolverNode(const VoSolverOptions& options, Bus& bus, const InputCheckOptions& checks)
+    : options_(options), bus_(bus), sync_(options.sync, options.default_beam_body), gate_(checks) {
   bus_.subscribe<tracks_t>(channels::kTracks, [this](const tracks_t& m) { on_tracks(m); });
   bus_.subscribe<ins_t>(channels::kIns, [this](const ins_t& m) { on_ins(m); });
   bus_.subscribe<altimeter_t>(channels::kAltimeter, [this](const altimeter_t& m) { on_altimeter(m); });
@@ -23,18 +23,21 @@ std::vector<std::string> VoSolverNode::output_channels() const { return {channel
 
 void VoSolverNode::on_ins(const ins_t& ins) {
   ++received_;
+  if (!gate_.admit(channels::kIns, ins)) return;
   sync_.add_ins(ins);
   process_ready();
 }
 
 void VoSolverNode::on_altimeter(const altimeter_t& altimeter) {
   ++received_;
+  if (!gate_.admit(channels::kAltimeter, altimeter)) return;
   sync_.add_altimeter(altimeter);
   process_ready();
 }
 
 void VoSolverNode::on_tracks(const tracks_t& tracks) {
   ++received_;
+  if (!gate_.admit(channels::kTracks, tracks)) return;
   if (pending_.count(tracks.utime)) {
     ++duplicate_tracks_;  // the same frame twice: keep the first
     return;
@@ -183,11 +186,13 @@ StatusReport VoSolverNode::status() const {
   for (int bit = 0; bit < 7; ++bit) {
     r.counters.emplace_back(std::string("quality_") + kQualityNames[bit], static_cast<double>(quality_counts_[bit]));
   }
+  gate_.add_counters(&r);
+  gate_.warn_if_rejecting(&r);
   return r;
 }
 
 std::unique_ptr<Node> make_vo_solver_node(const Config& root, Bus& bus) {
-  return std::make_unique<VoSolverNode>(VoSolverOptions::from_config(root), bus);
+  return std::make_unique<VoSolverNode>(VoSolverOptions::from_config(root), bus, InputCheckOptions::from_config(root));
 }
 
 void register_vo_solver_node(NodeRegistry& registry) { registry.add("vo_solver", make_vo_solver_node); }

@@ -9,6 +9,7 @@
 
 #include "common/bus.h"
 #include "common/config.h"
+#include "common/input_checks.h"
 #include "common/node.h"
 #include "nadir/tracks_t.hpp"
 #include "nadir/vo_delta_t.hpp"
@@ -19,7 +20,9 @@ namespace nadir {
 
 class VoSolverNode : public Node {
  public:
-  VoSolverNode(const VoSolverOptions& options, Bus& bus);
+  // `checks`: the plausibility limits applied to every input before it
+  // reaches the frame synchronisation (common/input_checks.h).
+  VoSolverNode(const VoSolverOptions& options, Bus& bus, const InputCheckOptions& checks = InputCheckOptions());
 
   std::string name() const override { return "vo_solver"; }
   std::vector<std::string> output_channels() const override;
@@ -37,6 +40,7 @@ class VoSolverNode : public Node {
   VoSolverOptions options_;
   Bus& bus_;
   vo::FrameSync sync_;
+  InputGate gate_;
   std::map<int64_t, tracks_t> pending_;  // by utime
   int64_t last_published_utime_ = INT64_MIN;
   int64_t received_ = 0, published_ = 0, dropped_ = 0, errors_ = 0;

@@ -6,6 +6,7 @@
 
 #include "common/channels.h"
 #include "common/geometry.h"
+#include "common/input_checks.h"
 #include "processes/yaw_fusion/yaw_fusion_estimator.h"
 
 namespace nadir {
@@ -14,12 +15,17 @@ namespace {
 
 class YawFusionNode : public Node {
  public:
-  YawFusionNode(const YawFusionOptions& options, Bus& bus) : bus_(bus), estimator_(options) {
-    bus_.subscribe<vo_delta_t>(channels::kVoDelta,
-                               [this](const vo_delta_t& msg) { publish(estimator_.add_vo_delta(msg)); });
-    bus_.subscribe<ins_t>(channels::kIns, [this](const ins_t& msg) { publish(estimator_.add_ins(msg)); });
-    bus_.subscribe<altimeter_t>(channels::kAltimeter,
-                                [this](const altimeter_t& msg) { publish(estimator_.add_altimeter(msg)); });
+  YawFusionNode(const YawFusionOptions& options, const InputCheckOptions& checks, Bus& bus)
+      : bus_(bus), estimator_(options), gate_(checks) {
+    bus_.subscribe<vo_delta_t>(channels::kVoDelta, [this](const vo_delta_t& msg) {
+      if (gate_.admit(channels::kVoDelta, msg)) publish(estimator_.add_vo_delta(msg));
+    });
+    bus_.subscribe<ins_t>(channels::kIns, [this](const ins_t& msg) {
+      if (gate_.admit(channels::kIns, msg)) publish(estimator_.add_ins(msg));
+    });
+    bus_.subscribe<altimeter_t>(channels::kAltimeter, [this](const altimeter_t& msg) {
+      if (gate_.admit(channels::kAltimeter, msg)) publish(estimator_.add_altimeter(msg));
+    });
   }
 
   std::string name() const override { return "yaw_fusion"; }
@@ -28,7 +34,7 @@ class YawFusionNode : public Node {
   StatusReport status() const override {
     const YawFusionCounters& c = estimator_.counters();
     StatusReport report;
-    report.received = c.vo_deltas_received + c.ins_received + c.altimeter_received;
+    report.received = c.vo_deltas_received + c.ins_received + c.altimeter_received + gate_.rejected();
     report.published = published_;
     report.dropped = c.vo_deltas_late + c.vo_deltas_duplicate;
     report.errors = c.vo_deltas_invalid + c.ins_invalid + c.time_jumps_dropped;
@@ -67,6 +73,8 @@ class YawFusionNode : public Node {
         {"position_stddev_h_m",
          f.initialised() ? std::sqrt(f.position_covariance()(0, 0) + f.position_covariance()(1, 1)) : 0.0},
     };
+    gate_.add_counters(&report);
+    gate_.warn_if_rejecting(&report);
     return report;
   }
 
@@ -80,13 +88,14 @@ class YawFusionNode : public Node {
 
   Bus& bus_;
   YawFusionEstimator estimator_;
+  InputGate gate_;
   int64_t published_ = 0;
 };
 
 }  // namespace
 
 std::unique_ptr<Node> make_yaw_fusion_node(const Config& root, Bus& bus) {
-  return std::make_unique<YawFusionNode>(YawFusionOptions::from_config(root), bus);
+  return std::make_unique<YawFusionNode>(YawFusionOptions::from_config(root), InputCheckOptions::from_config(root), bus);
 }
 
 void register_yaw_fusion_node(NodeRegistry& registry) { registry.add("yaw_fusion", make_yaw_fusion_node); }

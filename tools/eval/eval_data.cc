@@ -6,6 +6,7 @@
 #include "common/bus.h"
 #include "common/channels.h"
 #include "common/log_file.h"
+#include "common/message_guard.h"
 #include "nadir/vo_delta_t.hpp"
 
 namespace nadir {
@@ -13,7 +14,8 @@ namespace {
 
 template <class Msg>
 bool decode(const LogEvent& e, Msg* msg) {
-  return msg->decode(e.data, 0, static_cast<int>(e.size)) == static_cast<int>(e.size);
+  std::string reason;
+  return decode_message(e.data, e.size, msg, &reason);
 }
 
 void read_truth(const std::string& path, int64_t shift_us, EvalData* data) {

@@ -8,6 +8,7 @@
 #include "common/channels.h"
 #include "common/json_writer.h"
 #include "common/log_file.h"
+#include "common/message_guard.h"
 #include "nadir/pose_t.hpp"
 
 namespace nadir {
@@ -34,8 +35,9 @@ std::vector<Payload> read_channel(const std::string& path, const std::string& ch
 
 double pose_difference(const Payload& a, const Payload& b) {
   pose_t pa{}, pb{};
-  if (pa.decode(a.bytes.data(), 0, static_cast<int>(a.bytes.size())) < 0 ||
-      pb.decode(b.bytes.data(), 0, static_cast<int>(b.bytes.size())) < 0) {
+  std::string reason;
+  if (!decode_message(a.bytes.data(), a.bytes.size(), &pa, &reason) ||
+      !decode_message(b.bytes.data(), b.bytes.size(), &pb, &reason)) {
     return INFINITY;
   }
   double d = 0;

@@ -243,7 +243,8 @@ TEST(TrackerNode, OutOfOrderAndDuplicateImagesAreDropped) {
   EXPECT_EQ(s.received, 5);
   EXPECT_EQ(s.published, 3);
   EXPECT_EQ(s.dropped, 2);
-  EXPECT_EQ(h.counter("out_of_order"), 2);
+  EXPECT_EQ(h.counter("out_of_order"), 1);
+  EXPECT_EQ(h.counter("rejected.CAMERA_IMAGE.time_duplicate"), 1);
 }
 
 TEST(TrackerNode, FrameGapsFromCounterOrTimeAndRestartAfterLongGaps) {
@@ -253,7 +254,12 @@ TEST(TrackerNode, FrameGapsFromCounterOrTimeAndRestartAfterLongGaps) {
   h.send(make_image_msg(frame(2), kStartUs + 3 * kPeriodUs, 13));       // time skips
   h.send(make_image_msg(frame(3), kStartUs + 4 * kPeriodUs, -1));       // no counter, time fine
   h.send(make_image_msg(frame(4), kStartUs + 4 * kPeriodUs + 2000000, -1));  // 2 s later: restart
-  ASSERT_EQ(h.tracks.size(), 5u);
+  // A frame that far ahead waits for the next one to confirm the stream moved.
+  EXPECT_EQ(h.tracks.size(), 4u);
+  h.send(make_image_msg(frame(5), kStartUs + 5 * kPeriodUs + 2000000, -1));
+  ASSERT_EQ(h.tracks.size(), 6u);
+  EXPECT_EQ(h.tracks[5].flags, 0);
+  EXPECT_EQ(h.tracks[5].prev_utime, kStartUs + 4 * kPeriodUs + 2000000);
   EXPECT_EQ(h.tracks[1].flags, tracks_t::FLAG_FRAME_GAP);
   EXPECT_EQ(h.tracks[2].flags, tracks_t::FLAG_FRAME_GAP);
   EXPECT_EQ(h.tracks[3].flags, 0);
@@ -262,6 +268,26 @@ TEST(TrackerNode, FrameGapsFromCounterOrTimeAndRestartAfterLongGaps) {
   EXPECT_EQ(h.tracks[4].num_tracks, 0);
   EXPECT_EQ(h.counter("frame_gaps"), 3);
   EXPECT_EQ(h.counter("restarts"), 1);
+}
+
+TEST(TrackerNode, AFutureStampedImageLosesNoFrame) {
+  Harness h;
+  h.send(make_image_msg(frame(0), kStartUs, 0));
+  h.send(make_image_msg(frame(1), kStartUs + kPeriodUs, 1));
+  h.send(make_image_msg(frame(1), kStartUs + 10000000, 99));  // a stray stamped 10 s ahead
+  for (int k = 2; k < 6; ++k) h.send(make_image_msg(frame(k), kStartUs + k * kPeriodUs, k));
+  ASSERT_EQ(h.tracks.size(), 6u);
+  for (size_t k = 1; k < h.tracks.size(); ++k) {
+    EXPECT_EQ(h.tracks[k].utime, kStartUs + static_cast<int64_t>(k) * kPeriodUs);
+    EXPECT_EQ(h.tracks[k].flags, 0) << k;
+  }
+  // The first status after a rejection warns and names it; the next one is OK again.
+  const StatusReport s = h.status();
+  EXPECT_EQ(s.state, status_t::STATE_WARN);
+  EXPECT_NE(s.detail.find("CAMERA_IMAGE utime"), std::string::npos) << s.detail;
+  EXPECT_EQ(s.dropped, 1);
+  EXPECT_EQ(h.counter("rejected.CAMERA_IMAGE.time_ahead"), 1);
+  EXPECT_EQ(h.status().state, status_t::STATE_OK);
 }
 
 TEST(TrackerNode, Mono16ImagesAreTrackedLikeMono8) {

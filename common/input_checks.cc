@@ -1,0 +1,233 @@
+#include "common/input_checks.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/geometry.h"
+
+namespace nadir {
+namespace {
+
+void check(bool ok, const std::string& key, const std::string& what) {
+  require_option(ok, "config", "input_checks." + key, what);
+}
+
+bool finite_all(const double* values, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(values[i])) return false;
+  }
+  return true;
+}
+
+std::string verdict_reason(StreamClock::Verdict verdict) {
+  switch (verdict) {
+    case StreamClock::Verdict::kAhead:
+      return "time_ahead";
+    case StreamClock::Verdict::kBehind:
+      return "time_behind";
+    case StreamClock::Verdict::kDuplicate:
+      return "time_duplicate";
+    case StreamClock::Verdict::kAccepted:
+      break;
+  }
+  return "accepted";
+}
+
+}  // namespace
+
+InputCheckOptions InputCheckOptions::from_config(const Config& root) {
+  InputCheckOptions o;
+  const Config c = root.section_or_empty("input_checks");
+  o.max_ahead_s = c.get<double>("max_ahead_s", o.max_ahead_s);
+  o.max_behind_s = c.get<double>("max_behind_s", o.max_behind_s);
+  o.relock_messages = c.get<int>("relock_messages", o.relock_messages);
+  o.max_attitude_step_rate_rad_s = c.get<double>("max_attitude_step_rate_rad_s", o.max_attitude_step_rate_rad_s);
+  o.max_angular_rate_rad_s = c.get<double>("max_angular_rate_rad_s", o.max_angular_rate_rad_s);
+  o.min_range_m = c.get<double>("min_range_m", o.min_range_m);
+  o.max_range_m = c.get<double>("max_range_m", o.max_range_m);
+  o.max_abs_normalized = c.get<double>("max_abs_normalized", o.max_abs_normalized);
+  o.pixel_margin = c.get<double>("pixel_margin", o.pixel_margin);
+  o.max_speed_m_s = c.get<double>("max_speed_m_s", o.max_speed_m_s);
+  o.max_yaw_rate_rad_s = c.get<double>("max_yaw_rate_rad_s", o.max_yaw_rate_rad_s);
+  o.Check();
+  return o;
+}
+
+void InputCheckOptions::Check() const {
+  check(max_ahead_s > 0.0 && max_ahead_s <= 3600.0, "max_ahead_s", "must be in (0, 3600]");
+  check(max_behind_s > 0.0 && max_behind_s <= 3600.0, "max_behind_s", "must be in (0, 3600]");
+  check(relock_messages >= 2 && relock_messages <= 1000, "relock_messages", "must be in [2, 1000]");
+  check(max_attitude_step_rate_rad_s > 0.0 && max_attitude_step_rate_rad_s <= 1000.0, "max_attitude_step_rate_rad_s",
+        "must be in (0, 1000]");
+  check(max_angular_rate_rad_s > 0.0 && max_angular_rate_rad_s <= 1000.0, "max_angular_rate_rad_s",
+        "must be in (0, 1000]");
+  check(min_range_m >= 0.0 && min_range_m < max_range_m, "min_range_m", "must be >= 0 and < max_range_m");
+  check(max_range_m > 0.0 && max_range_m <= 1e5, "max_range_m", "must be in (0, 100000]");
+  check(max_abs_normalized > 0.0 && max_abs_normalized <= 100.0, "max_abs_normalized", "must be in (0, 100]");
+  check(pixel_margin >= 0.0 && pixel_margin <= 10000.0, "pixel_margin", "must be in [0, 10000]");
+  check(max_speed_m_s > 0.0 && max_speed_m_s <= 10000.0, "max_speed_m_s", "must be in (0, 10000]");
+  check(max_yaw_rate_rad_s > 0.0 && max_yaw_rate_rad_s <= 1000.0, "max_yaw_rate_rad_s", "must be in (0, 1000]");
+}
+
+StreamClock::Verdict StreamClock::admit(int64_t utime, const InputCheckOptions& options, bool time_jump_flagged,
+                                        int64_t* gate_newest) {
+  const int64_t ahead_us = static_cast<int64_t>(options.max_ahead_s * 1e6);
+  const int64_t behind_us = static_cast<int64_t>(options.max_behind_s * 1e6);
+  const int64_t reference = gate_newest != nullptr ? std::max(*gate_newest, newest_) : newest_;
+  Verdict verdict = Verdict::kAccepted;
+  if (started_ && !time_jump_flagged) {
+    if (utime == newest_) {
+      verdict = Verdict::kDuplicate;
+    } else if (utime > reference + ahead_us) {
+      verdict = Verdict::kAhead;
+    } else if (utime < newest_ - behind_us) {
+      verdict = Verdict::kBehind;
+    }
+  }
+  bool relocked = time_jump_flagged;
+  if (verdict == Verdict::kAhead || verdict == Verdict::kBehind) {
+    // A run of rejected messages that agree with each other is the stream
+    // itself having moved: re-anchor on it.
+    const bool continues_run = run_length_ > 0 && utime > run_newest_ && utime <= run_newest_ + ahead_us;
+    run_length_ = continues_run ? run_length_ + 1 : 1;
+    run_newest_ = utime;
+    if (run_length_ < options.relock_messages) return verdict;
+    relocked = true;
+    verdict = Verdict::kAccepted;
+  }
+  if (verdict != Verdict::kAccepted) return verdict;
+  newest_ = started_ && !relocked ? std::max(newest_, utime) : utime;
+  started_ = true;
+  run_length_ = 0;
+  if (gate_newest != nullptr) *gate_newest = relocked ? utime : std::max(*gate_newest, utime);
+  return verdict;
+}
+
+bool InputGate::reject(const std::string& channel, int64_t utime, const std::string& reason,
+                       const std::string& detail) {
+  ++counts_[channel + "." + reason];
+  ++rejected_total_;
+  last_rejection_ = channel + " utime " + std::to_string(utime) + ": " + detail + ", rejected";
+  return false;
+}
+
+bool InputGate::admit_time(const std::string& channel, int64_t utime, bool time_jump_flagged) {
+  if (!have_newest_) newest_ = utime;
+  have_newest_ = true;
+  const StreamClock::Verdict verdict = clocks_[channel].admit(utime, options_, time_jump_flagged, &newest_);
+  if (verdict == StreamClock::Verdict::kAccepted) return true;
+  ++time_rejected_;
+  return reject(channel, utime, verdict_reason(verdict),
+                verdict == StreamClock::Verdict::kDuplicate ? "same sensor time as the previous message"
+                                                            : "sensor time inconsistent with the stream's");
+}
+
+bool InputGate::attitude_step_plausible(const ins_t& before, const ins_t& after) const {
+  const double dt = std::abs(static_cast<double>(after.utime - before.utime)) * 1e-6;
+  const double step = std::max({std::abs(after.roll - before.roll), std::abs(after.pitch - before.pitch),
+                                std::abs(angle_difference(after.yaw, before.yaw))});
+  // Within a short interval the attitude cannot jump; across a long one (a
+  // gap, a restart) anything is possible.
+  return dt >= 1.0 || step <= options_.max_attitude_step_rate_rad_s * std::max(dt, 0.01);
+}
+
+bool InputGate::admit(const std::string& channel, const ins_t& msg) {
+  const double attitude[3] = {msg.roll, msg.pitch, msg.yaw};
+  bool ok = finite_all(attitude, 3) && std::abs(msg.roll) <= M_PI && std::abs(msg.pitch) <= M_PI / 2 &&
+            std::abs(msg.yaw) <= 4 * M_PI;
+  if (!ok) return reject(channel, msg.utime, "attitude", "attitude not finite or out of range");
+  if (msg.has_rates) {
+    ok = finite_all(msg.angular_rate, 3);
+    for (int i = 0; ok && i < 3; ++i) ok = std::abs(msg.angular_rate[i]) <= options_.max_angular_rate_rad_s;
+    if (!ok) return reject(channel, msg.utime, "rates", "angular rate not finite or above max_angular_rate_rad_s");
+  }
+  if (msg.has_stddev && !finite_all(msg.attitude_stddev, 3)) {
+    return reject(channel, msg.utime, "stddev", "attitude stddev not finite");
+  }
+  if (have_ins_ && !attitude_step_plausible(last_ins_, msg)) {
+    // The samples rejected in a row agree with each other: the accepted one
+    // before them was the odd one out.
+    const bool continues_run = step_run_length_ > 0 && attitude_step_plausible(step_run_last_, msg);
+    step_run_length_ = continues_run ? step_run_length_ + 1 : 1;
+    step_run_last_ = msg;
+    if (step_run_length_ < options_.relock_messages) {
+      return reject(channel, msg.utime, "attitude_step", "attitude step inconsistent with the previous sample");
+    }
+  }
+  step_run_length_ = 0;
+  if (!admit_time(channel, msg.utime, (msg.flags & ins_t::FLAG_TIME_JUMP) != 0)) return false;
+  have_ins_ = true;
+  last_ins_ = msg;
+  return true;
+}
+
+bool InputGate::admit(const std::string& channel, const altimeter_t& msg) {
+  if (!finite_all(msg.beam_body, 3)) return reject(channel, msg.utime, "beam", "beam direction not finite");
+  const double norm = std::sqrt(msg.beam_body[0] * msg.beam_body[0] + msg.beam_body[1] * msg.beam_body[1] +
+                                msg.beam_body[2] * msg.beam_body[2]);
+  if (std::abs(norm - 1.0) > 0.01) return reject(channel, msg.utime, "beam", "beam direction not a unit vector");
+  if (msg.validity == altimeter_t::VALID_OK &&
+      !(std::isfinite(msg.range_m) && msg.range_m >= options_.min_range_m && msg.range_m <= options_.max_range_m)) {
+    return reject(channel, msg.utime, "range", "valid range not finite or outside [min_range_m, max_range_m]");
+  }
+  return admit_time(channel, msg.utime, false);
+}
+
+bool InputGate::admit(const std::string& channel, const tracks_t& msg) {
+  if (msg.prev_utime != 0 && msg.prev_utime >= msg.utime) {
+    return reject(channel, msg.utime, "prev_utime", "prev_utime not before utime");
+  }
+  const double margin = options_.pixel_margin;
+  for (int32_t i = 0; i < msg.num_tracks; ++i) {
+    const double norms[4] = {msg.prev_norm[i][0], msg.prev_norm[i][1], msg.curr_norm[i][0], msg.curr_norm[i][1]};
+    const double pixels[4] = {msg.prev_px[i][0], msg.prev_px[i][1], msg.curr_px[i][0], msg.curr_px[i][1]};
+    bool ok = finite_all(norms, 4) && finite_all(pixels, 4);
+    for (int k = 0; ok && k < 4; ++k) ok = std::abs(norms[k]) <= options_.max_abs_normalized;
+    for (int k = 0; ok && k < 4; ++k) {
+      const double extent = (k % 2 == 0) ? msg.width : msg.height;
+      ok = pixels[k] >= -margin && pixels[k] <= extent + margin;
+    }
+    if (!ok) {
+      return reject(channel, msg.utime, "coordinates",
+                    "track " + std::to_string(i) + " not finite or outside the image / field of view");
+    }
+  }
+  return admit_time(channel, msg.utime, false);
+}
+
+bool InputGate::admit(const std::string& channel, const image_t& msg) {
+  return admit_time(channel, msg.utime, false);
+}
+
+bool InputGate::admit(const std::string& channel, const vo_delta_t& msg) {
+  const double values[6] = {msg.dx, msg.dy, msg.dz, msg.dyaw, msg.ground_roll, msg.ground_pitch};
+  if (!finite_all(values, 6) || !finite_all(&msg.covariance[0][0], 36)) {
+    return reject(channel, msg.utime, "non_finite", "motion or covariance not finite");
+  }
+  if (msg.prev_utime != 0) {
+    const double dt = static_cast<double>(msg.utime - msg.prev_utime) * 1e-6;
+    if (!(dt > 0.0)) return reject(channel, msg.utime, "prev_utime", "prev_utime not before utime");
+    const double distance = std::sqrt(msg.dx * msg.dx + msg.dy * msg.dy + msg.dz * msg.dz);
+    if (distance > options_.max_speed_m_s * dt || std::abs(msg.dyaw) > options_.max_yaw_rate_rad_s * dt) {
+      return reject(channel, msg.utime, "motion", "motion faster than max_speed_m_s / max_yaw_rate_rad_s");
+    }
+  }
+  return admit_time(channel, msg.utime, false);
+}
+
+void InputGate::add_counters(StatusReport* report) const {
+  report->counters.emplace_back("rejected_inputs", static_cast<double>(rejected_total_));
+  for (const auto& [key, count] : counts_) report->counters.emplace_back("rejected." + key, static_cast<double>(count));
+}
+
+void InputGate::warn_if_rejecting(StatusReport* report) const {
+  if (rejected_total_ == rejected_at_last_warn_) return;
+  const int64_t recent = rejected_total_ - rejected_at_last_warn_;
+  rejected_at_last_warn_ = rejected_total_;
+  if (report->state == status_t::STATE_OK) report->state = status_t::STATE_WARN;
+  report->detail = std::to_string(recent) + " input message(s) rejected since the last status" +
+                   (time_rejected_ > 0 ? " (times inconsistent with their stream: a second publisher?)" : "") +
+                   "; last: " + last_rejection_;
+}
+
+}  // namespace nadir
