@@ -75,12 +75,12 @@ StreamClock::Verdict StreamClock::admit(int64_t utime, const InputCheckOptions& 
   const int64_t behind_us = static_cast<int64_t>(options.max_behind_s * 1e6);
   const int64_t reference = gate_newest != nullptr ? std::max(*gate_newest, newest_) : newest_;
   Verdict verdict = Verdict::kAccepted;
-  if (started_ && !time_jump_flagged) {
-    if (utime == newest_) {
+  if (!time_jump_flagged) {
+    if (started_ && utime == newest_) {
       verdict = Verdict::kDuplicate;
-    } else if (utime > reference + ahead_us) {
+    } else if ((started_ || gate_newest != nullptr) && utime > reference + ahead_us) {
       verdict = Verdict::kAhead;
-    } else if (utime < newest_ - behind_us) {
+    } else if (started_ && utime < newest_ - behind_us) {
       verdict = Verdict::kBehind;
     }
   }

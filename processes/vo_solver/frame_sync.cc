@@ -118,12 +118,15 @@ void FrameSync::attitude_at(int64_t utime, FrameState* state) const {
 
 void FrameSync::range_at(int64_t utime, FrameState* state) const {
   // Nearest valid samples on each side of the frame.
-  // Without interpolation only samples up to the frame count, so the result
-  // cannot depend on whether a later sample had arrived (live = replay).
+  // Without interpolation only samples before the frame count, so the result
+  // cannot depend on whether a later sample had arrived (live = replay) --
+  // nor on whether one stamped exactly at the frame time came before or after
+  // the INS sample that made the frame ready (the simulator's 10 Hz altimeter
+  // and 14 Hz camera share a time every 0.5 s).
   const bool interpolate = options_.altimeter_interpolate;
   auto after = interpolate ? altimeter_.lower_bound(utime) : altimeter_.end();
   while (after != altimeter_.end() && !after->second.valid) ++after;
-  auto before = interpolate ? altimeter_.lower_bound(utime) : altimeter_.upper_bound(utime);
+  auto before = altimeter_.lower_bound(utime);
   bool has_before = false;
   while (before != altimeter_.begin()) {
     --before;

@@ -85,7 +85,10 @@ double vertical_range(double range_m, const Eigen::Vector3d& beam_body, double r
 std::optional<double> AltimeterHistory::height_agl(int64_t utime, int64_t max_age_us, double roll, double pitch,
                                                    bool use_later) const {
   if (samples_.empty()) return std::nullopt;
-  const size_t upper = upper_index(samples_, utime);
+  // Without later samples only those before the frame count: one stamped
+  // exactly at the frame time may arrive after the delta (live) or before it
+  // (replay), and the result must not depend on that.
+  const size_t upper = upper_index(samples_, use_later ? utime : utime - 1);
   const RangeSample* before = upper > 0 ? &samples_[upper - 1] : nullptr;
   const RangeSample* after = use_later && upper < samples_.size() ? &samples_[upper] : nullptr;
   if (before != nullptr && utime - before->utime > max_age_us) before = nullptr;

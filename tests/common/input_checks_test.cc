@@ -1,0 +1,166 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "common/channels.h"
+#include "common/config.h"
+#include "common/input_checks.h"
+
+namespace nadir {
+namespace {
+
+constexpr int64_t kStart = 1000000000;
+constexpr int64_t kInsPeriod = 10000;  // 100 Hz
+
+ins_t ins_at(int64_t utime, double roll = 0.01, double yaw = 1.0) {
+  ins_t m{};
+  m.utime = utime;
+  m.roll = roll;
+  m.pitch = -0.02;
+  m.yaw = yaw;
+  return m;
+}
+
+altimeter_t range_at(int64_t utime, double range) {
+  altimeter_t m{};
+  m.utime = utime;
+  m.range_m = range;
+  m.beam_body[2] = 1.0;
+  m.validity = altimeter_t::VALID_OK;
+  return m;
+}
+
+tracks_t tracks_at(int64_t utime, double x) {
+  tracks_t m{};
+  m.utime = utime;
+  m.prev_utime = utime - 71428;
+  m.width = 612;
+  m.height = 512;
+  m.num_tracks = 1;
+  m.track_id = {1};
+  m.age = {2};
+  m.prev_px = {{100.0f, 100.0f}};
+  m.curr_px = {{101.0f, 100.0f}};
+  m.prev_norm = {{x, 0.1}};
+  m.curr_norm = {{x, 0.1}};
+  return m;
+}
+
+TEST(InputGate, ImpossibleInsValuesAreRejectedAndCountedByReason) {
+  InputGate gate{InputCheckOptions()};
+  ASSERT_TRUE(gate.admit(channels::kIns, ins_at(kStart)));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(gate.admit(channels::kIns, ins_at(kStart + kInsPeriod, nan)));
+  EXPECT_FALSE(gate.admit(channels::kIns, ins_at(kStart + kInsPeriod, INFINITY)));
+  EXPECT_FALSE(gate.admit(channels::kIns, ins_at(kStart + kInsPeriod, 1e9)));
+  EXPECT_FALSE(gate.admit(channels::kIns, ins_at(kStart + kInsPeriod, 0.5)));  // 0.49 rad in 10 ms
+  ins_t spinning = ins_at(kStart + kInsPeriod);
+  spinning.has_rates = true;
+  spinning.angular_rate[2] = 50.0;
+  EXPECT_FALSE(gate.admit(channels::kIns, spinning));
+  EXPECT_TRUE(gate.admit(channels::kIns, ins_at(kStart + kInsPeriod)));
+  EXPECT_EQ(gate.rejected(), 5);
+  StatusReport report;
+  gate.add_counters(&report);
+  auto counter = [&](const std::string& name) {
+    for (const auto& [key, value] : report.counters) {
+      if (key == name) return value;
+    }
+    return -1.0;
+  };
+  EXPECT_EQ(counter("rejected.INS.attitude"), 3);
+  EXPECT_EQ(counter("rejected.INS.attitude_step"), 1);
+  EXPECT_EQ(counter("rejected.INS.rates"), 1);
+  EXPECT_EQ(counter("rejected_inputs"), 5);
+}
+
+TEST(InputGate, AFutureSampleNeverBecomesTheReference) {
+  InputGate gate{InputCheckOptions()};
+  int64_t t = kStart;
+  for (int i = 0; i < 10; ++i, t += kInsPeriod) ASSERT_TRUE(gate.admit(channels::kIns, ins_at(t)));
+  EXPECT_FALSE(gate.admit(channels::kIns, ins_at(t + 10000000)));  // +10 s
+  for (int i = 0; i < 100; ++i, t += kInsPeriod) EXPECT_TRUE(gate.admit(channels::kIns, ins_at(t))) << i;
+  // Other channels are judged against the newest accepted time of the gate.
+  EXPECT_FALSE(gate.admit(channels::kAltimeter, range_at(t + 10000000, 100.0)));
+  EXPECT_TRUE(gate.admit(channels::kAltimeter, range_at(t, 100.0)));
+  EXPECT_FALSE(gate.admit(channels::kAltimeter, range_at(t - 20000000, 100.0)));  // 20 s in the past
+  EXPECT_FALSE(gate.admit(channels::kAltimeter, range_at(t, 100.0)));             // duplicate time
+  EXPECT_EQ(gate.time_rejected(), 4);
+  EXPECT_NE(gate.last_rejection().find("ALTIMETER utime"), std::string::npos);
+}
+
+TEST(InputGate, AStreamThatReallyMovedIsFollowedAfterAgreeingMessages) {
+  InputCheckOptions options;
+  options.relock_messages = 5;
+  InputGate gate{options};
+  int64_t t = kStart;
+  for (int i = 0; i < 10; ++i, t += kInsPeriod) ASSERT_TRUE(gate.admit(channels::kIns, ins_at(t)));
+  // The device came back with a clock 30 s behind: four samples are
+  // rejected, the fifth that agrees with them re-anchors the channel.
+  t -= 30000000;
+  for (int i = 0; i < 4; ++i, t += kInsPeriod) EXPECT_FALSE(gate.admit(channels::kIns, ins_at(t)));
+  for (int i = 0; i < 10; ++i, t += kInsPeriod) EXPECT_TRUE(gate.admit(channels::kIns, ins_at(t)));
+  // A driver-flagged time jump is followed at once.
+  ins_t jumped = ins_at(t + 5000000);
+  jumped.flags = ins_t::FLAG_TIME_JUMP;
+  EXPECT_TRUE(gate.admit(channels::kIns, jumped));
+  EXPECT_TRUE(gate.admit(channels::kIns, ins_at(t + 5000000 + kInsPeriod)));
+}
+
+TEST(InputGate, AnInsStreamAfterAStrayFirstSampleIsFollowed) {
+  InputGate gate{InputCheckOptions()};
+  ASSERT_TRUE(gate.admit(channels::kIns, ins_at(kStart, 0.8)));  // a stray with a wrong roll
+  int64_t t = kStart + kInsPeriod;
+  int accepted = 0;
+  for (int i = 0; i < 20; ++i, t += kInsPeriod) accepted += gate.admit(channels::kIns, ins_at(t)) ? 1 : 0;
+  EXPECT_EQ(accepted, 20 - 4);
+}
+
+TEST(InputGate, AltimeterTracksAndDeltasOutsideTheirLimitsAreRejected) {
+  InputGate gate{InputCheckOptions()};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(gate.admit(channels::kAltimeter, range_at(kStart, nan)));
+  EXPECT_FALSE(gate.admit(channels::kAltimeter, range_at(kStart, 0.0)));
+  EXPECT_FALSE(gate.admit(channels::kAltimeter, range_at(kStart, -5.0)));
+  altimeter_t no_return = range_at(kStart, nan);
+  no_return.validity = altimeter_t::VALID_NO_RETURN;  // an honest dropout passes on
+  EXPECT_TRUE(gate.admit(channels::kAltimeter, no_return));
+
+  EXPECT_FALSE(gate.admit(channels::kTracks, tracks_at(kStart, nan)));
+  EXPECT_FALSE(gate.admit(channels::kTracks, tracks_at(kStart, 1e30)));
+  tracks_t off_image = tracks_at(kStart, 0.1);
+  off_image.curr_px[0][0] = 5000.0f;
+  EXPECT_FALSE(gate.admit(channels::kTracks, off_image));
+  EXPECT_TRUE(gate.admit(channels::kTracks, tracks_at(kStart, 0.1)));
+  EXPECT_FALSE(gate.admit(channels::kTracks, tracks_at(kStart - 10000000, 0.1)));  // 10 s in the past
+
+  vo_delta_t delta{};
+  delta.utime = kStart;
+  delta.prev_utime = kStart - 71428;
+  delta.dx = 2.0;
+  EXPECT_TRUE(gate.admit(channels::kVoDelta, delta));
+  delta.utime += 71428;
+  delta.prev_utime += 71428;
+  delta.covariance[2][2] = nan;
+  EXPECT_FALSE(gate.admit(channels::kVoDelta, delta));
+  delta.covariance[2][2] = 0.0;
+  delta.dx = 500.0;  // 7000 m/s
+  EXPECT_FALSE(gate.admit(channels::kVoDelta, delta));
+}
+
+TEST(InputCheckOptions, BadValuesNameTheKey) {
+  const Config bad = Config::parse("input_checks: {max_ahead_s: -1}", "test.yaml");
+  try {
+    InputCheckOptions::from_config(bad);
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("input_checks.max_ahead_s"), std::string::npos) << e.what();
+  }
+  const Config defaults = Config::parse("{}", "test.yaml");
+  EXPECT_EQ(InputCheckOptions::from_config(defaults).relock_messages, 5);
+}
+
+}  // namespace
+}  // namespace nadir
