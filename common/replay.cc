@@ -146,6 +146,11 @@ ReplaySummary run_replay(const ReplayOptions& options, const NodeRegistry& regis
   bar.finish();
   writer.flush();
 
+  if (summary.events_in == 0) {
+    throw std::runtime_error(options.in_path + ": no LCM events in " + std::to_string(reader.size()) +
+                             " bytes (not an lcm-logger log?)" +
+                             (reader.damage_report().empty() ? "" : "\n" + reader.damage_report()));
+  }
   summary.published = bus.published();
   summary.published_per_channel = bus.published_per_channel();
   summary.corrupt_records = reader.corrupt_records();

@@ -8,6 +8,7 @@
 #include "nadir/config_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/pose_t.hpp"
+#include "nadir/status_t.hpp"
 #include "tests/common/test_nodes.h"
 #include "tests/common/test_support.h"
 
@@ -146,6 +147,58 @@ TEST(Replay, UnknownNodeIsNamed) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("warp_drive"), std::string::npos);
   }
+}
+
+TEST(Replay, AFileWithoutLcmEventsIsAnError) {
+  testing::TempDir dir("replay");
+  write_config(dir, 1.0);
+  testing::write_file_bytes(dir.file("in.lcmlog"), std::vector<uint8_t>(5000, 0x42));
+  NodeRegistry registry;
+  testing::register_test_nodes(registry);
+  try {
+    run_replay(options_for(dir, "out.lcmlog"), registry);
+    FAIL() << "a file without events replayed";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("in.lcmlog: no LCM events in 5000 bytes"), std::string::npos) << e.what();
+  }
+}
+
+// A record whose payload declares a negative array length (here a STATUS
+// with num_counters -1, which the replay itself decodes, and one on a node's
+// input channel) is counted as malformed; the replay goes on.
+TEST(Replay, HostileLengthFieldsInTheLogAreCountedNotFatal) {
+  testing::TempDir dir("replay");
+  write_input_log(dir.file("in.lcmlog"), 10);
+  write_config(dir, 1.0);
+  int64_t good_events = 0;
+  {
+    LogReader reader(dir.file("in.lcmlog"));
+    LogEvent event;
+    while (reader.next(&event)) ++good_events;
+  }
+  {
+    status_t status{};
+    status.name = "ins_delta";
+    std::vector<uint8_t> bytes(static_cast<size_t>(status.getEncodedSize()));
+    status.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    // num_counters: the last int32 of a STATUS without counters.
+    for (int i = 0; i < 4; ++i) bytes[bytes.size() - 4 + i] = 0xff;
+    std::vector<uint8_t> log = testing::read_file_bytes(dir.file("in.lcmlog"));
+    LogWriter extra(dir.file("extra.lcmlog"));
+    extra.write(1000, channels::kStatus, bytes.data(), bytes.size());
+    extra.write(1001, channels::kIns, bytes.data(), bytes.size());
+    extra.flush();
+    const std::vector<uint8_t> tail = testing::read_file_bytes(dir.file("extra.lcmlog"));
+    log.insert(log.end(), tail.begin(), tail.end());
+    testing::write_file_bytes(dir.file("in.lcmlog"), log);
+  }
+  NodeRegistry registry;
+  testing::register_test_nodes(registry);
+  const ReplaySummary s = run_replay(options_for(dir, "out.lcmlog"), registry);
+  EXPECT_EQ(s.events_in, good_events + 2);
+  bool counted = false;
+  for (const status_t& st : s.final_status) counted = counted || st.malformed >= 1;
+  EXPECT_TRUE(counted);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "common/log_holes.h"
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/pose_t.hpp"
@@ -24,6 +25,9 @@ struct EvalData {
   int64_t vo_deltas = 0;
   int64_t vo_deltas_flagged = 0;
   int64_t corrupt_records = 0;
+  bool truncated = false;
+  std::string damage_report;        // "FILE: byte N: what" lines
+  std::vector<LogHole> holes;       // capture holes (lcm-logger stopped, buffers overflowed)
   std::map<std::string, status_t> last_status;  // per process name
   // Per process, the publish latency (sensor time -> publish, measured by the
   // process) of every 1 s STATUS period that published anything: p50s, p99s.

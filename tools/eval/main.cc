@@ -39,6 +39,16 @@ int main(int argc, char** argv) {
   }
   try {
     const nadir::EvalData data = nadir::load_eval_data(log_path, truth_path, truth_shift_us);
+    // A damaged or holed capture still evaluates, but never silently.
+    if (data.corrupt_records > 0 || data.truncated) {
+      std::fprintf(stderr, "nadir_eval: warning: %s: %lld corrupt record(s)%s; evaluated what could be read\n%s",
+                   log_path.c_str(), static_cast<long long>(data.corrupt_records),
+                   data.truncated ? ", truncated" : "", data.damage_report.c_str());
+    }
+    if (!data.holes.empty()) {
+      std::fprintf(stderr, "nadir_eval: warning: %s: %zu hole(s) in the capture\n%s", log_path.c_str(),
+                   data.holes.size(), nadir::format_log_holes(data.holes).c_str());
+    }
     const nadir::EvalResult result = nadir::evaluate(data);
     fs::create_directories(out_dir);
     const std::string metrics = nadir::metrics_json(result.metrics);
@@ -97,6 +107,9 @@ int main(int argc, char** argv) {
                     static_cast<long long>(s.malformed), latency.c_str(), s.detail.empty() ? "" : " -- ",
                     s.detail.c_str());
       }
+      std::printf("capture             %10lld corrupt record(s)%s, %zu hole(s)%s\n",
+                  static_cast<long long>(data.corrupt_records), data.truncated ? ", truncated" : "", data.holes.size(),
+                  data.holes.empty() ? "" : " (listed on stderr)");
       std::printf("report              %s\n", out_dir.c_str());
     }
     return 0;

@@ -107,6 +107,10 @@ EvalResult evaluate(const EvalData& data) {
   m.images = data.images;
   m.triggers = data.triggers;
   m.frames_dropped = std::max<int64_t>(0, data.triggers - data.images);
+  m.capture_corrupt_records = data.corrupt_records;
+  m.capture_truncated = data.truncated;
+  m.capture_holes = static_cast<int64_t>(data.holes.size());
+  for (const LogHole& h : data.holes) m.capture_hole_seconds = std::max(m.capture_hole_seconds, h.seconds());
   m.tracks = data.tracks;
   m.vo_deltas = data.vo_deltas;
   m.vo_deltas_flagged = data.vo_deltas_flagged;
@@ -139,6 +143,8 @@ std::string metrics_json(const EvalMetrics& m) {
   j.field("max_velocity_error_h", m.max_velocity_error_h).field("rms_yaw_error_deg", m.rms_yaw_error_deg);
   j.field("poses", m.poses).field("poses_flagged", m.poses_flagged).field("images", m.images);
   j.field("triggers", m.triggers).field("frames_dropped", m.frames_dropped).field("tracks", m.tracks);
+  j.field("capture_corrupt_records", m.capture_corrupt_records).field("capture_truncated", m.capture_truncated);
+  j.field("capture_holes", m.capture_holes).field("capture_longest_hole_s", m.capture_hole_seconds);
   j.field("vo_deltas", m.vo_deltas).field("vo_deltas_flagged", m.vo_deltas_flagged);
   j.field("latency_p50_ms", m.latency_p50_ms).field("latency_p99_ms", m.latency_p99_ms);
   j.end_object();

@@ -45,6 +45,10 @@ struct EvalMetrics {
   int64_t images = 0;
   int64_t triggers = 0;
   int64_t frames_dropped = 0;  // triggers without an image
+  int64_t capture_corrupt_records = 0;
+  bool capture_truncated = false;
+  int64_t capture_holes = 0;         // stretches a regular channel has no messages for
+  double capture_hole_seconds = 0.0; // the longest
   int64_t tracks = 0;
   int64_t vo_deltas = 0;
   int64_t vo_deltas_flagged = 0;

@@ -21,7 +21,9 @@ LogSummary summarize_log(const std::string& path) {
   s.path = path;
   s.file_bytes = reader.size();
   LogEvent event;
+  LogHoleFinder hole_finder;
   while (reader.next(&event)) {
+    hole_finder.add(event);
     if (s.events == 0) s.first_timestamp = event.timestamp;
     s.last_timestamp = event.timestamp;
     ++s.events;
@@ -41,6 +43,7 @@ LogSummary summarize_log(const std::string& path) {
   s.corrupt_records = reader.corrupt_records();
   s.truncated = reader.truncated();
   s.damage_report = reader.damage_report();
+  s.holes = hole_finder.holes();
   return s;
 }
 
@@ -52,6 +55,7 @@ std::string format_log_summary(const LogSummary& s) {
                 static_cast<long long>(s.events), us_to_s(s.last_timestamp - s.first_timestamp));
   out << line;
   out << "damage:   " << s.corrupt_records << " corrupt record(s)" << (s.truncated ? ", truncated" : "") << "\n";
+  out << "holes:    " << s.holes.size() << " (stretches of sensor time a regular channel has no messages for)\n";
   std::snprintf(line, sizeof(line), "%-16s %-24s %9s %9s %11s %19s %19s\n", "channel", "type", "messages", "rate_hz",
                 "MB", "first_utime", "last_utime");
   out << line;
@@ -62,6 +66,7 @@ std::string format_log_summary(const LogSummary& s) {
     out << line;
   }
   if (!s.damage_report.empty()) out << s.damage_report;
+  out << format_log_holes(s.holes);
   return out.str();
 }
 
@@ -80,6 +85,12 @@ std::string log_summary_json(const LogSummary& s) {
   }
   j.end_object();
   j.field("damage", s.damage_report);
+  j.key("holes").begin_array();
+  for (const LogHole& h : s.holes) {
+    j.begin_object().field("channel", h.channel).field("from_utime", h.from_utime).field("to_utime", h.to_utime);
+    j.field("seconds", h.seconds()).field("expected_messages", h.expected_messages).end_object();
+  }
+  j.end_array();
   j.end_object();
   return j.str();
 }

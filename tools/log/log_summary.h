@@ -4,8 +4,10 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "common/log_file.h"
+#include "common/log_holes.h"
 
 namespace nadir {
 
@@ -29,6 +31,7 @@ struct LogSummary {
   int64_t corrupt_records = 0;
   bool truncated = false;
   std::string damage_report;
+  std::vector<LogHole> holes;  // stretches of sensor time a regular channel has no messages for
   std::map<std::string, ChannelSummary> channels;
 };
 

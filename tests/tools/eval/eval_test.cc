@@ -20,12 +20,14 @@ void put(LogWriter& w, const std::string& channel, const Msg& m) {
 
 // A straight flight north at 20 m/s for 100 s starting at an arbitrary
 // offset; the estimate has a constant 1 % scale error and drifts 0.5 m east.
-void write_flight(const std::string& path, bool with_truth) {
+// `hole`: no messages at all from 30 s to 33 s (a logger stopped for 3 s).
+void write_flight(const std::string& path, bool with_truth, bool hole = false) {
   LogWriter w(path);
   const int64_t t0 = 1767225600000000;
   for (int i = 0; i <= 10000; ++i) {  // truth at 100 Hz
     const int64_t utime = t0 + i * 10000;
     const double t = i * 0.01;
+    if (hole && t >= 30.0 && t < 33.0) continue;
     if (with_truth) {
       ground_truth_t g{};
       g.utime = utime;
@@ -88,6 +90,38 @@ TEST(Eval, TruthFromASeparateLog) {
   EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 1000);
   const auto geo = testing::read_file_bytes(dir.file("t.geojson"));
   EXPECT_NE(std::string(geo.begin(), geo.end()).find("LineString"), std::string::npos);
+}
+
+TEST(Eval, ACaptureHoleAndATruncatedLogAreReported) {
+  testing::TempDir dir("eval");
+  write_flight(dir.file("clean.lcmlog"), true);
+  const EvalData clean = load_eval_data(dir.file("clean.lcmlog"), "");
+  EXPECT_TRUE(clean.holes.empty());
+  EXPECT_FALSE(clean.truncated);
+
+  write_flight(dir.file("holed.lcmlog"), true, true);
+  const EvalData holed = load_eval_data(dir.file("holed.lcmlog"), "");
+  ASSERT_EQ(holed.holes.size(), 2u);  // GROUND_TRUTH and POSE
+  for (const LogHole& h : holed.holes) {
+    // Last message before the hole to the first after it: 29.99 -> 33.00 s at
+    // 100 Hz, 29.96 -> 33.04 s for the poses at every 7th step.
+    EXPECT_NEAR(h.seconds(), h.channel == channels::kPose ? 3.08 : 3.01, 1e-9) << h.channel;
+    EXPECT_EQ(h.from_utime, 1767225600000000 + (h.channel == channels::kPose ? 2996 : 2999) * 10000) << h.channel;
+  }
+  EXPECT_EQ(holed.holes[0].channel, channels::kGroundTruth);
+  EXPECT_EQ(holed.holes[0].expected_messages, 300);
+  const EvalResult r = evaluate(holed);
+  EXPECT_EQ(r.metrics.capture_holes, 2);
+  EXPECT_NEAR(r.metrics.capture_hole_seconds, 3.08, 1e-9);
+  EXPECT_NE(format_log_holes(holed.holes).find("GROUND_TRUTH: no messages for 3.010 s"), std::string::npos)
+      << format_log_holes(holed.holes);
+
+  std::vector<uint8_t> bytes = testing::read_file_bytes(dir.file("clean.lcmlog"));
+  bytes.resize(bytes.size() - 40);
+  testing::write_file_bytes(dir.file("cut.lcmlog"), bytes);
+  const EvalData cut = load_eval_data(dir.file("cut.lcmlog"), "");
+  EXPECT_TRUE(cut.truncated);
+  EXPECT_NE(cut.damage_report.find("cut.lcmlog: byte"), std::string::npos) << cut.damage_report;
 }
 
 TEST(Eval, LogWithoutTruthOrPoseGetsAClearError) {
