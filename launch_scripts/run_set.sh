@@ -13,10 +13,13 @@
 #   finite   NAME  [delay=S] COMMAND...  runs to completion; when it ends the set stops
 # delay=S starts that process S seconds after the set (e.g. a source after
 # its subscribers are up). NADIR_CAPTURE_DIR overrides the capture folder.
+# NADIR_STATE_DIR (exported to every command): a folder new with each start
+# of the set for state a restarted process continues from (yaw fusion's
+# checkpoint): the capture folder, or logs/state/<UTC>-SET without capture.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; }
 set_arg=""
 capture_enabled=1
 duration=""
@@ -79,6 +82,15 @@ if ((capture_enabled)) && [ -n "$capture_name" ]; then
   echo "[run_set] capturing into $capture_dir/capture.lcmlog"
   sleep 0.3
 fi
+
+# State of this run of the set only: a restarted process continues from it,
+# a new run of the set never does.
+if [ -n "$capture_dir" ]; then
+  export NADIR_STATE_DIR="$capture_dir"
+else
+  export NADIR_STATE_DIR="$NADIR_ROOT/logs/state/$(nadir_utc_stamp)-$set_name-$$"
+fi
+mkdir -p "$NADIR_STATE_DIR"
 
 start() {
   local n="$1" pre=""

@@ -15,6 +15,13 @@ void PoseFilter::initialise(double yaw, double yaw_variance) {
   terrain_initialised_ = false;
 }
 
+void PoseFilter::restore(const Eigen::Vector3d& position, const Eigen::Matrix3d& position_covariance, double yaw,
+                         double yaw_variance) {
+  initialise(yaw, yaw_variance);
+  x_.head<3>() = position;
+  p_.topLeftCorner<3, 3>() = 0.5 * (position_covariance + position_covariance.transpose());
+}
+
 Eigen::Vector3d PoseFilter::predict_with_delta(const Eigen::Vector3d& translation, double dyaw,
                                                const Eigen::Matrix4d& covariance) {
   const double c = std::cos(x_(kYaw));

@@ -29,6 +29,10 @@ class PoseFilter {
 
   // Position at the origin (exactly known), yaw with its variance.
   void initialise(double yaw, double yaw_variance);
+  // Position and yaw as a previous run left them (a restart from a
+  // checkpoint), with their uncertainty; no correlation between the two.
+  void restore(const Eigen::Vector3d& position, const Eigen::Matrix3d& position_covariance, double yaw,
+               double yaw_variance);
   bool initialised() const { return initialised_; }
 
   // Integrates one VO delta. `translation` = (dx, dy, dz) in the level frame

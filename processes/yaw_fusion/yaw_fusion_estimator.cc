@@ -221,18 +221,56 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
   }
 }
 
+bool YawFusionEstimator::resume(int64_t t0) {
+  const pose_t last = *resume_;
+  resume_.reset();
+  const double dt = static_cast<double>(t0 - last.utime) * 1e-6;
+  if (dt < 0.0 || dt > options_.gap_max_duration_s) {
+    note_problem("checkpoint POSE utime " + std::to_string(last.utime) + " is " + std::to_string(dt) +
+                 " s from the first delta (allowed 0 .. gap.max_duration_s): not resumed, new origin");
+    return false;
+  }
+  const Eigen::Vector3d velocity(last.velocity_ned[0], last.velocity_ned[1], last.velocity_ned[2]);
+  Eigen::Vector3d position(last.position_ned[0], last.position_ned[1], last.position_ned[2]);
+  Eigen::Matrix3d covariance;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) covariance(i, j) = last.position_covariance[i][j];
+  }
+  if (!position.allFinite() || !velocity.allFinite() || !covariance.allFinite() || !std::isfinite(last.yaw) ||
+      !std::isfinite(last.yaw_variance)) {
+    note_problem("checkpoint POSE utime " + std::to_string(last.utime) + " holds non-finite values: new origin");
+    return false;
+  }
+  // As a VO gap: dead-reckon with the last velocity, grow the uncertainty
+  // as if that velocity were off by gap.velocity_stddev_mps throughout.
+  position += velocity * std::min(dt, options_.gap_max_propagation_s);
+  covariance += Eigen::Matrix3d::Identity() * square(options_.gap_velocity_stddev_mps * dt);
+  const double yaw_variance = last.yaw_variance + square(deg_to_rad(options_.gap_yaw_rate_stddev_dps) * dt);
+  filter_.restore(position, covariance, last.yaw, yaw_variance);
+  velocity_out_ = velocity;
+  last_velocity_ = velocity;
+  frames_ = last.frames;
+  yaw_from_ins_ = (last.flags & pose_t::FLAG_INITIALIZING) == 0;
+  ++counters_.resumed;
+  return true;
+}
+
 void YawFusionEstimator::start(const vo_delta_t& first, std::vector<pose_t>* out) {
   const int64_t t0 = first.prev_utime;
   const auto attitude = ins_.at(t0, static_cast<int64_t>(options_.max_ins_bracket_s * 1e6));
-  if (attitude && attitude->yaw_variance >= 0.0) {
+  // A resumed run continues the previous one's frame (flagged as a gap);
+  // otherwise this frame is the origin.
+  const bool resumed = resume_ && resume(t0);
+  if (!resumed && attitude && attitude->yaw_variance >= 0.0) {
     filter_.initialise(attitude->yaw, attitude->yaw_variance);
     yaw_from_ins_ = true;
-  } else {
+  } else if (!resumed) {
     // Heading unknown: integrate in an arbitrary frame, flagged initialising,
     // until an INS yaw arrives (it passes any gate against this variance).
     filter_.initialise(0.0, kUnknownYawVariance);
     ++counters_.ins_yaw_unusable;
   }
+  int32_t flags = resumed ? static_cast<int32_t>(pose_t::FLAG_VO_GAP) : static_cast<int32_t>(pose_t::FLAG_INITIALIZING);
   if (attitude) {
     roll_ = attitude->roll;
     pitch_ = attitude->pitch;
@@ -240,7 +278,7 @@ void YawFusionEstimator::start(const vo_delta_t& first, std::vector<pose_t>* out
   started_ = true;
   last_frame_utime_ = t0;
   last_good_utime_ = t0;
-  const int32_t flags = pose_t::FLAG_INITIALIZING | update_height(t0, std::numeric_limits<double>::quiet_NaN());
+  flags |= update_height(t0, std::numeric_limits<double>::quiet_NaN());
   out->push_back(make_pose(t0, flags));
 }
 

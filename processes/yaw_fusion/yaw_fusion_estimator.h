@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,7 +66,8 @@ struct YawFusionCounters {
   int64_t gap_bridges = 0;                 // gaps closed by a delta starting after the last pose
   int64_t gap_poses = 0;                   // poses without VO: at the camera rate in a gap, and at
                                            // the first frame of the delta that closes it
-  int64_t time_jumps_dropped = 0;          // messages far ahead of all sensor time (see max_time_jump_s)
+  int64_t time_jumps_dropped = 0;
+  int64_t resumed = 0;                     // 1 when the run continued from a checkpoint          // messages far ahead of all sensor time (see max_time_jump_s)
   int64_t poses = 0;
   std::string last_problem;                // names the channel, utime and reason
 };
@@ -79,6 +81,15 @@ class YawFusionEstimator {
   std::vector<pose_t> add_ins(const ins_t& ins);
   std::vector<pose_t> add_altimeter(const altimeter_t& altimeter);
 
+  // Continue from `last` (the POSE a previous run published last, from its
+  // checkpoint) instead of a new origin: at the first usable delta the
+  // position is `last` dead-reckoned with its velocity over the time between
+  // (at most gap.max_propagation_s), its covariance grown as for a VO gap, and
+  // that pose is flagged FLAG_VO_GAP. Ignored (fresh start, named in
+  // last_problem) when the first delta is before `last` or more than
+  // gap.max_duration_s after it.
+  void resume_from(const pose_t& last) { resume_ = last; }
+
   const YawFusionCounters& counters() const { return counters_; }
   const PoseFilter& filter() const { return filter_; }
   size_t pending_deltas() const { return pending_.size(); }
@@ -90,6 +101,8 @@ class YawFusionEstimator {
   bool delta_ready(const vo_delta_t& delta) const;
   void pump(std::vector<pose_t>* out);
   void start(const vo_delta_t& first, std::vector<pose_t>* out);
+  // Restores the filter from resume_ for a start at t0; false if too old or in the future.
+  bool resume(int64_t t0);
   void process_delta(const vo_delta_t& delta, std::vector<pose_t>* out);
   // Dead-reckons from the last frame to `utime` and updates yaw there; returns pose flags.
   int32_t advance_without_vo(int64_t utime);
@@ -129,6 +142,7 @@ class YawFusionEstimator {
   bool yaw_from_ins_ = false;      // the yaw has taken at least one INS measurement
   int consecutive_yaw_rejections_ = 0;
   int64_t frames_ = 0;
+  std::optional<pose_t> resume_;
 };
 
 }  // namespace nadir

@@ -1,12 +1,15 @@
 #include "processes/yaw_fusion/yaw_fusion_node.h"
 
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/channels.h"
 #include "common/geometry.h"
 #include "common/input_checks.h"
+#include "processes/yaw_fusion/checkpoint.h"
 #include "processes/yaw_fusion/yaw_fusion_estimator.h"
 
 namespace nadir {
@@ -15,8 +18,14 @@ namespace {
 
 class YawFusionNode : public Node {
  public:
-  YawFusionNode(const YawFusionOptions& options, const InputCheckOptions& checks, Bus& bus)
+  YawFusionNode(const YawFusionOptions& options, const InputCheckOptions& checks, Bus& bus,
+                const std::string& checkpoint_path)
       : bus_(bus), estimator_(options), gate_(checks) {
+    if (!checkpoint_path.empty()) {
+      checkpoint_ = std::make_unique<PoseCheckpoint>(checkpoint_path);
+      const std::optional<pose_t> last = checkpoint_->load(&checkpoint_problem_);
+      if (last) estimator_.resume_from(*last);
+    }
     bus_.subscribe<vo_delta_t>(channels::kVoDelta, [this](const vo_delta_t& msg) {
       if (gate_.admit(channels::kVoDelta, msg)) publish(estimator_.add_vo_delta(msg));
     });
@@ -73,6 +82,13 @@ class YawFusionNode : public Node {
         {"position_stddev_h_m",
          f.initialised() ? std::sqrt(f.position_covariance()(0, 0) + f.position_covariance()(1, 1)) : 0.0},
     };
+    report.counters.emplace_back("resumed_from_checkpoint", static_cast<double>(c.resumed));
+    if (checkpoint_) {
+      report.counters.emplace_back("checkpoint_saves", static_cast<double>(checkpoint_->saves()));
+      report.counters.emplace_back("checkpoint_errors", static_cast<double>(checkpoint_->save_errors()));
+      if (!checkpoint_->last_error().empty()) report.detail = checkpoint_->last_error();
+      if (!checkpoint_problem_.empty()) report.detail = checkpoint_problem_;
+    }
     gate_.add_counters(&report);
     gate_.warn_if_rejecting(&report);
     return report;
@@ -83,19 +99,28 @@ class YawFusionNode : public Node {
     for (const pose_t& pose : poses) {
       bus_.publish(channels::kPose, pose);
       ++published_;
+      if (checkpoint_) checkpoint_->save(pose);
     }
   }
 
   Bus& bus_;
   YawFusionEstimator estimator_;
   InputGate gate_;
+  std::unique_ptr<PoseCheckpoint> checkpoint_;  // live runs started with --checkpoint only
+  std::string checkpoint_problem_;
   int64_t published_ = 0;
 };
 
 }  // namespace
 
 std::unique_ptr<Node> make_yaw_fusion_node(const Config& root, Bus& bus) {
-  return std::make_unique<YawFusionNode>(YawFusionOptions::from_config(root), InputCheckOptions::from_config(root), bus);
+  return make_yaw_fusion_node_with_checkpoint(root, bus, "");
+}
+
+std::unique_ptr<Node> make_yaw_fusion_node_with_checkpoint(const Config& root, Bus& bus,
+                                                           const std::string& checkpoint_path) {
+  return std::make_unique<YawFusionNode>(YawFusionOptions::from_config(root), InputCheckOptions::from_config(root), bus,
+                                         checkpoint_path);
 }
 
 void register_yaw_fusion_node(NodeRegistry& registry) { registry.add("yaw_fusion", make_yaw_fusion_node); }
