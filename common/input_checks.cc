@@ -69,22 +69,19 @@ void InputCheckOptions::Check() const {
   check(max_yaw_rate_rad_s > 0.0 && max_yaw_rate_rad_s <= 1000.0, "max_yaw_rate_rad_s", "must be in (0, 1000]");
 }
 
-StreamClock::Verdict StreamClock::admit(int64_t utime, const InputCheckOptions& options, bool time_jump_flagged,
-                                        int64_t* gate_newest) {
+StreamClock::Verdict StreamClock::admit(int64_t utime, const InputCheckOptions& options, int64_t* gate_newest) {
   const int64_t ahead_us = static_cast<int64_t>(options.max_ahead_s * 1e6);
   const int64_t behind_us = static_cast<int64_t>(options.max_behind_s * 1e6);
   const int64_t reference = gate_newest != nullptr ? std::max(*gate_newest, newest_) : newest_;
   Verdict verdict = Verdict::kAccepted;
-  if (!time_jump_flagged) {
-    if (started_ && utime == newest_) {
-      verdict = Verdict::kDuplicate;
-    } else if ((started_ || gate_newest != nullptr) && utime > reference + ahead_us) {
-      verdict = Verdict::kAhead;
-    } else if (started_ && utime < newest_ - behind_us) {
-      verdict = Verdict::kBehind;
-    }
+  if (started_ && utime == newest_) {
+    verdict = Verdict::kDuplicate;
+  } else if ((started_ || gate_newest != nullptr) && utime > reference + ahead_us) {
+    verdict = Verdict::kAhead;
+  } else if (started_ && utime < newest_ - behind_us) {
+    verdict = Verdict::kBehind;
   }
-  bool relocked = time_jump_flagged;
+  bool relocked = false;
   if (verdict == Verdict::kAhead || verdict == Verdict::kBehind) {
     // A run of rejected messages that agree with each other is the stream
     // itself having moved: re-anchor on it.
@@ -111,10 +108,10 @@ bool InputGate::reject(const std::string& channel, int64_t utime, const std::str
   return false;
 }
 
-bool InputGate::admit_time(const std::string& channel, int64_t utime, bool time_jump_flagged) {
+bool InputGate::admit_time(const std::string& channel, int64_t utime) {
   if (!have_newest_) newest_ = utime;
   have_newest_ = true;
-  const StreamClock::Verdict verdict = clocks_[channel].admit(utime, options_, time_jump_flagged, &newest_);
+  const StreamClock::Verdict verdict = clocks_[channel].admit(utime, options_, &newest_);
   if (verdict == StreamClock::Verdict::kAccepted) return true;
   ++time_rejected_;
   return reject(channel, utime, verdict_reason(verdict),
@@ -155,7 +152,12 @@ bool InputGate::admit(const std::string& channel, const ins_t& msg) {
     }
   }
   step_run_length_ = 0;
-  if (!admit_time(channel, msg.utime, (msg.flags & ins_t::FLAG_TIME_JUMP) != 0)) return false;
+  // The driver says this sample's time is not to be trusted (its clock
+  // estimate is restarting): an attitude at the wrong time is worse than none.
+  if (msg.flags & ins_t::FLAG_TIME_JUMP) {
+    return reject(channel, msg.utime, "time_untrusted", "flagged FLAG_TIME_JUMP by its driver");
+  }
+  if (!admit_time(channel, msg.utime)) return false;
   have_ins_ = true;
   last_ins_ = msg;
   return true;
@@ -170,7 +172,7 @@ bool InputGate::admit(const std::string& channel, const altimeter_t& msg) {
       !(std::isfinite(msg.range_m) && msg.range_m >= options_.min_range_m && msg.range_m <= options_.max_range_m)) {
     return reject(channel, msg.utime, "range", "valid range not finite or outside [min_range_m, max_range_m]");
   }
-  return admit_time(channel, msg.utime, false);
+  return admit_time(channel, msg.utime);
 }
 
 bool InputGate::admit(const std::string& channel, const tracks_t& msg) {
@@ -192,11 +194,11 @@ bool InputGate::admit(const std::string& channel, const tracks_t& msg) {
                     "track " + std::to_string(i) + " not finite or outside the image / field of view");
     }
   }
-  return admit_time(channel, msg.utime, false);
+  return admit_time(channel, msg.utime);
 }
 
 bool InputGate::admit(const std::string& channel, const image_t& msg) {
-  return admit_time(channel, msg.utime, false);
+  return admit_time(channel, msg.utime);
 }
 
 bool InputGate::admit(const std::string& channel, const vo_delta_t& msg) {
@@ -212,7 +214,7 @@ bool InputGate::admit(const std::string& channel, const vo_delta_t& msg) {
       return reject(channel, msg.utime, "motion", "motion faster than max_speed_m_s / max_yaw_rate_rad_s");
     }
   }
-  return admit_time(channel, msg.utime, false);
+  return admit_time(channel, msg.utime);
 }
 
 void InputGate::add_counters(StatusReport* report) const {

@@ -12,8 +12,9 @@
 // reference, so one future-stamped message cannot lock the real stream out.
 // The stream itself may move (a driver restart): a run of `relock_messages`
 // rejected messages that agree with each other (increasing, each within
-// max_ahead_s of the one before) re-anchors the channel, and an INS sample
-// that its driver flags FLAG_TIME_JUMP re-anchors it at once.
+// max_ahead_s of the one before) re-anchors the channel. An INS sample that
+// its driver flags FLAG_TIME_JUMP (its clock estimate restarting, see the INS
+// bridge) is rejected: an attitude at the wrong time is worse than none.
 // The decision depends only on the messages of that channel in their order,
 // so a lockstep replay decides exactly as the live run did.
 
@@ -58,7 +59,7 @@ class StreamClock {
   enum class Verdict { kAccepted, kAhead, kBehind, kDuplicate };
   // `gate_newest`: the newest time accepted on any channel of the gate (it is
   // raised to this message's time when accepted); nullptr: this channel only.
-  Verdict admit(int64_t utime, const InputCheckOptions& options, bool time_jump_flagged, int64_t* gate_newest);
+  Verdict admit(int64_t utime, const InputCheckOptions& options, int64_t* gate_newest);
   bool started() const { return started_; }
   int64_t newest() const { return newest_; }
 
@@ -93,7 +94,7 @@ class InputGate {
 
  private:
   bool attitude_step_plausible(const ins_t& before, const ins_t& after) const;
-  bool admit_time(const std::string& channel, int64_t utime, bool time_jump_flagged);
+  bool admit_time(const std::string& channel, int64_t utime);
   bool reject(const std::string& channel, int64_t utime, const std::string& reason, const std::string& detail);
 
   InputCheckOptions options_;

@@ -3,41 +3,32 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "common/bus.h"
 
 namespace nadir {
 
-void LogHoleFinder::add(const LogEvent& event) {
-  int64_t utime = 0;
-  if (encoded_utime(event.data, event.size, &utime)) utimes_[event.channel].push_back(utime);
-}
+void LogHoleFinder::add(const LogEvent& event) { timestamps_[event.channel].push_back(event.timestamp); }
 
 std::vector<LogHole> LogHoleFinder::holes() const {
   std::vector<LogHole> out;
-  for (const auto& [channel, recorded] : utimes_) {
+  for (const auto& [channel, recorded] : timestamps_) {
     if (static_cast<int>(recorded.size()) < options_.min_messages) continue;
-    // Sorted: a channel whose publishers reorder a little is still regular.
+    // Sorted: lcm-logger writes in arrival order, which several publishers
+    // on one channel may interleave a little. The mean interval, not the
+    // median: a channel with several publishers (STATUS, one per process)
+    // has bursts of short intervals and long ones between them.
     std::vector<int64_t> times = recorded;
     std::sort(times.begin(), times.end());
-    std::vector<int64_t> steps;
-    steps.reserve(times.size());
-    for (size_t i = 1; i < times.size(); ++i) {
-      if (times[i] > times[i - 1]) steps.push_back(times[i] - times[i - 1]);
-    }
-    if (steps.empty()) continue;
-    std::vector<int64_t> sorted_steps = steps;
-    std::nth_element(sorted_steps.begin(), sorted_steps.begin() + static_cast<std::ptrdiff_t>(sorted_steps.size() / 2),
-                     sorted_steps.end());
-    const int64_t median = sorted_steps[sorted_steps.size() / 2];
-    const double limit = std::max(options_.interval_factor * static_cast<double>(median), options_.min_hole_s * 1e6);
+    const double mean = static_cast<double>(times.back() - times.front()) / static_cast<double>(times.size() - 1);
+    if (!(mean > 0.0)) continue;
+    const double limit = std::max(options_.interval_factor * mean, options_.min_hole_s * 1e6);
     for (size_t i = 1; i < times.size(); ++i) {
       const int64_t step = times[i] - times[i - 1];
       if (static_cast<double>(step) <= limit) continue;
       LogHole hole;
       hole.channel = channel;
-      hole.from_utime = times[i - 1];
-      hole.to_utime = times[i];
-      hole.expected_messages = median > 0 ? step / median - 1 : 0;
+      hole.from_timestamp = times[i - 1];
+      hole.to_timestamp = times[i];
+      hole.expected_messages = static_cast<int64_t>(static_cast<double>(step) / mean) - 1;
       out.push_back(hole);
     }
   }
@@ -48,9 +39,9 @@ std::string format_log_holes(const std::vector<LogHole>& holes) {
   std::string text;
   char line[256];
   for (const LogHole& h : holes) {
-    std::snprintf(line, sizeof(line), "%s: no messages for %.3f s of sensor time (utime %lld to %lld, ~%lld missing)\n",
-                  h.channel.c_str(), h.seconds(), static_cast<long long>(h.from_utime),
-                  static_cast<long long>(h.to_utime), static_cast<long long>(h.expected_messages));
+    std::snprintf(line, sizeof(line), "%s: no messages for %.3f s (log time %lld to %lld, ~%lld missing)\n",
+                  h.channel.c_str(), h.seconds(), static_cast<long long>(h.from_timestamp),
+                  static_cast<long long>(h.to_timestamp), static_cast<long long>(h.expected_messages));
     text += line;
   }
   return text;

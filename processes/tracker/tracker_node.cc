@@ -68,12 +68,24 @@ void TrackerNode::publish(tracks_t& out, const std::string& problem) {
 
 void TrackerNode::on_image(const image_t& msg) {
   ++received_;
+  // An image whose size, stride or data length do not fit its format (or the
+  // camera's) is rejected like any impossible input: no TRACKS for it, so a
+  // stray message between two frames cannot split their pair.
+  const ImageFormatCheck format = check_image_format(msg, camera_.width, camera_.height);
+  if (!format.ok) {
+    ++wrong_format_;
+    ++errors_;
+    ++dropped_;
+    last_problem_ = "CAMERA_IMAGE utime " + std::to_string(msg.utime) + ": " + format.reason + ", rejected";
+    return;
+  }
   if (!gate_.admit(channels::kCameraImage, msg)) {
     // A frame far ahead of the stream waits for the next one: if that agrees
     // with it, the camera really moved on (a gap) and both are tracked; if the
     // next one continues the old stream, the held frame was a stray.
-    if (held_) ++dropped_;
-    held_ = std::make_unique<image_t>(msg);
+    const bool ahead = have_last_ && msg.utime > last_utime_;
+    if (held_ || !ahead) ++dropped_;
+    if (ahead) held_ = std::make_unique<image_t>(msg);
     return;
   }
   if (held_) {
@@ -100,14 +112,6 @@ void TrackerNode::track_image(const image_t& msg) {
   bool too_long = false;
   out.flags |= gap_flags(msg, &too_long);
 
-  const ImageFormatCheck format = check_image_format(msg, camera_.width, camera_.height);
-  if (!format.ok) {
-    ++wrong_format_;
-    ++errors_;
-    out.flags |= tracks_t::FLAG_WRONG_FORMAT | tracks_t::FLAG_BAD_IMAGE;
-    publish(out, "CAMERA_IMAGE utime " + std::to_string(msg.utime) + ": " + format.reason);
-    return;
-  }
   const cv::Mat gray = to_gray8(msg, options_.mono16_significant_bits, convert_buffer_);
   const ImageQualityCheck quality = check_image_quality(gray, options_);
   if (quality.quality != ImageQuality::kGood) {

@@ -71,6 +71,7 @@ EvalResult evaluate(const EvalData& data) {
     s.error_v_m = s.estimate[2] - s.truth[2];
     s.yaw_error_deg = rad_to_deg(angle_difference(p.yaw, t.yaw));
     s.flags = p.flags;
+    s.sigma_h_m = std::sqrt(std::max(0.0, p.position_covariance[0][0] + p.position_covariance[1][1]));
     const double v_h = std::hypot(s.velocity_error[0], s.velocity_error[1]);
     sum_v2 += v_h * v_h;
     sum_yaw2 += s.yaw_error_deg * s.yaw_error_deg;

@@ -22,6 +22,7 @@ struct EvalSample {
   std::array<double, 3> velocity_error{};
   double yaw_error_deg = 0;
   int32_t flags = 0;
+  double sigma_h_m = 0;                // reported: sqrt of the horizontal position variances
 };
 
 struct EvalMetrics {

@@ -55,7 +55,7 @@ std::string format_log_summary(const LogSummary& s) {
                 static_cast<long long>(s.events), us_to_s(s.last_timestamp - s.first_timestamp));
   out << line;
   out << "damage:   " << s.corrupt_records << " corrupt record(s)" << (s.truncated ? ", truncated" : "") << "\n";
-  out << "holes:    " << s.holes.size() << " (stretches of sensor time a regular channel has no messages for)\n";
+  out << "holes:    " << s.holes.size() << " (stretches a regular channel has no messages for)\n";
   std::snprintf(line, sizeof(line), "%-16s %-24s %9s %9s %11s %19s %19s\n", "channel", "type", "messages", "rate_hz",
                 "MB", "first_utime", "last_utime");
   out << line;
@@ -87,7 +87,7 @@ std::string log_summary_json(const LogSummary& s) {
   j.field("damage", s.damage_report);
   j.key("holes").begin_array();
   for (const LogHole& h : s.holes) {
-    j.begin_object().field("channel", h.channel).field("from_utime", h.from_utime).field("to_utime", h.to_utime);
+    j.begin_object().field("channel", h.channel).field("from_timestamp", h.from_timestamp).field("to_timestamp", h.to_timestamp);
     j.field("seconds", h.seconds()).field("expected_messages", h.expected_messages).end_object();
   }
   j.end_array();

@@ -31,7 +31,7 @@ struct LogSummary {
   int64_t corrupt_records = 0;
   bool truncated = false;
   std::string damage_report;
-  std::vector<LogHole> holes;  // stretches of sensor time a regular channel has no messages for
+  std::vector<LogHole> holes;  // stretches of log time a regular channel has no messages for
   std::map<std::string, ChannelSummary> channels;
 };
 
