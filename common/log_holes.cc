@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "common/channels.h"
+
 
 namespace nadir {
 
@@ -11,7 +13,8 @@ void LogHoleFinder::add(const LogEvent& event) { timestamps_[event.channel].push
 std::vector<LogHole> LogHoleFinder::holes() const {
   std::vector<LogHole> out;
   for (const auto& [channel, recorded] : timestamps_) {
-    if (static_cast<int>(recorded.size()) < options_.min_messages) continue;
+    // CONFIG comes once per process start: never a regular stream.
+    if (channel == channels::kConfig || static_cast<int>(recorded.size()) < options_.min_messages) continue;
     // Sorted: lcm-logger writes in arrival order, which several publishers
     // on one channel may interleave a little. The mean interval, not the
     // median: a channel with several publishers (STATUS, one per process)
