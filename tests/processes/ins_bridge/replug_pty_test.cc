@@ -39,6 +39,7 @@ struct Replug {
   // Like a USB serial adapter: what the receiver sends while the bridge has
   // not reopened the port is lost (a pty would buffer it).
   bool lossy = false;
+  double absent_poll_s = 0.1;  // the bridge's poll of the absent path
 };
 
 struct Sent {
@@ -129,6 +130,7 @@ ReplugRun run_replug(const Replug& script) {
   // its first byte arrived (last byte minus the frame's time on the line) is
   // within 1 ms of that, so the stamps can be checked against the send time.
   options.ins.serial.baud = 4000000;
+  options.ins.serial.absent_poll_s = script.absent_poll_s;
   ReplugRun run;
   std::unique_ptr<LcmBus> bus = testing::memq_bus(&run.got);
   BridgeRunner runner(options, *bus, "ins_bridge", 0.5);
@@ -214,6 +216,23 @@ TEST(InsBridgeReplug, ReceiverBackWithAnotherClockIsNeverMisStampedUnflagged) {
   EXPECT_LT(c.flagged_after, c.published_after / 2);
   EXPECT_LT(std::fabs(c.last_error_us), 5000.0);
   EXPECT_EQ(counter(run.status, "clock_settling"), 0.0);
+}
+
+// The same with the reopen ~0.45 s late: the pty holds the ~45 samples
+// sent since the replug, read at once at the reopen, each one older than its
+// arrival says. They are flagged until the minimum holds, not stamped late.
+TEST(InsBridgeReplug, BacklogReadAtTheReopenIsFlaggedNotStampedLate) {
+  Replug script;
+  script.absent_poll_s = 0.5;
+  script.gap_s = 1.65;  // polls at 0.1 + 0.5 k s after the unplug: the reopen comes ~0.45 s after the replug
+  const ReplugRun run = run_replug(script);
+  const StampCheck c = check_stamps(run, testing::test_options().ins.clock_sync.jump_threshold_us);
+  std::printf("[ FIGURE ] replug, reopen %.3f s late (backlog): %d samples after the replug, %d flagged; worst "
+              "error unflagged %.0f us, flagged %.0f us\n",
+              run.reopen_delay_s, c.published_after, c.flagged_after, c.worst_unflagged_us, c.worst_flagged_us);
+  EXPECT_EQ(run.got.ins.size(), run.sent.size());
+  EXPECT_GT(c.flagged_after, 0);
+  EXPECT_LT(std::fabs(c.last_error_us), 5000.0);
 }
 
 // The receiver pauses 0.5 s (connected, shorter than the stall timeout) and
