@@ -16,10 +16,11 @@ constexpr uint8_t kSync0 = 0xAA, kSync1 = 0x44, kSyncLong = 0x12, kSyncShort = 0
 bool is_frame_start(uint8_t b) { return b == '#' || b == '%' || b == kSync0; }
 // NovAtel ASCII is printable; anything else inside a frame means it was cut.
 bool is_ascii_body(uint8_t b) { return b >= 0x20 && b < 0x7F && b != '#' && b != '%'; }
-// NovAtel log names are upper case letters and digits ("INSPVAA", "BESTPOSA").
+// NovAtel ASCII log names are upper case letters and digits ending in the
+// format letter 'A' ("INSPVAA", "BESTPOSA").
 bool is_log_name_char(uint8_t b) { return (b >= 'A' && b <= 'Z') || (b >= '0' && b <= '9'); }
-// Shorter names do not exist; the minimum keeps a '#' in line noise from
-// counting as a sentence.
+// Shorter names do not exist; with the 'A' this keeps a '#' in line noise
+// from counting as a sentence.
 constexpr size_t kMinLogName = 3;
 constexpr size_t kMaxLogName = 32;
 
@@ -155,7 +156,8 @@ NovatelParser::Start NovatelParser::sentence_start() const {
   if (end > kMaxLogName) return Start::kNotASentence;
   if (end == n) return Start::kNeedMore;
   const size_t name_size = end - 1;
-  return name_size >= kMinLogName && (p[end] == ',' || p[end] == ';') ? Start::kSentence : Start::kNotASentence;
+  const bool named = name_size >= kMinLogName && p[end - 1] == 'A';  // ASCII logs end in the format letter
+  return named && (p[end] == ',' || p[end] == ';') ? Start::kSentence : Start::kNotASentence;
 }
 
 void NovatelParser::error(int64_t* counter, uint64_t offset, const std::string& what) {
@@ -267,11 +269,7 @@ void NovatelParser::decode_ascii(const std::string& text, size_t frame_size, std
               std::to_string(expected_header));
     return;
   }
-  if (name.size() < 2 || name.back() != 'A') {
-    error(&counts_.unknown_messages, stream_offset_, "log '" + name + "' is not an ASCII log name");
-    return;
-  }
-  name.pop_back();  // the format letter
+  name.pop_back();  // the format letter 'A' (sentence_start checked it)
   NovatelFrame frame;
   frame.format = short_header ? NovatelFormat::kShortAscii : NovatelFormat::kAscii;
   std::string why;

@@ -5,8 +5,8 @@
 // Any byte sequence is accepted: what is not a valid frame is skipped and
 // counted, so the stream resynchronises on the next sync. Counting is per
 // sentence: a sentence begins with a binary sync (AA 44 12 / AA 44 13) or an
-// ASCII sync ('#', '%') followed by a log name (3 or more of A-Z 0-9) and ','
-// or ';'; each one ends accepted (a frame) or rejected for exactly one reason
+// ASCII sync ('#', '%') followed by a log name (3 or more of A-Z 0-9, the
+// last one the format letter 'A') and ',' or ';'; each one ends accepted (a frame) or rejected for exactly one reason
 // (CRC, length, fields, unknown log, truncated). Bytes that begin no sentence
 // (a stray '#' in line noise included) are garbage, counted as bytes. A frame's time of arrival is
 // reconstructed from the read's time and the line's character time.
