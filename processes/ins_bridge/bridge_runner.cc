@@ -166,7 +166,8 @@ StatusReport BridgeRunner::status() const {
     if (!link.port.is_open()) {
       if (r.state == status_t::STATE_OK) r.state = status_t::STATE_WARN;
       if (!r.detail.empty()) r.detail += "; ";
-      r.detail += link.counters.last_error.empty() ? link.port.options().device + ": not open" : link.counters.last_error;
+      r.detail +=
+          link.counters.last_error.empty() ? link.port.options().device + ": not open" : link.counters.last_error;
     }
   };
   link_counters("ins_link", ins_);

@@ -54,7 +54,8 @@ TEST(InsBridge, PublishesInsInProjectFramesWithStdDev) {
   PvaFields p;
   const int64_t t = unix_us_of(p.week, p.seconds) + 3000;
   h.ins(testing::ascii_frame('#', testing::long_header("INSSTDEVA", p.week, "345600.000"),
-                             {"0.5", "0.6", "0.9", "0.01", "0.02", "0.03", "0.1", "0.2", "0.4", "0", "0", "0", "0", "0"}),
+                             {"0.5", "0.6", "0.9", "0.01", "0.02", "0.03", "0.1", "0.2", "0.4", "0", "0", "0", "0",
+                              "0"}),
         t - 5000);
   h.ins_from(testing::inspvaa(p), t);
   ASSERT_EQ(h.got.ins.size(), 1u);
