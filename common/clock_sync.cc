@@ -11,6 +11,9 @@ void ClockSyncOptions::Check() const {
   require_option(block_s > 0.0 && block_s <= window_s / 2, "clock_sync", "block_s", "must be in (0, window_s/2]");
   require_option(jump_threshold_us > 0.0, "clock_sync", "jump_threshold_us", "must be > 0");
   require_option(min_delay_us >= 0.0, "clock_sync", "min_delay_us", "must be >= 0");
+  require_option(settle_s >= 0.0 && settle_s <= 10.0, "clock_sync", "settle_s", "must be in [0, 10]");
+  require_option(step_confirm_s > 0.0 && step_confirm_s <= 10.0, "clock_sync", "step_confirm_s",
+                 "must be in (0, 10]");
 }
 
 ClockSync::ClockSync(const ClockSyncOptions& options) : options_(options) { options_.Check(); }
@@ -21,29 +24,46 @@ double ClockSync::predict(int64_t device_us) const {
 
 bool ClockSync::add(int64_t device_us, int64_t arrival_us) {
   const double offset = static_cast<double>(arrival_us - device_us);
-  bool continued = true;
-  if (state_.samples > 0 && device_us <= last_device_us_) {
-    restart("device time went backwards");
-    continued = false;
-  } else if (state_.valid && offset < predict(device_us) - options_.jump_threshold_us) {
-    restart("sample arrived earlier than the clock model allows");
-    continued = false;
-  }
+  bool trusted = check_against_model(device_us, offset);
   ++state_.samples;
   last_device_us_ = device_us;
+  add_to_blocks(device_us, offset);
+  refit();
+  if (state_.settling && !settled(device_us, offset)) trusted = false;
+  if (!trusted) ++state_.untrusted;
+  return trusted;
+}
 
+bool ClockSync::check_against_model(int64_t device_us, double offset) {
+  if (!state_.valid) return true;  // nothing to check against (start, or just restarted)
+  if (device_us <= last_device_us_) {
+    restart("device time went backwards");
+    return false;
+  }
+  const double excess = offset - predict(device_us);
+  if (excess < -options_.jump_threshold_us) {
+    restart("sample arrived " + std::to_string(static_cast<int64_t>(-excess)) +
+            " us earlier than the clock model allows");
+    return false;
+  }
+  if (excess <= options_.jump_threshold_us) {
+    late_run_ = false;
+    return true;
+  }
+  ++state_.late;
+  if (!late_run_) {
+    late_run_ = true;
+    late_run_start_us_ = device_us;
+  } else if (device_us - late_run_start_us_ >= static_cast<int64_t>(options_.step_confirm_s * 1e6)) {
+    restart("clock offset stepped by " + std::to_string(static_cast<int64_t>(excess)) + " us");
+  }
+  return false;
+}
+
+void ClockSync::add_to_blocks(int64_t device_us, double offset) {
   const int64_t block_us = static_cast<int64_t>(options_.block_s * 1e6);
   if (have_current_ && device_us - current_.start_us >= block_us) {
-    // Close the block; a block whose minimum left the envelope is a jump.
-    if (state_.valid && blocks_.size() >= 2 &&
-        std::fabs(current_.offset_us - predict(current_.device_us)) > options_.jump_threshold_us) {
-      const Block moved = current_;
-      restart("clock offset stepped by " +
-              std::to_string(static_cast<int64_t>(moved.offset_us - predict(moved.device_us))) + " us");
-      continued = false;
-    } else {
-      blocks_.push_back(current_);
-    }
+    blocks_.push_back(current_);
     have_current_ = false;
   }
   if (!have_current_) {
@@ -55,8 +75,17 @@ bool ClockSync::add(int64_t device_us, int64_t arrival_us) {
   }
   const int64_t window_us = static_cast<int64_t>(options_.window_s * 1e6);
   while (!blocks_.empty() && device_us - blocks_.front().device_us > window_us) blocks_.pop_front();
-  refit();
-  return continued;
+}
+
+bool ClockSync::settled(int64_t device_us, double offset) {
+  if (!settle_anchored_ || offset < settle_offset_us_ - options_.jump_threshold_us / 2) {
+    settle_anchored_ = true;
+    settle_offset_us_ = offset;
+    settle_start_us_ = device_us;
+  }
+  if (device_us - settle_start_us_ < static_cast<int64_t>(options_.settle_s * 1e6)) return false;
+  state_.settling = false;
+  return true;
 }
 
 void ClockSync::refit() {
@@ -97,9 +126,13 @@ int64_t ClockSync::to_vehicle(int64_t device_us) const {
 }
 
 void ClockSync::restart(const std::string& why) {
+  if (!state_.valid) return;  // no estimate (yet, or since the last restart)
   blocks_.clear();
   have_current_ = false;
   state_.valid = false;
+  state_.settling = true;
+  settle_anchored_ = false;
+  late_run_ = false;
   ++state_.jumps;
   state_.last_jump = why;
 }

@@ -32,6 +32,7 @@ SerialOptions SerialOptions::from_config(const Config& s, const SerialOptions& d
   o.stall_timeout_s = s.get<double>("stall_timeout_s", d.stall_timeout_s);
   o.reopen_min_s = s.get<double>("reopen_min_s", d.reopen_min_s);
   o.reopen_max_s = s.get<double>("reopen_max_s", d.reopen_max_s);
+  o.absent_poll_s = s.get<double>("absent_poll_s", d.absent_poll_s);
   return o;
 }
 
@@ -54,6 +55,7 @@ void SerialOptions::Check(const std::string& source, const std::string& key) con
   require_option(reopen_min_s >= 0.01 && reopen_min_s <= 60, source, key + ".reopen_min_s", "must be in [0.01, 60]");
   require_option(reopen_max_s >= reopen_min_s && reopen_max_s <= 600, source, key + ".reopen_max_s",
                  "must be in [reopen_min_s, 600]");
+  require_option(absent_poll_s >= 0.01 && absent_poll_s <= 10, source, key + ".absent_poll_s", "must be in [0.01, 10]");
 }
 
 BridgeOptions BridgeOptions::from_config(const Config& root) {
@@ -76,6 +78,8 @@ BridgeOptions BridgeOptions::from_config(const Config& root) {
   o.ins.clock_sync.block_s = sync.get<double>("block_s", o.ins.clock_sync.block_s);
   o.ins.clock_sync.jump_threshold_us = sync.get<double>("jump_threshold_us", o.ins.clock_sync.jump_threshold_us);
   o.ins.clock_sync.min_delay_us = sync.get<double>("min_delay_us", o.ins.clock_sync.min_delay_us);
+  o.ins.clock_sync.settle_s = sync.get<double>("settle_s", o.ins.clock_sync.settle_s);
+  o.ins.clock_sync.step_confirm_s = sync.get<double>("step_confirm_s", o.ins.clock_sync.step_confirm_s);
 
   const Config alt = section.section_or_empty("altimeter");
   SerialOptions alt_defaults;

@@ -21,8 +21,9 @@ struct SerialOptions {
   int stop_bits = 1;             // 1 | 2
   std::string flow_control = "none";  // none | rtscts | xonxoff
   double stall_timeout_s = 1.0;  // no byte for this long: stall, reopen
-  double reopen_min_s = 0.1;     // first reopen delay; doubles per failure
+  double reopen_min_s = 0.1;     // reopen delay after a hangup/stall; doubles per failed open of a present device
   double reopen_max_s = 5.0;     // backoff cap
+  double absent_poll_s = 0.1;    // while the path does not exist (unplugged): fixed poll, no backoff
   // Seconds one character takes on the line (start + data + parity + stop bits).
   double byte_time_us() const;
   static SerialOptions from_config(const Config& section, const SerialOptions& defaults);

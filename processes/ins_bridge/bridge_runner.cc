@@ -24,7 +24,8 @@ BridgeRunner::BridgeRunner(const BridgeOptions& options, LcmBus& bus, std::strin
 
 void BridgeRunner::try_open(Link& link, bool is_ins, int64_t now_us) {
   std::string error;
-  if (link.port.open(&error)) {
+  const SerialPort::OpenResult result = link.port.open(&error);
+  if (result == SerialPort::OpenResult::kOpened) {
     ++link.counters.opens;
     link.last_byte_us = now_us;  // the stall clock starts at the open
     if (link.ever_opened) {
@@ -36,9 +37,21 @@ void BridgeRunner::try_open(Link& link, bool is_ins, int64_t now_us) {
                  is_ins ? "INS" : "altimeter", link.port.options().baud);
     return;
   }
-  ++link.counters.open_failures;
   if (error != link.counters.last_error) std::fprintf(stderr, "nadir_ins_bridge: %s\n", error.c_str());
   link.counters.last_error = error;
+  if (result == SerialPort::OpenResult::kAbsent) {
+    // Unplugged: poll the path at a fixed short interval so a device that comes
+    // back is read at once (a USB adapter drops what it sends while closed).
+    ++link.counters.absent_polls;
+    link.backoff_s = 0;
+    link.next_open_us = now_us + s_to_us(link.port.options().absent_poll_s);
+    return;
+  }
+  ++link.counters.open_failures;  // there but refusing: back off
+  back_off(link, now_us);
+}
+
+void BridgeRunner::back_off(Link& link, int64_t now_us) {
   const SerialOptions& o = link.port.options();
   link.backoff_s = link.backoff_s <= 0 ? o.reopen_min_s : std::min(o.reopen_max_s, link.backoff_s * 2);
   link.next_open_us = now_us + s_to_us(link.backoff_s);
@@ -49,9 +62,8 @@ void BridgeRunner::drop(Link& link, bool is_ins, int64_t now_us, const std::stri
   link.counters.last_error = why;
   std::fprintf(stderr, "nadir_ins_bridge: %s: %s; reopening\n", is_ins ? "INS" : "altimeter", why.c_str());
   link.port.close();
-  const SerialOptions& o = link.port.options();
-  link.backoff_s = link.backoff_s <= 0 ? o.reopen_min_s : std::min(o.reopen_max_s, link.backoff_s * 2);
-  link.next_open_us = now_us + s_to_us(link.backoff_s);
+  // A device that hangs up again before sending anything backs off too.
+  back_off(link, now_us);
 }
 
 void BridgeRunner::service_opens(int64_t now_us) {
@@ -146,12 +158,16 @@ StatusReport BridgeRunner::status() const {
     r.counters.emplace_back(p + "_open", link.port.is_open() ? 1.0 : 0.0);
     r.counters.emplace_back(p + "_opens", static_cast<double>(link.counters.opens));
     r.counters.emplace_back(p + "_open_failures", static_cast<double>(link.counters.open_failures));
+    r.counters.emplace_back(p + "_absent_polls", static_cast<double>(link.counters.absent_polls));
     r.counters.emplace_back(p + "_hangups", static_cast<double>(link.counters.hangups));
     r.counters.emplace_back(p + "_stalls", static_cast<double>(link.counters.stalls));
+    // Device faults; rejected input is STATUS `malformed` (publish_status).
+    r.errors += link.counters.hangups + link.counters.stalls + link.counters.open_failures;
     if (!link.port.is_open()) {
       if (r.state == status_t::STATE_OK) r.state = status_t::STATE_WARN;
       if (!r.detail.empty()) r.detail += "; ";
-      r.detail += link.counters.last_error.empty() ? link.port.options().device + ": not open" : link.counters.last_error;
+      r.detail +=
+          link.counters.last_error.empty() ? link.port.options().device + ": not open" : link.counters.last_error;
     }
   };
   link_counters("ins_link", ins_);
@@ -164,6 +180,9 @@ void BridgeRunner::publish_status(int8_t forced_state) {
   if (forced_state >= 0) report.state = forced_state;
   status_t msg = make_status_message(name_, static_cast<int32_t>(getpid()), vehicle_time_now_us(), report,
                                      bus_.error_counts());
+  // Serial input that failed to decode is malformed input as much as a bad
+  // LCM message: rejected INS sentences and altimeter lines.
+  msg.malformed += bridge_.rejected_sentences();
   bus_.latency().take(&msg.latency_p50_ms, &msg.latency_p99_ms, &msg.latency_max_ms);
   bus_.publish(channels::kStatus, msg);
 }

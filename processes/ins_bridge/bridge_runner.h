@@ -1,8 +1,11 @@
 #pragma once
 // The live loop of nadir_ins_bridge: poll() over both serial devices and the
 // LCM fd, feed arriving bytes (stamped on the vehicle time base) to InsBridge,
-// close and reopen a device that hangs up, fails or stalls (exponential
-// backoff), publish STATUS periodically. One device's trouble never blocks
+// close and reopen a device that hangs up, fails or stalls, publish STATUS
+// periodically. Reopen policy: while the path is absent (unplugged) it is
+// polled every absent_poll_s; exponential backoff (reopen_min_s doubling up to
+// reopen_max_s) only for a device that is there but fails to open or hangs up
+// again before sending a byte. One device's trouble never blocks
 // the other: every fd is non-blocking and served from the same poll.
 
 #include <cstdint>
@@ -18,7 +21,8 @@ namespace nadir::ins_bridge {
 
 struct DeviceLinkCounters {
   int64_t opens = 0;
-  int64_t open_failures = 0;
+  int64_t open_failures = 0;   // the device is there but would not open: backoff
+  int64_t absent_polls = 0;    // opens tried while nothing was at the path
   int64_t hangups = 0;
   int64_t stalls = 0;
   std::string last_error;
@@ -54,6 +58,7 @@ class BridgeRunner {
   };
   void service_opens(int64_t now_us);
   void try_open(Link& link, bool is_ins, int64_t now_us);
+  void back_off(Link& link, int64_t now_us);
   void drop(Link& link, bool is_ins, int64_t now_us, const std::string& why, int64_t* counter);
   void read_link(Link& link, bool is_ins);
   int64_t next_deadline_us() const;

@@ -46,7 +46,12 @@ void InsBridge::on_altimeter_bytes(const uint8_t* data, size_t size, int64_t arr
   for (const SerialLine& line : lines_) handle_line(line);
 }
 
-void InsBridge::on_ins_reopened() { ins_parser_.reset(); }
+void InsBridge::on_ins_reopened() {
+  ins_parser_.reset();
+  // It may be another receiver or a rebooted one, its clock anywhere: samples
+  // are flagged until the new estimate has settled, never shifted by the old one.
+  clock_.restart("INS device reopened");
+}
 void InsBridge::on_altimeter_reopened() { alt_splitter_.reset(); }
 
 void InsBridge::handle_frame(const NovatelFrame& frame) {
@@ -86,8 +91,9 @@ void InsBridge::handle_frame(const NovatelFrame& frame) {
   have_leap_ = true;
   time_.leap_seconds = leap;
 
-  // UTC device time against the arrival of the frame's first byte; a restart
-  // of the estimate (time step, leap second, host clock step) flags the sample.
+  // UTC device time against the arrival of the frame's first byte; a sample
+  // whose time the estimate cannot vouch for (restart after a time step, leap
+  // second, host clock step or reopen; settling; arrived too late) is flagged.
   const int64_t device_unix_us = gps_to_unix_us(gps_us, leap);
   if (!clock_.add(device_unix_us, frame.start_arrival_us)) flags |= ins_t::FLAG_TIME_JUMP;
 
@@ -165,24 +171,30 @@ void InsBridge::handle_line(const SerialLine& line) {
   ++alt_published_;
 }
 
+int64_t InsBridge::altimeter_rejected() const {
+  return alt_.parse_errors + alt_splitter_.overlong() + alt_splitter_.truncated();
+}
+
+int64_t InsBridge::rejected_sentences() const { return ins_parser_.counts().rejected() + altimeter_rejected(); }
+
 void InsBridge::report(StatusReport* r) const {
   const NovatelParserCounts& n = ins_parser_.counts();
   const ClockSyncState& c = clock_.state();
-  r->received += n.frames + alt_.lines;
+  r->received += n.frames + (alt_.lines - alt_.parse_errors) + rejected_sentences();
   r->published += ins_published_ + alt_published_;
   r->dropped += time_.duplicates;
-  r->errors += n.crc_failures + n.bad_length + n.truncated + n.field_errors + alt_.parse_errors +
-               alt_splitter_.overlong() + alt_splitter_.truncated();
   auto add = [&](const char* name, double value) { r->counters.emplace_back(name, value); };
   add("ins_bytes", static_cast<double>(n.bytes));
-  add("ins_frames", static_cast<double>(n.frames));
   add("ins_published", static_cast<double>(ins_published_));
+  // Per sentence: accepted + rejected_* = every sentence the INS sent.
+  add("ins_sentences_accepted", static_cast<double>(n.frames));
+  add("ins_sentences_rejected", static_cast<double>(n.rejected()));
+  add("ins_rejected_crc", static_cast<double>(n.crc_failures));
+  add("ins_rejected_length", static_cast<double>(n.bad_length));
+  add("ins_rejected_fields", static_cast<double>(n.field_errors));
+  add("ins_rejected_unknown_log", static_cast<double>(n.unknown_messages));
+  add("ins_rejected_truncated", static_cast<double>(n.truncated));
   add("ins_garbage_bytes", static_cast<double>(n.garbage_bytes));
-  add("ins_crc_failures", static_cast<double>(n.crc_failures));
-  add("ins_bad_length", static_cast<double>(n.bad_length));
-  add("ins_truncated", static_cast<double>(n.truncated));
-  add("ins_field_errors", static_cast<double>(n.field_errors));
-  add("ins_unknown_logs", static_cast<double>(n.unknown_messages));
   add("ins_duplicates", static_cast<double>(time_.duplicates));
   add("ins_time_backwards", static_cast<double>(time_.time_backwards));
   add("gps_week_changes", static_cast<double>(time_.week_changes));
@@ -195,14 +207,20 @@ void InsBridge::report(StatusReport* r) const {
   add("clock_blocks", c.blocks);
   add("clock_samples", static_cast<double>(c.samples));
   add("clock_jumps", static_cast<double>(c.jumps));
+  add("clock_settling", c.settling ? 1.0 : 0.0);
+  add("clock_late_samples", static_cast<double>(c.late));
+  add("clock_flagged_samples", static_cast<double>(c.untrusted));
   add("alt_bytes", static_cast<double>(alt_splitter_.bytes()));
-  add("alt_lines", static_cast<double>(alt_.lines));
+  // Per line: accepted (published with a validity) + rejected_* = every line.
+  add("alt_lines_accepted", static_cast<double>(alt_.lines - alt_.parse_errors));
+  add("alt_lines_rejected", static_cast<double>(altimeter_rejected()));
+  add("alt_rejected_parse", static_cast<double>(alt_.parse_errors));
+  add("alt_rejected_overlong", static_cast<double>(alt_splitter_.overlong()));
+  add("alt_rejected_truncated", static_cast<double>(alt_splitter_.truncated()));
   add("alt_ok", static_cast<double>(alt_.ok));
   add("alt_no_return", static_cast<double>(alt_.no_return));
   add("alt_out_of_range", static_cast<double>(alt_.out_of_range));
   add("alt_low_signal", static_cast<double>(alt_.low_signal));
-  add("alt_parse_errors", static_cast<double>(alt_.parse_errors));
-  add("alt_overlong_lines", static_cast<double>(alt_splitter_.overlong()));
   add("baud_mismatch_suspected", static_cast<double>(baud_episodes_));
 
   auto warn = [&](const std::string& why) {

@@ -47,12 +47,15 @@ class InsBridge {
 
   void on_ins_bytes(const uint8_t* data, size_t size, int64_t arrival_us);
   void on_altimeter_bytes(const uint8_t* data, size_t size, int64_t arrival_us);
-  // The device was closed/reopened: a partial frame or line is dropped.
+  // The device was closed/reopened: a partial frame or line is dropped; the
+  // INS clock estimate restarts.
   void on_ins_reopened();
   void on_altimeter_reopened();
 
   // Counters, clock state and a WARN/detail for suspected baud mismatch.
   void report(StatusReport* report) const;
+  // INS sentences and altimeter lines rejected (STATUS `malformed`).
+  int64_t rejected_sentences() const;
 
   const NovatelParserCounts& ins_counts() const { return ins_parser_.counts(); }
   const InsTimeCounters& ins_time() const { return time_; }
@@ -68,6 +71,7 @@ class InsBridge {
   void handle_frame(const NovatelFrame& frame);
   void handle_line(const SerialLine& line);
   void note_bytes(int64_t* since_good, bool* flagged, size_t size);
+  int64_t altimeter_rejected() const;
 
   BridgeOptions options_;
   Bus& bus_;

@@ -16,6 +16,13 @@ constexpr uint8_t kSync0 = 0xAA, kSync1 = 0x44, kSyncLong = 0x12, kSyncShort = 0
 bool is_frame_start(uint8_t b) { return b == '#' || b == '%' || b == kSync0; }
 // NovAtel ASCII is printable; anything else inside a frame means it was cut.
 bool is_ascii_body(uint8_t b) { return b >= 0x20 && b < 0x7F && b != '#' && b != '%'; }
+// NovAtel ASCII log names are upper case letters and digits ending in the
+// format letter 'A' ("INSPVAA", "BESTPOSA").
+bool is_log_name_char(uint8_t b) { return (b >= 'A' && b <= 'Z') || (b >= '0' && b <= '9'); }
+// Shorter names do not exist; with the 'A' this keeps a '#' in line noise
+// from counting as a sentence.
+constexpr size_t kMinLogName = 3;
+constexpr size_t kMaxLogName = 32;
 
 int hex_value(uint8_t c) {
   if (c >= '0' && c <= '9') return c - '0';
@@ -124,12 +131,33 @@ void decode_stddev_binary(const uint8_t* b, InsStdDev* s) {
 
 void NovatelParser::reset() {
   if (buffer_.size() > start_) {
-    counts_.truncated += 1;
-    counts_.last_error = "byte " + std::to_string(stream_offset_) + ": partial frame dropped on reopen";
+    const uint64_t left = buffer_.size() - start_;
+    if (sentence_start() == Start::kSentence) {
+      error(&counts_.truncated, stream_offset_, "partial frame dropped on reopen");
+    } else {
+      counts_.garbage_bytes += static_cast<int64_t>(left);
+    }
+    stream_offset_ += left;
   }
-  stream_offset_ += buffer_.size() - start_;
   buffer_.clear();
   start_ = 0;
+}
+
+NovatelParser::Start NovatelParser::sentence_start() const {
+  const size_t n = buffer_.size() - start_;
+  const uint8_t* p = buffer_.data() + start_;
+  if (p[0] == kSync0) {
+    if (n >= 2 && p[1] != kSync1) return Start::kNotASentence;
+    if (n < 3) return Start::kNeedMore;
+    return p[2] == kSyncLong || p[2] == kSyncShort ? Start::kSentence : Start::kNotASentence;
+  }
+  size_t end = 1;
+  while (end < n && end <= kMaxLogName && is_log_name_char(p[end])) ++end;
+  if (end > kMaxLogName) return Start::kNotASentence;
+  if (end == n) return Start::kNeedMore;
+  const size_t name_size = end - 1;
+  const bool named = name_size >= kMinLogName && p[end - 1] == 'A';  // ASCII logs end in the format letter
+  return named && (p[end] == ',' || p[end] == ';') ? Start::kSentence : Start::kNotASentence;
 }
 
 void NovatelParser::error(int64_t* counter, uint64_t offset, const std::string& what) {
@@ -150,18 +178,17 @@ void NovatelParser::feed(const uint8_t* data, size_t size, int64_t arrival_us, d
     Step step = Step::kConsumed;
     if (b == '\r' || b == '\n') {
       used = 1;  // line ends between ASCII frames are not garbage
-    } else if (b == '#' || b == '%') {
-      step = try_ascii(out, &used);
-    } else if (b == kSync0) {
-      if (buffer_.size() - start_ < 3) {
+    } else if (is_frame_start(b)) {
+      const Start start = sentence_start();
+      if (start == Start::kNeedMore) {
         step = Step::kNeedMore;
-      } else if (buffer_[start_ + 1] == kSync1 && buffer_[start_ + 2] == kSyncLong) {
-        step = try_binary(false, out, &used);
-      } else if (buffer_[start_ + 1] == kSync1 && buffer_[start_ + 2] == kSyncShort) {
-        step = try_binary(true, out, &used);
-      } else {
-        counts_.garbage_bytes += 1;
+      } else if (start == Start::kNotASentence) {
+        counts_.garbage_bytes += 1;  // a stray sync byte; what follows is rescanned
         used = 1;
+      } else if (b == kSync0) {
+        step = try_binary(buffer_[start_ + 2] == kSyncShort, out, &used);
+      } else {
+        step = try_ascii(out, &used);
       }
     } else {
       // Skip the whole run up to the next possible frame start at once.
@@ -242,11 +269,7 @@ void NovatelParser::decode_ascii(const std::string& text, size_t frame_size, std
               std::to_string(expected_header));
     return;
   }
-  if (name.size() < 2 || name.back() != 'A') {
-    error(&counts_.unknown_messages, stream_offset_, "log '" + name + "' is not an ASCII log name");
-    return;
-  }
-  name.pop_back();  // the format letter
+  name.pop_back();  // the format letter 'A' (sentence_start checked it)
   NovatelFrame frame;
   frame.format = short_header ? NovatelFormat::kShortAscii : NovatelFormat::kAscii;
   std::string why;

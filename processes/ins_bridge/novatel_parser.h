@@ -3,8 +3,12 @@
 // header), short ASCII ('%', 3-field header), binary (AA 44 12, 28-byte
 // header) and short binary (AA 44 13, 12-byte header), each with its CRC-32.
 // Any byte sequence is accepted: what is not a valid frame is skipped and
-// counted (garbage, CRC failure, bad length, truncated frame, bad fields), so
-// the stream resynchronises on the next sync. A frame's time of arrival is
+// counted, so the stream resynchronises on the next sync. Counting is per
+// sentence: a sentence begins with a binary sync (AA 44 12 / AA 44 13) or an
+// ASCII sync ('#', '%') followed by a log name (3 or more of A-Z 0-9, the
+// last one the format letter 'A') and ',' or ';'; each one ends accepted (a frame) or rejected for exactly one reason
+// (CRC, length, fields, unknown log, truncated). Bytes that begin no sentence
+// (a stray '#' in line noise included) are garbage, counted as bytes. A frame's time of arrival is
 // reconstructed from the read's time and the line's character time.
 
 #include <cstddef>
@@ -30,7 +34,7 @@ struct NovatelFrame {
 
 struct NovatelParserCounts {
   int64_t bytes = 0;
-  int64_t frames = 0;            // decoded INS frames handed out
+  int64_t frames = 0;            // sentences accepted: decoded INS frames handed out
   int64_t garbage_bytes = 0;     // bytes outside any frame (CR/LF between frames excluded)
   int64_t crc_failures = 0;
   int64_t bad_length = 0;        // binary header length / message length impossible
@@ -38,6 +42,8 @@ struct NovatelParserCounts {
   int64_t field_errors = 0;      // CRC good but wrong field count / unparsable / out of limits
   int64_t unknown_messages = 0;  // CRC good, a log the bridge does not use
   std::string last_error;        // "byte N: what"
+  // Every sentence is either a frame or one of these.
+  int64_t rejected() const { return crc_failures + bad_length + truncated + field_errors + unknown_messages; }
 };
 
 class NovatelParser {
@@ -57,6 +63,9 @@ class NovatelParser {
 
  private:
   enum class Step { kNeedMore, kConsumed };
+  enum class Start { kSentence, kNotASentence, kNeedMore };
+  // Whether the bytes at start_ begin a sentence (see the file comment).
+  Start sentence_start() const;
   Step try_ascii(std::vector<NovatelFrame>* out, size_t* used);
   Step try_binary(bool short_header, std::vector<NovatelFrame>* out, size_t* used);
   void decode_ascii(const std::string& text, size_t frame_size, std::vector<NovatelFrame>* out);

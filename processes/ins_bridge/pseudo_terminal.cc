@@ -47,6 +47,14 @@ PseudoTerminal::PseudoTerminal(const std::string& link_path) : link_path_(link_p
 PseudoTerminal::~PseudoTerminal() { close(); }
 
 void PseudoTerminal::close() {
+  if (master_ >= 0 && !link_path_.empty()) {
+    // Unplugged: the link goes as a udev link does. Left dangling it would
+    // point at whatever pty next gets this number (another process's device).
+    // Only while it is still ours: a replacement may already have taken it.
+    char target[256];
+    const ssize_t n = ::readlink(link_path_.c_str(), target, sizeof target - 1);
+    if (n > 0 && std::string(target, static_cast<size_t>(n)) == slave_path_) ::unlink(link_path_.c_str());
+  }
   if (slave_keep_ >= 0) ::close(slave_keep_);
   if (master_ >= 0) ::close(master_);
   slave_keep_ = master_ = -1;

@@ -24,7 +24,8 @@ class PseudoTerminal {
   const std::string& slave_path() const { return slave_path_; }
   // The path to open: the symlink if one was asked for, else the slave.
   const std::string& path() const { return link_path_.empty() ? slave_path_ : link_path_; }
-  // Closes the master: the device is "unplugged" (readers see a hangup).
+  // Closes the master: the device is "unplugged" (readers see a hangup) and
+  // the symlink, while it still points here, is removed.
   void close();
 
  private:

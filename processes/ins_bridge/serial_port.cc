@@ -31,18 +31,19 @@ bool baud_to_speed(int baud, unsigned* speed) {
   }
 }
 
-bool SerialPort::open(std::string* error) {
+SerialPort::OpenResult SerialPort::open(std::string* error) {
   close();
   const int fd = ::open(options_.device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
-    *error = options_.device + ": open: " + std::strerror(errno);
-    return false;
+    const int why = errno;
+    *error = options_.device + ": open: " + std::strerror(why);
+    return why == ENOENT || why == ENODEV || why == ENXIO ? OpenResult::kAbsent : OpenResult::kFailed;
   }
   termios tio{};
   if (tcgetattr(fd, &tio) != 0) {
     *error = options_.device + ": not a terminal: " + std::strerror(errno);
     ::close(fd);
-    return false;
+    return OpenResult::kFailed;
   }
   cfmakeraw(&tio);
   unsigned speed = 0;
@@ -65,10 +66,10 @@ bool SerialPort::open(std::string* error) {
   if (tcsetattr(fd, TCSANOW, &tio) != 0) {
     *error = options_.device + ": tcsetattr: " + std::strerror(errno);
     ::close(fd);
-    return false;
+    return OpenResult::kFailed;
   }
   fd_ = fd;
-  return true;
+  return OpenResult::kOpened;
 }
 
 void SerialPort::close() {

@@ -19,8 +19,12 @@ class SerialPort {
   SerialPort(const SerialPort&) = delete;
   SerialPort& operator=(const SerialPort&) = delete;
 
-  // Opens and configures the device; false with a message naming it.
-  bool open(std::string* error);
+  enum class OpenResult { kOpened, kAbsent, kFailed };
+  // Opens and configures the device. kAbsent: nothing at the path (unplugged:
+  // no such file, a dangling link, a node without a device); kFailed: the
+  // device is there but cannot be opened or configured. Both with a message
+  // naming the device.
+  OpenResult open(std::string* error);
   void close();
   bool is_open() const { return fd_ >= 0; }
   int fd() const { return fd_; }

@@ -49,6 +49,88 @@ TEST(ClockSync, DetectsAStepAndRecovers) {
   EXPECT_NEAR(static_cast<double>(sync.to_vehicle(2999 * 10000 - 980000)), 2999 * 10000 + 500000.0, 1000.0);
 }
 
+// Arrival = device + offset + small jitter, 100 Hz.
+int64_t arrival_at(int64_t device_us, int64_t offset_us, int i) { return device_us + offset_us + (i % 7) * 300; }
+
+// The device clock steps by +1.5 s against the host (a receiver reboot that
+// kept the serial link): from the first sample after the step every sample is
+// either flagged or stamped within the threshold; the step is confirmed after
+// step_confirm_s, the estimate settles settle_s later, then stamps are exact.
+TEST(ClockSync, UpwardOffsetStepIsFlaggedFromTheFirstSampleUntilReestablished) {
+  const ClockSyncOptions options;
+  ClockSync sync(options);
+  const int64_t before = 500000, after = before + 1500000;
+  for (int i = 0; i < 500; ++i) ASSERT_TRUE(sync.add(i * 10000, arrival_at(i * 10000, before, i))) << i;
+  int flagged = 0, first_trusted = -1;
+  for (int i = 500; i < 800; ++i) {
+    const int64_t device = i * 10000;
+    const bool trusted = sync.add(device, arrival_at(device, after, i));
+    const double error = std::fabs(static_cast<double>(sync.to_vehicle(device) - (device + after)));
+    if (trusted) {
+      EXPECT_LE(error, options.jump_threshold_us) << "sample " << i << " stamped " << error << " us off unflagged";
+      if (first_trusted < 0) first_trusted = i;
+    } else {
+      ++flagged;
+      EXPECT_LT(first_trusted, 0) << "flagged again at " << i;
+    }
+  }
+  EXPECT_EQ(sync.state().jumps, 1);
+  EXPECT_NE(sync.state().last_jump.find("stepped"), std::string::npos) << sync.state().last_jump;
+  // Late for step_confirm_s (0.5 s: 51 samples, the last one restarts), then
+  // until settle_s (0.2 s) after the restart: 19 more.
+  EXPECT_EQ(flagged, 51 + 19);
+  EXPECT_EQ(first_trusted, 500 + flagged);
+  EXPECT_NEAR(static_cast<double>(sync.to_vehicle(799 * 10000)), 799 * 10000.0 + after, 1.0);
+}
+
+// Delayed reads (35 ms, one sample in 20) are flagged but restart nothing.
+TEST(ClockSync, IsolatedLateSamplesAreFlaggedWithoutARestart) {
+  ClockSync sync(ClockSyncOptions{});
+  int flagged = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const int64_t device = i * 10000;
+    const bool late = i % 20 == 19;
+    const bool trusted = sync.add(device, device + 500000 + (late ? 35000 : 0));
+    EXPECT_EQ(trusted, !late) << i;
+    flagged += trusted ? 0 : 1;
+    EXPECT_EQ(sync.to_vehicle(device), device + 500000);
+  }
+  EXPECT_EQ(flagged, 50);
+  EXPECT_EQ(sync.state().jumps, 0);
+  EXPECT_EQ(sync.state().late, 50);
+}
+
+// A restart (device reopened) with a backlog read at once: every backlog
+// sample is older than its arrival says, by less each time. Samples are
+// flagged until the minimum stops falling and then holds for settle_s.
+TEST(ClockSync, RestartWithABacklogIsFlaggedUntilTheMinimumHolds) {
+  const ClockSyncOptions options;
+  ClockSync sync(options);
+  sync.restart("nothing to restart");  // no estimate yet: no-op
+  EXPECT_EQ(sync.state().jumps, 0);
+  for (int i = 0; i < 300; ++i) ASSERT_TRUE(sync.add(i * 10000, i * 10000 - 1500000));
+  sync.restart("device reopened");
+  EXPECT_EQ(sync.state().jumps, 1);
+  EXPECT_TRUE(sync.state().settling);
+  // New clock: offset 0. 30 samples (300 ms) waited in a buffer and arrive
+  // in one read at t_read, 20 us apart; then live samples.
+  const int64_t first = 5000000, t_read = first + 300000;
+  int first_trusted = -1;
+  for (int k = 0; k < 100; ++k) {
+    const int64_t device = first + k * 10000;
+    const int64_t arrival = k < 30 ? t_read + k * 20 : device;
+    const bool trusted = sync.add(device, arrival);
+    if (trusted && first_trusted < 0) first_trusted = k;
+    if (trusted) {
+      EXPECT_LE(std::llabs(sync.to_vehicle(device) - device), 20000) << k;
+    }
+  }
+  // The live samples from k = 30 lower the minimum again; it holds from there.
+  EXPECT_EQ(first_trusted, 30 + 20);
+  EXPECT_FALSE(sync.state().settling);
+  EXPECT_EQ(sync.state().jumps, 1);
+}
+
 TEST(ClockSync, BadOptionsAreNamed) {
   ClockSyncOptions options;
   options.block_s = 100;

@@ -54,7 +54,8 @@ TEST(InsBridge, PublishesInsInProjectFramesWithStdDev) {
   PvaFields p;
   const int64_t t = unix_us_of(p.week, p.seconds) + 3000;
   h.ins(testing::ascii_frame('#', testing::long_header("INSSTDEVA", p.week, "345600.000"),
-                             {"0.5", "0.6", "0.9", "0.01", "0.02", "0.03", "0.1", "0.2", "0.4", "0", "0", "0", "0", "0"}),
+                             {"0.5", "0.6", "0.9", "0.01", "0.02", "0.03", "0.1", "0.2", "0.4", "0", "0", "0", "0",
+                              "0"}),
         t - 5000);
   h.ins_from(testing::inspvaa(p), t);
   ASSERT_EQ(h.got.ins.size(), 1u);
@@ -278,6 +279,17 @@ TEST(BridgeOptions, ConfigErrorsNameTheKey) {
   }
   const char* parity = "ins_bridge:\n  altimeter:\n    parity: mark\n";
   EXPECT_THROW(BridgeOptions::from_config(Config::parse(parity, "p.yaml")), ConfigError);
+  auto expect_named = [](const char* text, const char* key) {
+    try {
+      BridgeOptions::from_config(Config::parse(text, "r.yaml"));
+      ADD_FAILURE() << "expected a ConfigError for " << key;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  expect_named("ins_bridge:\n  ins:\n    absent_poll_s: 0\n", "ins_bridge.ins.absent_poll_s");
+  expect_named("ins_bridge:\n  ins:\n    clock_sync:\n      settle_s: -1\n", "settle_s");
+  expect_named("ins_bridge:\n  ins:\n    clock_sync:\n      step_confirm_s: 0\n", "step_confirm_s");
   const char* beam = "altimeter:\n  beam_body: [0, 0]\n";
   EXPECT_THROW(BridgeOptions::from_config(Config::parse(beam, "b.yaml")), ConfigError);
   const BridgeOptions ok = BridgeOptions::from_config(Config::parse(
@@ -291,6 +303,9 @@ TEST(BridgeOptions, DefaultConfigFileLoads) {
       BridgeOptions::from_config(Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml"));
   EXPECT_GT(o.ins.serial.baud, 0);
   EXPECT_NEAR(o.altimeter.beam_body.norm(), 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(o.ins.serial.absent_poll_s, 0.1);
+  EXPECT_DOUBLE_EQ(o.ins.clock_sync.settle_s, 0.2);
+  EXPECT_DOUBLE_EQ(o.ins.clock_sync.step_confirm_s, 0.5);
 }
 
 }  // namespace

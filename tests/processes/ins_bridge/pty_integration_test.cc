@@ -226,7 +226,7 @@ TEST(InsBridgePty, CountsAndValuesMatchWhatTheDevicesWrote) {
   const status_t& last = run.got.status.back();
   EXPECT_EQ(testing::counter(last, "ins_published"), 200.0);
   EXPECT_EQ(testing::counter(last, "alt_ok"), 20.0);
-  EXPECT_EQ(testing::counter(last, "ins_crc_failures"), 0.0);
+  EXPECT_EQ(testing::counter(last, "ins_rejected_crc"), 0.0);
   EXPECT_EQ(testing::counter(last, "clock_valid"), 1.0);
   EXPECT_EQ(run.ins_link.opens, 1);
   EXPECT_EQ(run.alt_link.opens, 1);
@@ -245,7 +245,7 @@ TEST(InsBridgePty, UnpluggingAndReplugTheInsMidStreamIsSurvived) {
   expect_ins_matches(run);
   EXPECT_GE(run.ins_link.hangups + run.ins_link.stalls, 1);
   EXPECT_GE(run.ins_link.opens, 2);
-  EXPECT_GE(run.ins_link.open_failures, 1);  // the path was gone for a while
+  EXPECT_GE(run.ins_link.absent_polls, 1);  // the path was gone for a while
   // The altimeter never noticed.
   EXPECT_EQ(ok_ranges(run), run.written.altimeter);
   EXPECT_EQ(run.alt_link.opens, 1);
@@ -269,7 +269,7 @@ TEST(InsBridgePty, GarbageOrStallOnOneDeviceDoesNotInterruptTheOther) {
     return -1.0;
   };
   EXPECT_GT(value("ins_garbage_bytes"), 1000.0);
-  EXPECT_GT(value("alt_parse_errors") + value("alt_overlong_lines"), 0.0);
+  EXPECT_GT(value("alt_rejected_parse") + value("alt_rejected_overlong"), 0.0);
   EXPECT_GE(run.alt_link.stalls, 1);   // the 0.8 s silence was seen and the port reopened
   EXPECT_GE(run.alt_link.opens, 2);
   EXPECT_EQ(run.ins_link.stalls + run.ins_link.hangups, 0);
