@@ -112,6 +112,9 @@ EvalResult evaluate(const EvalData& data) {
   m.capture_truncated = data.truncated;
   m.capture_holes = static_cast<int64_t>(data.holes.size());
   for (const LogHole& h : data.holes) m.capture_hole_seconds = std::max(m.capture_hole_seconds, h.seconds());
+  for (const auto& [name, s] : data.last_status) {
+    m.process_counts[name] = {s.received, s.published, s.dropped, s.errors, s.malformed};
+  }
   m.tracks = data.tracks;
   m.vo_deltas = data.vo_deltas;
   m.vo_deltas_flagged = data.vo_deltas_flagged;
@@ -146,6 +149,12 @@ std::string metrics_json(const EvalMetrics& m) {
   j.field("triggers", m.triggers).field("frames_dropped", m.frames_dropped).field("tracks", m.tracks);
   j.field("capture_corrupt_records", m.capture_corrupt_records).field("capture_truncated", m.capture_truncated);
   j.field("capture_holes", m.capture_holes).field("capture_longest_hole_s", m.capture_hole_seconds);
+  j.key("processes").begin_object();
+  for (const auto& [name, c] : m.process_counts) {
+    j.key(name).begin_object().field("received", c[0]).field("published", c[1]).field("dropped", c[2]);
+    j.field("errors", c[3]).field("malformed", c[4]).end_object();
+  }
+  j.end_object();
   j.field("vo_deltas", m.vo_deltas).field("vo_deltas_flagged", m.vo_deltas_flagged);
   j.field("latency_p50_ms", m.latency_p50_ms).field("latency_p99_ms", m.latency_p99_ms);
   j.end_object();

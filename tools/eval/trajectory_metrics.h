@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,8 @@ struct EvalMetrics {
   bool capture_truncated = false;
   int64_t capture_holes = 0;         // stretches a regular channel has no messages for
   double capture_hole_seconds = 0.0; // the longest
+  // Per process, from its last STATUS: received, published, dropped, errors, malformed.
+  std::map<std::string, std::array<int64_t, 5>> process_counts;
   int64_t tracks = 0;
   int64_t vo_deltas = 0;
   int64_t vo_deltas_flagged = 0;
