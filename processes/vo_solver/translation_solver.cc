@@ -157,9 +157,7 @@ void reprojection_errors(const PaperProblem& problem, const Params& p, double dz
     Eigen::Vector3d point;
     (*ire)[i] = std::numeric_limits<double>::infinity();
     if (!ground_point(problem.plane, normal, problem.features[i].v, &point)) continue;
-    const Eigen::Vector3d cam = rotation * point + shift;
-    if (!(cam.z() > 1e-9)) continue;
-    (*ire)[i] = focal_px * (cam.head<2>() / cam.z() - problem.prev_measured[i]).norm();
+    (*ire)[i] = image_error_px(rotation * point + shift, problem.prev_measured[i], focal_px);
   }
 }
 
@@ -242,12 +240,25 @@ struct WarmStart {
   const std::vector<double>* weights = nullptr;  // per input feature
 };
 
-Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, bool estimate_tilt,
-                          const WarmStart* warm) {
-  Estimate est;
-  if (!start_estimate(pair, &est)) return est;
-  const size_t n = pair.prev_norm.size();
+// The fitted state of Algorithm 1 on one pair, before any output is derived.
+struct PaperFit {
+  Estimate failed;  // the flagged estimate when the fit could not run (ok == false)
+  bool ok = false;
+  size_t num_input = 0;
   PaperProblem problem;
+  Params params = Params::Zero();
+  std::vector<double> w;
+  int iterations = 0;
+  bool converged = false, degenerate = false;
+};
+
+PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt, const WarmStart* warm) {
+  PaperFit fit;
+  Estimate& est = fit.failed;
+  if (!start_estimate(pair, &est)) return fit;
+  const size_t n = pair.prev_norm.size();
+  fit.num_input = n;
+  PaperProblem& problem = fit.problem;
   problem.num_params = estimate_tilt ? 5 : 3;
   problem.prev_level_from_camera = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
   const Eigen::Matrix3d curr_level_from_camera =
@@ -260,7 +271,7 @@ Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, b
   if (!(pair.curr_range_m > 0) || !std::isfinite(pair.curr_range_m) || !(problem.height > 0) ||
       !problem.plane.beam.allFinite()) {
     est.quality |= kNoAltimeter;
-    return est;
+    return fit;
   }
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d u = problem.prev_level_from_camera * pair.prev_norm[i].homogeneous();
@@ -277,22 +288,23 @@ Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, b
   if (m < std::max(options.min_features, problem.num_params)) {
     est.quality |= kTooFewFeatures;
     est.outliers = static_cast<int>(n);
-    return est;
+    return fit;
   }
 
-  Params params;
-  std::vector<double> w(m, 1.0), ire;
+  Params& params = fit.params;
+  std::vector<double>& w = fit.w;
+  w.assign(m, 1.0);
+  std::vector<double> ire;
   if (warm) {
     params = warm->params;
     if (estimate_tilt) problem.plane.relevel = warm->relevel;
     for (int i = 0; i < m; ++i) w[i] = (*warm->weights)[problem.index[i]];
   } else if (!linear_initialization(problem, &params)) {
     est.quality |= kNotConverged;
-    return est;
+    return fit;
   }
   double dz = estimate_dz(problem, params, w, nullptr);
-  bool converged = false, degenerate = false;
-  for (int outer = 0; outer < options.max_robust_iterations && !degenerate; ++outer) {
+  for (int outer = 0; outer < options.max_robust_iterations && !fit.degenerate; ++outer) {
     // Line 8: weights from the image reprojection errors (Tukey biweight,
     // zero beyond a threshold that shrinks with the robust spread of the IREs).
     reprojection_errors(problem, params, dz, options.focal_px, &ire);
@@ -307,44 +319,51 @@ Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, b
     if (used < std::max(options.min_features, problem.num_params)) break;
     const Params before = params;
     const Eigen::Vector3d normal_before = ground_normal(problem.plane, 0, 0);
-    est.iterations += levenberg_marquardt(&problem, &params, w, options, &degenerate);
+    fit.iterations += levenberg_marquardt(&problem, &params, w, options, &fit.degenerate);
     dz = estimate_dz(problem, params, w, nullptr);
     const double change = std::max({(params.head<2>() - before.head<2>()).cwiseAbs().maxCoeff() / problem.height,
                                     std::abs(params(2) - before(2)),
                                     (ground_normal(problem.plane, 0, 0) - normal_before).cwiseAbs().maxCoeff()});
     if (change < options.convergence_tolerance) {
-      converged = true;
+      fit.converged = true;
       break;
     }
   }
+  fit.ok = true;
+  return fit;
+}
 
-  // Outputs from the final weights.
+// Every output of a fit, for the estimate that is published: the fitted dx,
+// dy, dyaw, tilt with dz from eq. (7) (or `published_dz` when the dz mode
+// combines two solves). Altitude, covariance, residual, inlier counts and
+// quality bits all describe that estimate.
+Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOptions& options,
+                      const double* published_dz) {
+  if (!fit.ok) return fit.failed;
+  Estimate est = fit.failed;
+  const PaperProblem& problem = fit.problem;
+  const Params& params = fit.params;
+  const std::vector<double>& w = fit.w;
+  const int m = static_cast<int>(problem.features.size());
+  est.iterations = fit.iterations;
+  bool degenerate = fit.degenerate;
   double dz_variance = 0;
-  dz = estimate_dz(problem, params, w, &dz_variance);
-  reprojection_errors(problem, params, dz, options.focal_px, &ire);
-  double sum_sq = 0;
-  for (int i = 0; i < m; ++i) {
-    est.weights[problem.index[i]] = w[i];
-    if (w[i] > 0) {
-      ++est.inliers;
-      sum_sq += ire[i] * ire[i];
-    }
-  }
-  est.outliers = static_cast<int>(n) - est.inliers;
-  est.residual_rms_px = est.inliers > 0 ? std::sqrt(sum_sq / est.inliers) : 0.0;
-  est.translation = Eigen::Vector3d(params(0), params(1), dz);
+  const double fitted_dz = estimate_dz(problem, params, w, &dz_variance);
+  for (int i = 0; i < m; ++i) est.weights[problem.index[i]] = w[i];
+  est.translation = Eigen::Vector3d(params(0), params(1), published_dz ? *published_dz : fitted_dz);
   est.dyaw = params(2);
   const Eigen::Vector3d normal = ground_normal(problem.plane, 0, 0);
   tilt_from_normal(normal, &est.ground_roll, &est.ground_pitch);
   est.altitude_m = prev_vertical_height(normal, problem.plane.range_m * normal.dot(problem.plane.beam), est.dyaw,
                                         est.translation);
+  const int np = problem.num_params;
+  score_estimate(pair, options, std::max(options.min_features, np), &est);
 
   // Covariance: sigma^2 (J^T W J)^-1 for the fitted unknowns, mapped to the
   // output order; dz from the spread of its weighted mean.
   Eigen::Matrix<double, 5, 5> h;
   Eigen::Matrix<double, 5, 1> g;
   const double cost = accumulate(problem, params, w, &h, &g);
-  const int np = problem.num_params;
   double sum_w = 0;
   for (double wi : w) sum_w += wi;
   Eigen::MatrixXd cov_p = Eigen::MatrixXd::Zero(np, np);
@@ -394,12 +413,7 @@ Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, b
   est.covariance = map.leftCols(np) * cov_p * map.leftCols(np).transpose();
   est.covariance(2, 2) += dz_variance;
 
-  if (!converged || degenerate) est.quality |= kNotConverged;
-  if (est.inliers < std::max(options.min_features, np)) est.quality |= kTooFewFeatures;
-  if (est.residual_rms_px > options.max_residual_rms_px ||
-      est.inliers < options.min_inlier_fraction * static_cast<double>(n)) {
-    est.quality |= kHighResidual;
-  }
+  if (!fit.converged || degenerate) est.quality |= kNotConverged;
   if (!est.translation.allFinite() || !std::isfinite(est.dyaw)) est.quality |= kNotConverged;
   return est;
 }
@@ -420,10 +434,12 @@ FramePair reversed(const FramePair& pair) {
 // -dz): their mean cancels the term h * delta * epsilon that a relative
 // levelling error delta = eps(k-1) - eps(k) leaves in either one
 // (DERIVATION.md section 7a). The reverse solve starts from the forward
-// solution. Where either solve failed, the forward one stands.
+// solution. Where either solve failed, the forward one stands. Every other
+// output is then derived again for the published (mean) dz.
 Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
   constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
-  Estimate forward = solve_paper_from(pair, options, estimate_tilt, nullptr);
+  const PaperFit forward_fit = fit_paper(pair, options, estimate_tilt, nullptr);
+  const Estimate forward = finish_paper(forward_fit, pair, options, nullptr);
   if (forward.quality & kFailed) return forward;
   // Forward: X(k-1) = Rz(dyaw) X(k) + t. Reverse: X(k) = Rz(-dyaw) (X(k-1) - t).
   WarmStart warm;
@@ -433,21 +449,24 @@ Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& optio
   warm.relevel = rot_z(forward.dyaw) * level_from_camera(forward.ground_roll, forward.ground_pitch,
                                                          Eigen::Matrix3d::Identity());
   warm.weights = &forward.weights;
-  const Estimate backward = solve_paper_from(reversed(pair), options, estimate_tilt, &warm);
+  const FramePair backward_pair = reversed(pair);
+  const Estimate backward =
+      finish_paper(fit_paper(backward_pair, options, estimate_tilt, &warm), backward_pair, options, nullptr);
   if ((backward.quality & kFailed) || !std::isfinite(backward.translation.z())) return forward;
-  forward.translation.z() = 0.5 * (forward.translation.z() - backward.translation.z());
+  const double dz = 0.5 * (forward.translation.z() - backward.translation.z());
+  Estimate published = finish_paper(forward_fit, pair, options, &dz);
   // The two estimates share their data: their dz errors are far from
   // independent, so the variance of the mean is bounded by the mean sigma.
   const double sigma = 0.5 * (std::sqrt(forward.covariance(2, 2)) + std::sqrt(backward.covariance(2, 2)));
-  forward.covariance(2, 2) = sigma * sigma;
-  return forward;
+  published.covariance(2, 2) = sigma * sigma;
+  return published;
 }
 
 }  // namespace
 
 Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
-  return options.symmetric_dz ? solve_paper_symmetric(pair, options, estimate_tilt)
-                              : solve_paper_from(pair, options, estimate_tilt, nullptr);
+  if (options.symmetric_dz) return solve_paper_symmetric(pair, options, estimate_tilt);
+  return finish_paper(fit_paper(pair, options, estimate_tilt, nullptr), pair, options, nullptr);
 }
 
 }  // namespace nadir::vo
