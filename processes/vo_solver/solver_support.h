@@ -33,12 +33,16 @@ double image_error_px(const Eigen::Vector3d& in_prev_camera, const Eigen::Vector
 // altimeter spot with attitude (ground_roll, ground_pitch), and that point is
 // moved by (dyaw, translation) into the prev camera. Infinite where the ray
 // misses the patch. Used by every variant, so VO_DELTA's residual always
-// means the same thing.
-std::vector<double> estimate_reprojection_errors(const FramePair& pair, const Estimate& est, double focal_px);
+// means the same thing. If depth_offsets is given it receives each feature's
+// depth triangulated from its two rays with that motion, relative to its depth
+// on the patch, minus 1 (NaN where undefined; negative = above the patch).
+std::vector<double> estimate_reprojection_errors(const FramePair& pair, const Estimate& est, double focal_px,
+                                                 std::vector<double>* depth_offsets = nullptr);
 
 // From the estimate as published and its weights: inliers (weight > 0),
 // outliers, residual_rms_px (inlier RMS of estimate_reprojection_errors), and
-// the too-few-features (below min_inliers) and high-residual quality bits.
+// the too-few-features (below min_inliers), high-residual and depth-layers
+// quality bits.
 void score_estimate(const FramePair& pair, const SolverOptions& options, int min_inliers, Estimate* est);
 
 // Vertical height of the prev camera above the ground plane n . X = offset

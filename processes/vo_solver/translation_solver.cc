@@ -44,10 +44,13 @@ void SolverOptions::Check() const {
   require(max_lm_iterations >= 1 && max_lm_iterations <= 100, "max_lm_iterations", "in [1, 100]");
   require(min_threshold_px > 0 && min_threshold_px <= 100, "min_threshold_px", "in (0, 100]");
   require(threshold_mad_scale >= 1 && threshold_mad_scale <= 20, "threshold_mad_scale", "in [1, 20]");
+  require(max_threshold_px >= min_threshold_px && max_threshold_px <= 1000, "max_threshold_px",
+          "in [min_threshold_px, 1000]");
   require(convergence_tolerance > 0 && convergence_tolerance <= 1e-2, "convergence_tolerance", "in (0, 1e-2]");
   require(max_residual_rms_px > 0 && max_residual_rms_px <= 100, "max_residual_rms_px", "in (0, 100]");
   require(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, "min_inlier_fraction", "in [0, 1]");
   require(homography_ransac_px > 0 && homography_ransac_px <= 100, "homography_ransac_px", "in (0, 100]");
+  layers.Check();
 }
 
 Estimate solve(const FramePair& pair, const SolverOptions& options) {
@@ -308,8 +311,9 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     // Line 8: weights from the image reprojection errors (Tukey biweight,
     // zero beyond a threshold that shrinks with the robust spread of the IREs).
     reprojection_errors(problem, params, dz, options.focal_px, &ire);
-    const double threshold =
-        std::max(options.min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
+    double threshold = std::max(options.min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
+    const bool capped = outer > 0;
+    if (capped) threshold = std::min(threshold, options.max_threshold_px);
     int used = 0;
     for (int i = 0; i < m; ++i) {
       const double e = ire[i] / threshold;
@@ -324,7 +328,7 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     const double change = std::max({(params.head<2>() - before.head<2>()).cwiseAbs().maxCoeff() / problem.height,
                                     std::abs(params(2) - before(2)),
                                     (ground_normal(problem.plane, 0, 0) - normal_before).cwiseAbs().maxCoeff()});
-    if (change < options.convergence_tolerance) {
+    if (change < options.convergence_tolerance && threshold <= options.max_threshold_px) {
       fit.converged = true;
       break;
     }

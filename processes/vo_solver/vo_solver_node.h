@@ -19,6 +19,7 @@ namespace nadir {
 
 class VoSolverNode : public Node {
  public:
+  static constexpr int kQualityBits = 8;  // vo_delta_t::QUALITY_* bits, counted in status
   VoSolverNode(const VoSolverOptions& options, Bus& bus);
 
   std::string name() const override { return "vo_solver"; }
@@ -41,7 +42,7 @@ class VoSolverNode : public Node {
   int64_t last_published_utime_ = INT64_MIN;
   int64_t received_ = 0, published_ = 0, dropped_ = 0, errors_ = 0;
   int64_t flagged_ = 0, late_tracks_ = 0, duplicate_tracks_ = 0, bad_features_ = 0;
-  int64_t quality_counts_[7] = {};
+  int64_t quality_counts_[kQualityBits] = {};
   int last_inliers_ = 0;
   double last_residual_px_ = 0;
   int last_quality_ = 0;

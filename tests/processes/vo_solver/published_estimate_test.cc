@@ -123,7 +123,11 @@ TEST(PublishedEstimate, EveryFigureDescribesThePublishedEstimate) {
         options.variant = variant;
         options.symmetric_dz = symmetric;
         const Estimate est = solve(scene.pair, options);
-        EXPECT_EQ(est.quality & (kTooFewFeatures | kNoAltimeter | kNotConverged), 0);
+        // The flat-ground model cannot fit a 10 deg slope seen over a 14 m baseline: it is flagged
+        // (not converged), and its figures must still describe what it publishes.
+        if (variant != Variant::kLevelGround) {
+          EXPECT_EQ(est.quality & (kTooFewFeatures | kNoAltimeter | kNotConverged), 0);
+        }
         expect_figures_of_published(scene.pair, est, options);
         if (variant == Variant::kPaper && symmetric) {
           EXPECT_NEAR(est.translation.z(), 0.5 * (forward_dz + reverse_dz), 1e-5);  // the reverse is warm-started
