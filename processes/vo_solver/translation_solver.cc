@@ -461,8 +461,12 @@ Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& optio
   Estimate published = finish_paper(forward_fit, pair, options, &dz);
   // The two estimates share their data: their dz errors are far from
   // independent, so the variance of the mean is bounded by the mean sigma.
+  // Their gap measures what neither sees in its own spread: the step times
+  // the relative pitch/roll levelling error of the two frames (DERIVATION.md
+  // section 7b), so half of it is added as a further standard deviation.
   const double sigma = 0.5 * (std::sqrt(forward.covariance(2, 2)) + std::sqrt(backward.covariance(2, 2)));
-  published.covariance(2, 2) = sigma * sigma;
+  const double half_gap = 0.5 * (forward.translation.z() + backward.translation.z());
+  published.covariance(2, 2) = sigma * sigma + half_gap * half_gap;
   return published;
 }
 
