@@ -422,18 +422,6 @@ Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOp
   return est;
 }
 
-// The same pair seen backwards in time: curr becomes prev and vice versa.
-FramePair reversed(const FramePair& pair) {
-  FramePair r = pair;
-  std::swap(r.prev_norm, r.curr_norm);
-  std::swap(r.prev_roll, r.curr_roll);
-  std::swap(r.prev_pitch, r.curr_pitch);
-  std::swap(r.prev_yaw, r.curr_yaw);
-  std::swap(r.prev_range_m, r.curr_range_m);
-  std::swap(r.prev_beam_body, r.curr_beam_body);
-  return r;
-}
-
 // dz from eq. (7) of the pair and of the pair reversed in time (whose dz is
 // -dz): their mean cancels the term h * delta * epsilon that a relative
 // levelling error delta = eps(k-1) - eps(k) leaves in either one
@@ -453,7 +441,7 @@ Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& optio
   warm.relevel = rot_z(forward.dyaw) * level_from_camera(forward.ground_roll, forward.ground_pitch,
                                                          Eigen::Matrix3d::Identity());
   warm.weights = &forward.weights;
-  const FramePair backward_pair = reversed(pair);
+  const FramePair backward_pair = reversed_in_time(pair);
   const Estimate backward =
       finish_paper(fit_paper(backward_pair, options, estimate_tilt, &warm), backward_pair, options, nullptr);
   if ((backward.quality & kFailed) || !std::isfinite(backward.translation.z())) return forward;
@@ -471,6 +459,17 @@ Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& optio
 }
 
 }  // namespace
+
+FramePair reversed_in_time(const FramePair& pair) {
+  FramePair r = pair;
+  std::swap(r.prev_norm, r.curr_norm);
+  std::swap(r.prev_roll, r.curr_roll);
+  std::swap(r.prev_pitch, r.curr_pitch);
+  std::swap(r.prev_yaw, r.curr_yaw);
+  std::swap(r.prev_range_m, r.curr_range_m);
+  std::swap(r.prev_beam_body, r.curr_beam_body);
+  return r;
+}
 
 Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
   if (options.symmetric_dz) return solve_paper_symmetric(pair, options, estimate_tilt);

@@ -87,6 +87,10 @@ struct Estimate {
   std::vector<double> weights;  // final robust weight per feature (0 = outlier)
 };
 
+// The same pair seen backwards in time: curr becomes prev and vice versa
+// (points, attitudes, headings, altimeter ranges and beams all swap).
+FramePair reversed_in_time(const FramePair& pair);
+
 // Runs the configured variant. Never throws on bad data: a degenerate input
 // gives an Estimate with quality bits set.
 Estimate solve(const FramePair& pair, const SolverOptions& options);

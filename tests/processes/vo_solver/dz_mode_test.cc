@@ -36,16 +36,6 @@ SceneSpec tilted_pair(double height_m, double step_m, uint32_t seed) {
   return s;
 }
 
-FramePair reversed_in_time(FramePair pair) {
-  std::swap(pair.prev_norm, pair.curr_norm);
-  std::swap(pair.prev_roll, pair.curr_roll);
-  std::swap(pair.prev_pitch, pair.curr_pitch);
-  std::swap(pair.prev_yaw, pair.curr_yaw);
-  std::swap(pair.prev_range_m, pair.curr_range_m);
-  std::swap(pair.prev_beam_body, pair.curr_beam_body);
-  return pair;
-}
-
 SolverOptions forward_mode() {
   SolverOptions o;
   o.symmetric_dz = false;

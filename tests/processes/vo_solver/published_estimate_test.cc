@@ -96,16 +96,6 @@ void expect_figures_of_published(const FramePair& pair, const Estimate& est, con
   for (int k = 0; k < 6; ++k) EXPECT_TRUE(std::isfinite(est.covariance(k, k)) && est.covariance(k, k) >= 0);
 }
 
-FramePair reversed_in_time(FramePair pair) {
-  std::swap(pair.prev_norm, pair.curr_norm);
-  std::swap(pair.prev_roll, pair.curr_roll);
-  std::swap(pair.prev_pitch, pair.curr_pitch);
-  std::swap(pair.prev_yaw, pair.curr_yaw);
-  std::swap(pair.prev_range_m, pair.curr_range_m);
-  std::swap(pair.prev_beam_body, pair.curr_beam_body);
-  return pair;
-}
-
 TEST(PublishedEstimate, EveryFigureDescribesThePublishedEstimate) {
   int pairs_where_modes_differ = 0;
   for (uint32_t seed = 1; seed <= 10; ++seed) {
