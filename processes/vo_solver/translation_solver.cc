@@ -341,8 +341,10 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
 // dy, dyaw, tilt with dz from eq. (7) (or `published_dz` when the dz mode
 // combines two solves). Altitude, covariance, residual, inlier counts and
 // quality bits all describe that estimate.
+enum class Scoring { kPublished, kIntermediate };
+
 Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOptions& options,
-                      const double* published_dz) {
+                      const double* published_dz, Scoring scoring) {
   if (!fit.ok) return fit.failed;
   Estimate est = fit.failed;
   const PaperProblem& problem = fit.problem;
@@ -361,7 +363,13 @@ Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOp
   est.altitude_m = prev_vertical_height(normal, problem.plane.range_m * normal.dot(problem.plane.beam), est.dyaw,
                                         est.translation);
   const int np = problem.num_params;
-  score_estimate(pair, options, std::max(options.min_features, np), &est);
+  if (scoring == Scoring::kPublished) {
+    score_estimate(pair, options, std::max(options.min_features, np), &est);
+  } else {
+    // An intermediate solve of the symmetric mode: only its dz, sigma and failure bits are used.
+    est.inliers = static_cast<int>(std::count_if(w.begin(), w.end(), [](double wi) { return wi > 0; }));
+    if (est.inliers < std::max(options.min_features, np)) est.quality |= kTooFewFeatures;
+  }
 
   // Covariance: sigma^2 (J^T W J)^-1 for the fitted unknowns, mapped to the
   // output order; dz from the spread of its weighted mean.
@@ -431,8 +439,9 @@ Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOp
 Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
   constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
   const PaperFit forward_fit = fit_paper(pair, options, estimate_tilt, nullptr);
-  const Estimate forward = finish_paper(forward_fit, pair, options, nullptr);
-  if (forward.quality & kFailed) return forward;
+  const Estimate forward = finish_paper(forward_fit, pair, options, nullptr, Scoring::kIntermediate);
+  const auto forward_alone = [&] { return finish_paper(forward_fit, pair, options, nullptr, Scoring::kPublished); };
+  if (forward.quality & kFailed) return forward_alone();
   // Forward: X(k-1) = Rz(dyaw) X(k) + t. Reverse: X(k) = Rz(-dyaw) (X(k-1) - t).
   WarmStart warm;
   const Eigen::Vector3d t_reverse = -(rot_z(-forward.dyaw) * forward.translation);
@@ -443,10 +452,11 @@ Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& optio
   warm.weights = &forward.weights;
   const FramePair backward_pair = reversed_in_time(pair);
   const Estimate backward =
-      finish_paper(fit_paper(backward_pair, options, estimate_tilt, &warm), backward_pair, options, nullptr);
-  if ((backward.quality & kFailed) || !std::isfinite(backward.translation.z())) return forward;
+      finish_paper(fit_paper(backward_pair, options, estimate_tilt, &warm), backward_pair, options, nullptr,
+                   Scoring::kIntermediate);
+  if ((backward.quality & kFailed) || !std::isfinite(backward.translation.z())) return forward_alone();
   const double dz = 0.5 * (forward.translation.z() - backward.translation.z());
-  Estimate published = finish_paper(forward_fit, pair, options, &dz);
+  Estimate published = finish_paper(forward_fit, pair, options, &dz, Scoring::kPublished);
   // The two estimates share their data: their dz errors are far from
   // independent, so the variance of the mean is bounded by the mean sigma.
   // Their gap measures what neither sees in its own spread: the step times
@@ -473,7 +483,7 @@ FramePair reversed_in_time(const FramePair& pair) {
 
 Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
   if (options.symmetric_dz) return solve_paper_symmetric(pair, options, estimate_tilt);
-  return finish_paper(fit_paper(pair, options, estimate_tilt, nullptr), pair, options, nullptr);
+  return finish_paper(fit_paper(pair, options, estimate_tilt, nullptr), pair, options, nullptr, Scoring::kPublished);
 }
 
 }  // namespace nadir::vo
