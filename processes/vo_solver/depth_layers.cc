@@ -29,7 +29,9 @@ bool split_into_depth_layers(std::vector<double> offsets, const DepthLayerOption
     sum[i + 1] = sum[i] + offsets[i];
     sum_sq[i + 1] = sum_sq[i] + offsets[i] * offsets[i];
   }
-  auto within = [&](size_t a, size_t b) { return sum_sq[b] - sum_sq[a] - (sum[b] - sum[a]) * (sum[b] - sum[a]) / (b - a); };
+  auto within = [&](size_t a, size_t b) {
+    return sum_sq[b] - sum_sq[a] - (sum[b] - sum[a]) * (sum[b] - sum[a]) / (b - a);
+  };
   size_t best = 0;
   double best_ss = INFINITY;
   for (size_t k = min_size; k + min_size <= n; ++k) {

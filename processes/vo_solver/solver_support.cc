@@ -59,9 +59,10 @@ std::vector<double> estimate_reprojection_errors(const FramePair& pair, const Es
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d prev_camera_from_level =
       level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera).transpose();
-  const Eigen::Matrix3d curr_level_from_camera = level_from_camera(pair.curr_roll, pair.curr_pitch, pair.body_from_camera);
-  const Eigen::Vector3d spot =
-      pair.curr_range_m * (level_from_camera(pair.curr_roll, pair.curr_pitch, identity) * pair.curr_beam_body).normalized();
+  const Eigen::Matrix3d curr_level_from_camera =
+      level_from_camera(pair.curr_roll, pair.curr_pitch, pair.body_from_camera);
+  const Eigen::Matrix3d curr_level_from_body = level_from_camera(pair.curr_roll, pair.curr_pitch, identity);
+  const Eigen::Vector3d spot = pair.curr_range_m * (curr_level_from_body * pair.curr_beam_body).normalized();
   const Eigen::Vector3d normal = normal_from_tilt(est.ground_roll, est.ground_pitch);
   const double offset = normal.dot(spot);
   const Eigen::Matrix3d rotation = prev_camera_from_level * rot_z(est.dyaw);

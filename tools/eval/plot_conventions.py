@@ -49,7 +49,8 @@ def worked_example():
         "R_world_camera = R_world_gimbal(roll 1, pitch -88, yaw 100) R_gimbal_camera",
         "R_gimbal_camera columns (camera x, y, z in gimbal axes): %s" % r_gimbal_camera.T.tolist(),
         "mount_rpy_deg [0, 0, 90]  (camera x = body right, camera y = body back, z = down)",
-        "R_world_body = R_world_camera R_body_camera^T  ->  INS roll %.3f, pitch %.3f, yaw %.3f deg" % (roll, pitch, yaw),
+        "R_world_body = R_world_camera R_body_camera^T  ->  INS roll %.3f, pitch %.3f, yaw %.3f deg"
+        % (roll, pitch, yaw),
         "optical axis in NED: %s" % np.round(r_world_camera[:, 2], 4).tolist(),
     ]
     return lines, (roll, pitch, yaw)

@@ -147,7 +147,8 @@ TEST(DzModes, StudyWhiteAndCorrelatedLevellingErrors) {
       {"40 m / 14 m, white 0.5 deg", 40, 14, 0.5, 0.0},   {"40 m / 14 m, GM 0.5 deg rho 0.98", 40, 14, 0.5, 0.98},
       {"300 m / 2.1 m, white 1 deg", 300, 2.1, 1.0, 0.0}, {"300 m / 2.1 m, GM 1 deg rho 0.98", 300, 2.1, 1.0, 0.98},
   };
-  std::printf("| pairs (150 frames x 3 flights) | sum dz err forward | symmetric | rms per pair forward | symmetric |\n");
+  std::printf("| pairs (150 frames x 3 flights) | sum dz err forward | symmetric "
+              "| rms per pair forward | symmetric |\n");
   for (const Case& c : cases) {
     double sf = 0, ss = 0, qf = 0, qs = 0;
     for (uint32_t seed = 1; seed <= 3; ++seed) {
@@ -240,10 +241,12 @@ TEST(DzModes, AgainstAnIndependentReferenceSolve) {
                         {"300 m / 2.1 m, INS exact", 300, 2.1, 0.0, 0.0},
                         {"300 m / 2.1 m, INS white 1 deg", 300, 2.1, 1.0, 0.0},
                         {"300 m / 2.1 m, INS 1 deg shared + 0.05 deg white", 300, 2.1, 0.05, 1.0}};
-  std::printf("| 20 pairs | dz rms vs reference: forward | symmetric | dz rms vs truth: forward | symmetric | reference |\n");
+  std::printf("| 20 pairs | dz rms vs reference: forward | symmetric "
+              "| dz rms vs truth: forward | symmetric | reference |\n");
   for (const Case& c : cases) {
     std::mt19937 rng(11);
-    std::normal_distribution<double> gauss(0.0, deg_to_rad(c.ins_sigma_deg)), shared(0.0, deg_to_rad(c.common_sigma_deg));
+    std::normal_distribution<double> gauss(0.0, deg_to_rad(c.ins_sigma_deg));
+    std::normal_distribution<double> shared(0.0, deg_to_rad(c.common_sigma_deg));
     double f_ref = 0, s_ref = 0, f_true = 0, s_true = 0, r_true = 0;
     const int n = 20;
     for (uint32_t seed = 1; seed <= n; ++seed) {
