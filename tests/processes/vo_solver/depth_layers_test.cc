@@ -7,7 +7,9 @@
 #include <cmath>
 #include <string>
 
+#include "common/config.h"
 #include "common/geometry.h"
+#include "processes/vo_solver/vo_solver_options.h"
 #include "processes/vo_solver/translation_solver.h"
 #include "tests/processes/vo_solver/synthetic_scene.h"
 
@@ -103,6 +105,28 @@ TEST(DepthLayers, OptionsAreChecked) {
   options.layers.min_fraction = 0.7;
   EXPECT_THROW(options.Check(), std::invalid_argument);
   EXPECT_NO_THROW(SolverOptions{}.Check());
+}
+
+TEST(DepthLayers, ConfigKeysAreReadAndBadValuesNamed) {
+  const char* camera = "camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5}\n";
+  const VoSolverOptions read = VoSolverOptions::from_config(Config::parse(
+      std::string(camera) + "vo_solver: {max_threshold_px: 7.5, layer_min_fraction: 0.2, layer_min_separation: 0.1,"
+                            " layer_min_separation_sigma: 6}\n",
+      "good.yaml"));
+  EXPECT_EQ(read.solver.max_threshold_px, 7.5);
+  EXPECT_EQ(read.solver.layers.min_fraction, 0.2);
+  EXPECT_EQ(read.solver.layers.min_separation, 0.1);
+  EXPECT_EQ(read.solver.layers.min_separation_sigma, 6.0);
+  for (const char* bad : {"vo_solver: {max_threshold_px: 1.0}\n", "vo_solver: {layer_min_separation_sigma: 1}\n"}) {
+    try {
+      VoSolverOptions::from_config(Config::parse(std::string(camera) + bad, "bad.yaml"));
+      ADD_FAILURE() << "expected ConfigError for " << bad;
+    } catch (const ConfigError& e) {
+      const std::string key = std::string(bad).find("max_threshold") != std::string::npos ? "max_threshold_px"
+                                                                                         : "layer_min_separation_sigma";
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
