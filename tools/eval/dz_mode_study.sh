@@ -8,9 +8,13 @@
 # Results under logs/dz_mode/SET/. NADIR_REUSE=1 keeps existing simulations.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../../launch_scripts/eval_common.sh"
-if [ $# -lt 2 ] || [ "$1" = "-h" ] || [ "$1" = "--help" ]; then
+if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
   sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'
-  [ $# -ge 2 ] && exit 0 || exit 2
+  exit 0
+fi
+if [ $# -lt 2 ]; then
+  echo "dz_mode_study: error: need a sensor set and at least one PROFILE:SEED (--help)" >&2
+  exit 2
 fi
 set_name="$1"; shift
 out="$NADIR_ROOT/logs/dz_mode/$set_name"
