@@ -18,6 +18,8 @@ SensorOptions SensorOptions::from_config(const Config& root, const std::string& 
   o.ins.yaw_noise_deg = ins.get<double>("yaw_noise_deg", o.ins.yaw_noise_deg);
   o.ins.yaw_bias_initial_deg = ins.get<double>("yaw_bias_initial_deg", o.ins.yaw_bias_initial_deg);
   o.ins.yaw_bias_walk_deg_per_sqrt_s = ins.get<double>("yaw_bias_walk_deg_per_sqrt_s", o.ins.yaw_bias_walk_deg_per_sqrt_s);
+  o.ins.roll_pitch_gm_sigma_deg = ins.get<double>("roll_pitch_gm_sigma_deg", o.ins.roll_pitch_gm_sigma_deg);
+  o.ins.roll_pitch_gm_tau_s = ins.get<double>("roll_pitch_gm_tau_s", o.ins.roll_pitch_gm_tau_s);
   const Config alt = s.section_or_empty("altimeter");
   o.altimeter.rate_hz = alt.get<double>("rate_hz", o.altimeter.rate_hz);
   o.altimeter.noise_m = alt.get<double>("noise_m", o.altimeter.noise_m);
@@ -42,6 +44,10 @@ SensorOptions SensorOptions::from_config(const Config& root, const std::string& 
   check(std::fabs(c.ins.yaw_bias_initial_deg) <= 30, "ins.yaw_bias_initial_deg", "must be in [-30, 30]");
   check(c.ins.yaw_bias_walk_deg_per_sqrt_s >= 0 && c.ins.yaw_bias_walk_deg_per_sqrt_s <= 1,
         "ins.yaw_bias_walk_deg_per_sqrt_s", "must be in [0, 1]");
+  check(c.ins.roll_pitch_gm_sigma_deg >= 0 && c.ins.roll_pitch_gm_sigma_deg <= 10, "ins.roll_pitch_gm_sigma_deg",
+        "must be in [0, 10]");
+  check(c.ins.roll_pitch_gm_tau_s >= 0.01 && c.ins.roll_pitch_gm_tau_s <= 1e5, "ins.roll_pitch_gm_tau_s",
+        "must be in [0.01, 1e5]");
   check(c.altimeter.rate_hz >= 0.1 && c.altimeter.rate_hz <= 1000, "altimeter.rate_hz", "must be in [0.1, 1000]");
   check(c.altimeter.noise_m >= 0 && c.altimeter.noise_m <= 100, "altimeter.noise_m", "must be in [0, 100]");
   check(c.altimeter.noise_pct >= 0 && c.altimeter.noise_pct <= 20, "altimeter.noise_pct", "must be in [0, 20]");
@@ -77,6 +83,10 @@ std::string SensorOptions::to_yaml() const {
   out << YAML::Key << "yaw_noise_deg" << YAML::Value << ins.yaw_noise_deg;
   out << YAML::Key << "yaw_bias_initial_deg" << YAML::Value << ins.yaw_bias_initial_deg;
   out << YAML::Key << "yaw_bias_walk_deg_per_sqrt_s" << YAML::Value << ins.yaw_bias_walk_deg_per_sqrt_s;
+  if (ins.roll_pitch_gm_sigma_deg > 0) {  // only when used: the logged YAML of the existing sets stays as it was
+    out << YAML::Key << "roll_pitch_gm_sigma_deg" << YAML::Value << ins.roll_pitch_gm_sigma_deg;
+    out << YAML::Key << "roll_pitch_gm_tau_s" << YAML::Value << ins.roll_pitch_gm_tau_s;
+  }
   out << YAML::EndMap;
   out << YAML::Key << "altimeter" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "rate_hz" << YAML::Value << altimeter.rate_hz;

@@ -15,6 +15,11 @@ struct InsModelOptions {
   double yaw_noise_deg = 0.1;                 // white noise sigma on yaw
   double yaw_bias_initial_deg = 0.0;          // yaw bias at the start
   double yaw_bias_walk_deg_per_sqrt_s = 0.004;  // random-walk drift of the yaw bias
+  // Correlated roll/pitch errors (first-order Gauss-Markov, independent per
+  // axis, added to the white noise): stationary sigma and correlation time.
+  // 0 = off, and then no random numbers are drawn (existing sets unchanged).
+  double roll_pitch_gm_sigma_deg = 0.0;
+  double roll_pitch_gm_tau_s = 60.0;
 };
 
 struct AltimeterModelOptions {

@@ -55,11 +55,17 @@ Simulator::Simulator(const FlightProfile& profile, const SimCamera& camera, cons
                 }()),
       trigger_rng_(options.seed, 1),
       ins_rng_(options.seed, 2),
-      altimeter_rng_(options.seed, 3) {
+      altimeter_rng_(options.seed, 3),
+      ins_gm_rng_(options.seed, 7) {
   sensors_.Check();
   duration_s_ = options.duration_s > 0 ? std::min(options.duration_s, trajectory_.duration_s()) : trajectory_.duration_s();
   duration_us_ = static_cast<int64_t>(std::floor(duration_s_ * 1e6));
   yaw_bias_rad_ = deg2rad(sensors_.ins.yaw_bias_initial_deg);
+  const double gm_sigma = deg2rad(sensors_.ins.roll_pitch_gm_sigma_deg);
+  if (gm_sigma > 0) {  // start in the stationary distribution
+    roll_gm_rad_ = gm_sigma * ins_gm_rng_.normal();
+    pitch_gm_rad_ = gm_sigma * ins_gm_rng_.normal();
+  }
 
   YAML::Node root;
   root["name"] = "sim";
@@ -243,6 +249,14 @@ void Simulator::make_ins(int64_t k, SimEvent* e) {
   if (last_ins_k_ >= 0) {
     const double dt = (t_us - tick_us(last_ins_k_, sensors_.ins.rate_hz)) * 1e-6;
     yaw_bias_rad_ += deg2rad(sensors_.ins.yaw_bias_walk_deg_per_sqrt_s) * std::sqrt(dt) * ins_rng_.normal();
+    const double gm_sigma = deg2rad(sensors_.ins.roll_pitch_gm_sigma_deg);
+    if (gm_sigma > 0) {
+      // First-order Gauss-Markov: x' = a x + sigma sqrt(1 - a^2) n, a = exp(-dt / tau), stationary sigma.
+      const double a = std::exp(-dt / sensors_.ins.roll_pitch_gm_tau_s);
+      const double drive = gm_sigma * std::sqrt(1.0 - a * a);
+      roll_gm_rad_ = a * roll_gm_rad_ + drive * ins_gm_rng_.normal();
+      pitch_gm_rad_ = a * pitch_gm_rad_ + drive * ins_gm_rng_.normal();
+    }
   }
   last_ins_k_ = k;
   const double rp_sigma = deg2rad(sensors_.ins.roll_pitch_noise_deg);
@@ -255,6 +269,10 @@ void Simulator::make_ins(int64_t k, SimEvent* e) {
   msg.gps_seconds = static_cast<double>(gps_us % kWeekUs) * 1e-6;
   msg.roll = s.roll + rp_sigma * ins_rng_.normal();
   msg.pitch = s.pitch + rp_sigma * ins_rng_.normal();
+  if (sensors_.ins.roll_pitch_gm_sigma_deg > 0) {
+    msg.roll += roll_gm_rad_;
+    msg.pitch += pitch_gm_rad_;
+  }
   msg.yaw = wrap_pi(s.yaw + yaw_bias_rad_ + yaw_sigma * ins_rng_.normal());
   msg.has_rates = true;
   for (int i = 0; i < 3; ++i) {

@@ -118,6 +118,8 @@ class Simulator {
   std::string config_yaml_;
   std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> queue_;
   RandomStream trigger_rng_, ins_rng_, altimeter_rng_;
+  RandomStream ins_gm_rng_;                 // correlated roll/pitch errors only
+  double roll_gm_rad_ = 0.0, pitch_gm_rad_ = 0.0;
   std::vector<FrameDraw> frames_;  // by frame index (small: 14 Hz)
   double yaw_bias_rad_ = 0.0;
   int64_t last_ins_k_ = -1;

@@ -58,36 +58,32 @@ Estimate solve_flow(const FramePair& pair, const SolverOptions& options) {
   const double threshold = std::max(options.min_threshold_px * metres_per_px,
                                     options.threshold_mad_scale * 1.4826 * median_of(deviation));
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  int used = 0;
   for (size_t j = 0; j < motion.size(); ++j) {
     if (deviation[j] > threshold) continue;
     sum += motion[j];
     est.weights[index[j]] = 1.0;
-    ++est.inliers;
+    ++used;
   }
-  est.outliers = static_cast<int>(n) - est.inliers;
-  if (est.inliers == 0) {
+  if (used == 0) {
     est.quality |= kTooFewFeatures;
+    est.outliers = static_cast<int>(n);
     return est;
   }
-  const Eigen::Vector2d mean = sum / est.inliers;
+  const Eigen::Vector2d mean = sum / used;
   double sum_sq = 0;
   for (size_t j = 0; j < motion.size(); ++j) {
     if (est.weights[index[j]] > 0) sum_sq += (motion[j] - mean).squaredNorm();
   }
-  est.residual_rms_px = std::sqrt(sum_sq / est.inliers) / metres_per_px;
   est.translation = Eigen::Vector3d(mean.x(), mean.y(), prev_height - curr_height);
   est.dyaw = dyaw;
   est.altitude_m = prev_height;
   est.iterations = 1;
-  const double var_xy = sum_sq / (2.0 * est.inliers) / std::max(1, est.inliers - 1);
+  score_estimate(pair, options, options.min_features, &est);
+  const double var_xy = sum_sq / (2.0 * used) / std::max(1, used - 1);
   // dyaw and dz come from the INS and altimeter, not from the images; their
   // variances here are nominal (1 mrad, 0.1 m), the ground tilt is assumed 0.
   est.covariance.diagonal() << var_xy, var_xy, 0.01, 1e-6, 0.0, 0.0;
-  if (est.inliers < options.min_features) est.quality |= kTooFewFeatures;
-  if (est.residual_rms_px > options.max_residual_rms_px ||
-      est.inliers < options.min_inlier_fraction * static_cast<double>(n)) {
-    est.quality |= kHighResidual;
-  }
   return est;
 }
 

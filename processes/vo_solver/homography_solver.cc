@@ -86,19 +86,10 @@ Estimate solve_homography(const FramePair& pair, const SolverOptions& options) {
   est.altitude_m = prev_vertical_height(level_normal, plane_distance, est.dyaw, est.translation);
   est.iterations = 1;
 
-  Eigen::Matrix3d homography;
-  cv::cv2eigen(h, homography);
-  double sum_sq = 0;
   for (size_t j = 0; j < curr.size(); ++j) {
-    if (!mask[j]) continue;
-    const Eigen::Vector3d mapped = homography * Eigen::Vector3d(curr[j].x, curr[j].y, 1.0);
-    const double e = options.focal_px * (mapped.head<2>() / mapped.z() - Eigen::Vector2d(prev[j].x, prev[j].y)).norm();
-    est.weights[index[j]] = 1.0;
-    ++est.inliers;
-    sum_sq += e * e;
+    if (mask[j]) est.weights[index[j]] = 1.0;
   }
-  est.outliers = static_cast<int>(n) - est.inliers;
-  est.residual_rms_px = est.inliers > 0 ? std::sqrt(sum_sq / est.inliers) : 0.0;
+  score_estimate(pair, options, std::max(options.min_features, 4), &est);
   // First-order spread only (diagonal): image noise over the inliers, scaled
   // to metres at the plane distance. Not a full homography covariance.
   const double sigma = est.residual_rms_px / options.focal_px;
@@ -106,11 +97,6 @@ Estimate solve_homography(const FramePair& pair, const SolverOptions& options) {
   est.covariance.diagonal() << 2 * std::pow(plane_distance * sigma, 2) / m, 2 * std::pow(plane_distance * sigma, 2) / m,
       8 * std::pow(plane_distance * sigma, 2) / m, 2 * sigma * sigma / m, 8 * sigma * sigma / m, 8 * sigma * sigma / m;
 
-  if (est.inliers < std::max(options.min_features, 4)) est.quality |= kTooFewFeatures;
-  if (est.residual_rms_px > options.max_residual_rms_px ||
-      est.inliers < options.min_inlier_fraction * static_cast<double>(n)) {
-    est.quality |= kHighResidual;
-  }
   if (!est.translation.allFinite()) est.quality |= kNotConverged;
   return est;
 }

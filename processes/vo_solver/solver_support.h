@@ -24,6 +24,27 @@ Eigen::Matrix3d ground_relevel(const PlaneGeometry& plane, double d_roll, double
 
 namespace nadir::vo {
 
+// Image error (pixels) of a point in the prev camera frame against the tracked
+// normalized point; infinite when the point is not in front of the camera.
+double image_error_px(const Eigen::Vector3d& in_prev_camera, const Eigen::Vector2d& measured, double focal_px);
+
+// Image reprojection error (pixels, prev image) of every feature under an
+// estimate as published: the curr ray meets the patch through the curr
+// altimeter spot with attitude (ground_roll, ground_pitch), and that point is
+// moved by (dyaw, translation) into the prev camera. Infinite where the ray
+// misses the patch. Used by every variant, so VO_DELTA's residual always
+// means the same thing. If depth_offsets is given it receives each feature's
+// depth triangulated from its two rays with that motion, relative to its depth
+// on the patch, minus 1 (NaN where undefined; negative = above the patch).
+std::vector<double> estimate_reprojection_errors(const FramePair& pair, const Estimate& est, double focal_px,
+                                                 std::vector<double>* depth_offsets = nullptr);
+
+// From the estimate as published and its weights: inliers (weight > 0),
+// outliers, residual_rms_px (inlier RMS of estimate_reprojection_errors), and
+// the too-few-features (below min_inliers), high-residual and depth-layers
+// quality bits.
+void score_estimate(const FramePair& pair, const SolverOptions& options, int min_inliers, Estimate* est);
+
 // Vertical height of the prev camera above the ground plane n . X = offset
 // (n unit, in the level frame of curr), given the motion prev -> curr.
 double prev_vertical_height(const Eigen::Vector3d& normal, double plane_offset, double dyaw,

@@ -44,10 +44,13 @@ void SolverOptions::Check() const {
   require(max_lm_iterations >= 1 && max_lm_iterations <= 100, "max_lm_iterations", "in [1, 100]");
   require(min_threshold_px > 0 && min_threshold_px <= 100, "min_threshold_px", "in (0, 100]");
   require(threshold_mad_scale >= 1 && threshold_mad_scale <= 20, "threshold_mad_scale", "in [1, 20]");
+  require(max_threshold_px >= min_threshold_px && max_threshold_px <= 1000, "max_threshold_px",
+          "in [min_threshold_px, 1000]");
   require(convergence_tolerance > 0 && convergence_tolerance <= 1e-2, "convergence_tolerance", "in (0, 1e-2]");
   require(max_residual_rms_px > 0 && max_residual_rms_px <= 100, "max_residual_rms_px", "in (0, 100]");
   require(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, "min_inlier_fraction", "in [0, 1]");
   require(homography_ransac_px > 0 && homography_ransac_px <= 100, "homography_ransac_px", "in (0, 100]");
+  layers.Check();
 }
 
 Estimate solve(const FramePair& pair, const SolverOptions& options) {
@@ -157,9 +160,7 @@ void reprojection_errors(const PaperProblem& problem, const Params& p, double dz
     Eigen::Vector3d point;
     (*ire)[i] = std::numeric_limits<double>::infinity();
     if (!ground_point(problem.plane, normal, problem.features[i].v, &point)) continue;
-    const Eigen::Vector3d cam = rotation * point + shift;
-    if (!(cam.z() > 1e-9)) continue;
-    (*ire)[i] = focal_px * (cam.head<2>() / cam.z() - problem.prev_measured[i]).norm();
+    (*ire)[i] = image_error_px(rotation * point + shift, problem.prev_measured[i], focal_px);
   }
 }
 
@@ -242,12 +243,25 @@ struct WarmStart {
   const std::vector<double>* weights = nullptr;  // per input feature
 };
 
-Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, bool estimate_tilt,
-                          const WarmStart* warm) {
-  Estimate est;
-  if (!start_estimate(pair, &est)) return est;
-  const size_t n = pair.prev_norm.size();
+// The fitted state of Algorithm 1 on one pair, before any output is derived.
+struct PaperFit {
+  Estimate failed;  // the flagged estimate when the fit could not run (ok == false)
+  bool ok = false;
+  size_t num_input = 0;
   PaperProblem problem;
+  Params params = Params::Zero();
+  std::vector<double> w;
+  int iterations = 0;
+  bool converged = false, degenerate = false;
+};
+
+PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt, const WarmStart* warm) {
+  PaperFit fit;
+  Estimate& est = fit.failed;
+  if (!start_estimate(pair, &est)) return fit;
+  const size_t n = pair.prev_norm.size();
+  fit.num_input = n;
+  PaperProblem& problem = fit.problem;
   problem.num_params = estimate_tilt ? 5 : 3;
   problem.prev_level_from_camera = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
   const Eigen::Matrix3d curr_level_from_camera =
@@ -260,7 +274,7 @@ Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, b
   if (!(pair.curr_range_m > 0) || !std::isfinite(pair.curr_range_m) || !(problem.height > 0) ||
       !problem.plane.beam.allFinite()) {
     est.quality |= kNoAltimeter;
-    return est;
+    return fit;
   }
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d u = problem.prev_level_from_camera * pair.prev_norm[i].homogeneous();
@@ -277,27 +291,29 @@ Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, b
   if (m < std::max(options.min_features, problem.num_params)) {
     est.quality |= kTooFewFeatures;
     est.outliers = static_cast<int>(n);
-    return est;
+    return fit;
   }
 
-  Params params;
-  std::vector<double> w(m, 1.0), ire;
+  Params& params = fit.params;
+  std::vector<double>& w = fit.w;
+  w.assign(m, 1.0);
+  std::vector<double> ire;
   if (warm) {
     params = warm->params;
     if (estimate_tilt) problem.plane.relevel = warm->relevel;
     for (int i = 0; i < m; ++i) w[i] = (*warm->weights)[problem.index[i]];
   } else if (!linear_initialization(problem, &params)) {
     est.quality |= kNotConverged;
-    return est;
+    return fit;
   }
   double dz = estimate_dz(problem, params, w, nullptr);
-  bool converged = false, degenerate = false;
-  for (int outer = 0; outer < options.max_robust_iterations && !degenerate; ++outer) {
+  for (int outer = 0; outer < options.max_robust_iterations && !fit.degenerate; ++outer) {
     // Line 8: weights from the image reprojection errors (Tukey biweight,
     // zero beyond a threshold that shrinks with the robust spread of the IREs).
     reprojection_errors(problem, params, dz, options.focal_px, &ire);
-    const double threshold =
-        std::max(options.min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
+    double threshold = std::max(options.min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
+    const bool capped = outer > 0;
+    if (capped) threshold = std::min(threshold, options.max_threshold_px);
     int used = 0;
     for (int i = 0; i < m; ++i) {
       const double e = ire[i] / threshold;
@@ -307,44 +323,59 @@ Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, b
     if (used < std::max(options.min_features, problem.num_params)) break;
     const Params before = params;
     const Eigen::Vector3d normal_before = ground_normal(problem.plane, 0, 0);
-    est.iterations += levenberg_marquardt(&problem, &params, w, options, &degenerate);
+    fit.iterations += levenberg_marquardt(&problem, &params, w, options, &fit.degenerate);
     dz = estimate_dz(problem, params, w, nullptr);
     const double change = std::max({(params.head<2>() - before.head<2>()).cwiseAbs().maxCoeff() / problem.height,
                                     std::abs(params(2) - before(2)),
                                     (ground_normal(problem.plane, 0, 0) - normal_before).cwiseAbs().maxCoeff()});
-    if (change < options.convergence_tolerance) {
-      converged = true;
+    if (change < options.convergence_tolerance && threshold <= options.max_threshold_px) {
+      fit.converged = true;
       break;
     }
   }
+  fit.ok = true;
+  return fit;
+}
 
-  // Outputs from the final weights.
+// Every output of a fit, for the estimate that is published: the fitted dx,
+// dy, dyaw, tilt with dz from eq. (7) (or `published_dz` when the dz mode
+// combines two solves). Altitude, covariance, residual, inlier counts and
+// quality bits all describe that estimate.
+enum class Scoring { kPublished, kIntermediate };
+
+Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOptions& options,
+                      const double* published_dz, Scoring scoring) {
+  if (!fit.ok) return fit.failed;
+  Estimate est = fit.failed;
+  const PaperProblem& problem = fit.problem;
+  const Params& params = fit.params;
+  const std::vector<double>& w = fit.w;
+  const int m = static_cast<int>(problem.features.size());
+  est.iterations = fit.iterations;
+  bool degenerate = fit.degenerate;
   double dz_variance = 0;
-  dz = estimate_dz(problem, params, w, &dz_variance);
-  reprojection_errors(problem, params, dz, options.focal_px, &ire);
-  double sum_sq = 0;
-  for (int i = 0; i < m; ++i) {
-    est.weights[problem.index[i]] = w[i];
-    if (w[i] > 0) {
-      ++est.inliers;
-      sum_sq += ire[i] * ire[i];
-    }
-  }
-  est.outliers = static_cast<int>(n) - est.inliers;
-  est.residual_rms_px = est.inliers > 0 ? std::sqrt(sum_sq / est.inliers) : 0.0;
-  est.translation = Eigen::Vector3d(params(0), params(1), dz);
+  const double fitted_dz = estimate_dz(problem, params, w, &dz_variance);
+  for (int i = 0; i < m; ++i) est.weights[problem.index[i]] = w[i];
+  est.translation = Eigen::Vector3d(params(0), params(1), published_dz ? *published_dz : fitted_dz);
   est.dyaw = params(2);
   const Eigen::Vector3d normal = ground_normal(problem.plane, 0, 0);
   tilt_from_normal(normal, &est.ground_roll, &est.ground_pitch);
   est.altitude_m = prev_vertical_height(normal, problem.plane.range_m * normal.dot(problem.plane.beam), est.dyaw,
                                         est.translation);
+  const int np = problem.num_params;
+  if (scoring == Scoring::kPublished) {
+    score_estimate(pair, options, std::max(options.min_features, np), &est);
+  } else {
+    // An intermediate solve of the symmetric mode: only its dz, sigma and failure bits are used.
+    est.inliers = static_cast<int>(std::count_if(w.begin(), w.end(), [](double wi) { return wi > 0; }));
+    if (est.inliers < std::max(options.min_features, np)) est.quality |= kTooFewFeatures;
+  }
 
   // Covariance: sigma^2 (J^T W J)^-1 for the fitted unknowns, mapped to the
   // output order; dz from the spread of its weighted mean.
   Eigen::Matrix<double, 5, 5> h;
   Eigen::Matrix<double, 5, 1> g;
   const double cost = accumulate(problem, params, w, &h, &g);
-  const int np = problem.num_params;
   double sum_w = 0;
   for (double wi : w) sum_w += wi;
   Eigen::MatrixXd cov_p = Eigen::MatrixXd::Zero(np, np);
@@ -394,18 +425,52 @@ Estimate solve_paper_from(const FramePair& pair, const SolverOptions& options, b
   est.covariance = map.leftCols(np) * cov_p * map.leftCols(np).transpose();
   est.covariance(2, 2) += dz_variance;
 
-  if (!converged || degenerate) est.quality |= kNotConverged;
-  if (est.inliers < std::max(options.min_features, np)) est.quality |= kTooFewFeatures;
-  if (est.residual_rms_px > options.max_residual_rms_px ||
-      est.inliers < options.min_inlier_fraction * static_cast<double>(n)) {
-    est.quality |= kHighResidual;
-  }
+  if (!fit.converged || degenerate) est.quality |= kNotConverged;
   if (!est.translation.allFinite() || !std::isfinite(est.dyaw)) est.quality |= kNotConverged;
   return est;
 }
 
-// The same pair seen backwards in time: curr becomes prev and vice versa.
-FramePair reversed(const FramePair& pair) {
+// dz from eq. (7) of the pair and of the pair reversed in time (whose dz is
+// -dz): their mean cancels the term h * delta * epsilon that a relative
+// levelling error delta = eps(k-1) - eps(k) leaves in either one
+// (DERIVATION.md section 7a). The reverse solve starts from the forward
+// solution. Where either solve failed, the forward one stands. Every other
+// output is then derived again for the published (mean) dz.
+Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
+  constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
+  const PaperFit forward_fit = fit_paper(pair, options, estimate_tilt, nullptr);
+  const Estimate forward = finish_paper(forward_fit, pair, options, nullptr, Scoring::kIntermediate);
+  const auto forward_alone = [&] { return finish_paper(forward_fit, pair, options, nullptr, Scoring::kPublished); };
+  if (forward.quality & kFailed) return forward_alone();
+  // Forward: X(k-1) = Rz(dyaw) X(k) + t. Reverse: X(k) = Rz(-dyaw) (X(k-1) - t).
+  WarmStart warm;
+  const Eigen::Vector3d t_reverse = -(rot_z(-forward.dyaw) * forward.translation);
+  warm.params << t_reverse.x(), t_reverse.y(), -forward.dyaw, 0.0, 0.0;
+  // Re-levelled camera whose z axis is the forward ground normal (Ry(pitch) Rx(roll) e_z), seen from k-1.
+  warm.relevel = rot_z(forward.dyaw) * level_from_camera(forward.ground_roll, forward.ground_pitch,
+                                                         Eigen::Matrix3d::Identity());
+  warm.weights = &forward.weights;
+  const FramePair backward_pair = reversed_in_time(pair);
+  const Estimate backward =
+      finish_paper(fit_paper(backward_pair, options, estimate_tilt, &warm), backward_pair, options, nullptr,
+                   Scoring::kIntermediate);
+  if ((backward.quality & kFailed) || !std::isfinite(backward.translation.z())) return forward_alone();
+  const double dz = 0.5 * (forward.translation.z() - backward.translation.z());
+  Estimate published = finish_paper(forward_fit, pair, options, &dz, Scoring::kPublished);
+  // The two estimates share their data: their dz errors are far from
+  // independent, so the variance of the mean is bounded by the mean sigma.
+  // Their gap measures what neither sees in its own spread: the step times
+  // the relative pitch/roll levelling error of the two frames (DERIVATION.md
+  // section 7b), so half of it is added as a further standard deviation.
+  const double sigma = 0.5 * (std::sqrt(forward.covariance(2, 2)) + std::sqrt(backward.covariance(2, 2)));
+  const double half_gap = 0.5 * (forward.translation.z() + backward.translation.z());
+  published.covariance(2, 2) = sigma * sigma + half_gap * half_gap;
+  return published;
+}
+
+}  // namespace
+
+FramePair reversed_in_time(const FramePair& pair) {
   FramePair r = pair;
   std::swap(r.prev_norm, r.curr_norm);
   std::swap(r.prev_roll, r.curr_roll);
@@ -416,38 +481,9 @@ FramePair reversed(const FramePair& pair) {
   return r;
 }
 
-// dz from eq. (7) of the pair and of the pair reversed in time (whose dz is
-// -dz): their mean cancels the term h * delta * epsilon that a relative
-// levelling error delta = eps(k-1) - eps(k) leaves in either one
-// (DERIVATION.md section 7a). The reverse solve starts from the forward
-// solution. Where either solve failed, the forward one stands.
-Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
-  constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
-  Estimate forward = solve_paper_from(pair, options, estimate_tilt, nullptr);
-  if (forward.quality & kFailed) return forward;
-  // Forward: X(k-1) = Rz(dyaw) X(k) + t. Reverse: X(k) = Rz(-dyaw) (X(k-1) - t).
-  WarmStart warm;
-  const Eigen::Vector3d t_reverse = -(rot_z(-forward.dyaw) * forward.translation);
-  warm.params << t_reverse.x(), t_reverse.y(), -forward.dyaw, 0.0, 0.0;
-  // Re-levelled camera whose z axis is the forward ground normal (Ry(pitch) Rx(roll) e_z), seen from k-1.
-  warm.relevel = rot_z(forward.dyaw) * level_from_camera(forward.ground_roll, forward.ground_pitch,
-                                                         Eigen::Matrix3d::Identity());
-  warm.weights = &forward.weights;
-  const Estimate backward = solve_paper_from(reversed(pair), options, estimate_tilt, &warm);
-  if ((backward.quality & kFailed) || !std::isfinite(backward.translation.z())) return forward;
-  forward.translation.z() = 0.5 * (forward.translation.z() - backward.translation.z());
-  // The two estimates share their data: their dz errors are far from
-  // independent, so the variance of the mean is bounded by the mean sigma.
-  const double sigma = 0.5 * (std::sqrt(forward.covariance(2, 2)) + std::sqrt(backward.covariance(2, 2)));
-  forward.covariance(2, 2) = sigma * sigma;
-  return forward;
-}
-
-}  // namespace
-
 Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
-  return options.symmetric_dz ? solve_paper_symmetric(pair, options, estimate_tilt)
-                              : solve_paper_from(pair, options, estimate_tilt, nullptr);
+  if (options.symmetric_dz) return solve_paper_symmetric(pair, options, estimate_tilt);
+  return finish_paper(fit_paper(pair, options, estimate_tilt, nullptr), pair, options, nullptr, Scoring::kPublished);
 }
 
 }  // namespace nadir::vo

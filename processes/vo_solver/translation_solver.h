@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "processes/vo_solver/depth_layers.h"
+
 namespace nadir::vo {
 
 enum class Variant { kPaper, kLevelGround, kHomography, kFlow };
@@ -24,11 +26,16 @@ struct SolverOptions {
   int max_robust_iterations = 20;      // outer loop of Algorithm 1 (lines 7-20)
   int max_lm_iterations = 4;           // inner loop (lines 9-16), per reweighting
   double min_threshold_px = 2.0;       // IRE beyond which a feature is an outlier, at least
-  double threshold_mad_scale = 4.0;    // ... or this many robust sigmas of the IREs, if larger
+  double threshold_mad_scale = 4.0;    // ... or this many robust sigmas of the IREs, if larger, ...
+  // ... but never above this: a share of off-plane points (tree tops) inflates
+  // the robust sigma and would let itself in. Not applied to the first
+  // reweighting after the tilt-free linear start, which can be pixels off on a slope.
+  double max_threshold_px = 10.0;
   double convergence_tolerance = 1e-6; // parameter change (translation / height, rad)
   double max_residual_rms_px = 3.0;    // inlier IRE RMS above this: QUALITY_HIGH_RESIDUAL
   double min_inlier_fraction = 0.3;    // inlier share below this: QUALITY_HIGH_RESIDUAL
   double homography_ransac_px = 3.0;   // homography variant: RANSAC threshold
+  DepthLayerOptions layers;            // QUALITY_DEPTH_LAYERS
   // paper / level_ground: dz from eq. (7) in the forward pair only, or the
   // mean of the forward and the time-reversed pair, which cancels the
   // second-order dz bias of INS levelling noise (DERIVATION.md section 7a).
@@ -59,6 +66,7 @@ enum Quality : int {
   kNoAttitude = 16,
   kFrameGap = 32,
   kHighResidual = 64,
+  kDepthLayers = 128,
 };
 
 struct Estimate {
@@ -78,6 +86,10 @@ struct Estimate {
   int quality = 0;             // Quality bits; 0 = good
   std::vector<double> weights;  // final robust weight per feature (0 = outlier)
 };
+
+// The same pair seen backwards in time: curr becomes prev and vice versa
+// (points, attitudes, headings, altimeter ranges and beams all swap).
+FramePair reversed_in_time(const FramePair& pair);
 
 // Runs the configured variant. Never throws on bad data: a degenerate input
 // gives an Estimate with quality bits set.

@@ -8,8 +8,9 @@
 namespace nadir {
 
 namespace {
-const char* const kQualityNames[7] = {"too_few_features", "no_altimeter",  "stale_altimeter", "not_converged",
-                                      "no_attitude",      "frame_gap",     "high_residual"};
+const char* const kQualityNames[VoSolverNode::kQualityBits] = {
+    "too_few_features", "no_altimeter", "stale_altimeter", "not_converged",
+    "no_attitude",      "frame_gap",    "high_residual",   "depth_layers"};
 }  // namespace
 
 VoSolverNode::VoSolverNode(const VoSolverOptions& options, Bus& bus, const InputCheckOptions& checks)
@@ -152,7 +153,7 @@ void VoSolverNode::publish(const vo_delta_t& delta) {
   last_inliers_ = delta.inliers;
   last_residual_px_ = delta.residual_rms_px;
   if (delta.quality != 0) ++flagged_;
-  for (int bit = 0; bit < 7; ++bit) {
+  for (int bit = 0; bit < kQualityBits; ++bit) {
     if (delta.quality & (1 << bit)) ++quality_counts_[bit];
   }
 }
@@ -167,7 +168,7 @@ StatusReport VoSolverNode::status() const {
   if (last_quality_ != 0) {
     r.state = status_t::STATE_WARN;
     std::string why;
-    for (int bit = 0; bit < 7; ++bit) {
+    for (int bit = 0; bit < kQualityBits; ++bit) {
       if (last_quality_ & (1 << bit)) why += std::string(why.empty() ? "" : ", ") + kQualityNames[bit];
     }
     r.detail = "last VO_DELTA flagged: " + why;
@@ -183,7 +184,7 @@ StatusReport VoSolverNode::status() const {
                 {"nonfinite_features", static_cast<double>(bad_features_)},
                 {"last_inliers", static_cast<double>(last_inliers_)},
                 {"last_residual_px", last_residual_px_}};
-  for (int bit = 0; bit < 7; ++bit) {
+  for (int bit = 0; bit < kQualityBits; ++bit) {
     r.counters.emplace_back(std::string("quality_") + kQualityNames[bit], static_cast<double>(quality_counts_[bit]));
   }
   gate_.add_counters(&r);

@@ -20,6 +20,7 @@ namespace nadir {
 
 class VoSolverNode : public Node {
  public:
+  static constexpr int kQualityBits = 8;  // vo_delta_t::QUALITY_* bits, counted in status
   // `checks`: the plausibility limits applied to every input before it
   // reaches the frame synchronisation (common/input_checks.h).
   VoSolverNode(const VoSolverOptions& options, Bus& bus, const InputCheckOptions& checks = InputCheckOptions());
@@ -45,7 +46,7 @@ class VoSolverNode : public Node {
   int64_t last_published_utime_ = INT64_MIN;
   int64_t received_ = 0, published_ = 0, dropped_ = 0, errors_ = 0;
   int64_t flagged_ = 0, late_tracks_ = 0, duplicate_tracks_ = 0, bad_features_ = 0;
-  int64_t quality_counts_[7] = {};
+  int64_t quality_counts_[kQualityBits] = {};
   int last_inliers_ = 0;
   double last_residual_px_ = 0;
   int last_quality_ = 0;

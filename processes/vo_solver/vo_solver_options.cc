@@ -40,6 +40,11 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   s.max_lm_iterations = c.get_in_range("max_lm_iterations", s.max_lm_iterations, 1, 100);
   s.min_threshold_px = c.get_in_range("min_threshold_px", s.min_threshold_px, 0.01, 100.0);
   s.threshold_mad_scale = c.get_in_range("threshold_mad_scale", s.threshold_mad_scale, 1.0, 20.0);
+  s.max_threshold_px = c.get_in_range("max_threshold_px", s.max_threshold_px, 0.01, 1000.0);
+  s.layers.min_fraction = c.get_in_range("layer_min_fraction", s.layers.min_fraction, 0.01, 0.5);
+  s.layers.min_separation = c.get_in_range("layer_min_separation", s.layers.min_separation, 0.0, 10.0);
+  s.layers.min_separation_sigma =
+      c.get_in_range("layer_min_separation_sigma", s.layers.min_separation_sigma, 3.0, 100.0);
   s.convergence_tolerance = c.get_in_range("convergence_tolerance", s.convergence_tolerance, 1e-15, 1e-2);
   s.max_residual_rms_px = c.get_in_range("max_residual_rms_px", s.max_residual_rms_px, 0.01, 100.0);
   s.min_inlier_fraction = c.get_in_range("min_inlier_fraction", s.min_inlier_fraction, 0.0, 1.0);

@@ -24,11 +24,14 @@ Scene make_scene(const SceneSpec& spec) {
   const Eigen::Matrix3d plane_rotation = rotation_from_rpy(spec.ground_roll, spec.ground_pitch, spec.curr_yaw);
   const Eigen::Vector3d normal = plane_rotation.col(2);
   const Eigen::Vector3d plane_point = curr_centre + spec.height_m * Eigen::Vector3d::UnitZ();
-  auto hit = [&](const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double* t) {
+  auto hit_layer = [&](const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double above_m, double* t) {
     const double denom = normal.dot(dir);
     if (std::abs(denom) < 1e-12) return false;
-    *t = normal.dot(plane_point - origin) / denom;
+    *t = normal.dot(plane_point - above_m * normal - origin) / denom;
     return *t > 0;
+  };
+  auto hit = [&](const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double* t) {
+    return hit_layer(origin, dir, 0.0, t);
   };
   double prev_range = 0, curr_range = 0;
   if (!hit(prev_centre, world_from_prev_body * spec.beam_body, &prev_range) ||
@@ -59,7 +62,8 @@ Scene make_scene(const SceneSpec& spec) {
     const Eigen::Vector2d curr((px_u(rng) - spec.cx) / spec.fx, (px_v(rng) - spec.cy) / spec.fx);
     const Eigen::Vector3d dir = world_from_curr_cam * curr.homogeneous();
     double t = 0;
-    if (!hit(curr_centre, dir, &t)) continue;
+    const bool raised = spec.raised_fraction > 0 && unit(rng) < spec.raised_fraction;
+    if (!hit_layer(curr_centre, dir, raised ? spec.raised_height_m : 0.0, &t)) continue;
     const Eigen::Vector3d ground = curr_centre + t * dir;
     const Eigen::Vector3d in_prev = world_from_prev_cam.transpose() * (ground - prev_centre);
     if (in_prev.z() <= 0) continue;
@@ -80,6 +84,7 @@ Scene make_scene(const SceneSpec& spec) {
     pair.prev_norm.push_back(prev_obs);
     pair.curr_norm.push_back(curr_obs);
     scene.is_outlier.push_back(outlier);
+    scene.is_raised.push_back(raised);
   }
   scene.translation = spec.translation;
   scene.dyaw = wrap_angle(spec.curr_yaw - spec.prev_yaw);

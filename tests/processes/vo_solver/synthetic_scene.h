@@ -29,12 +29,16 @@ struct SceneSpec {
   double noise_px = 0.0;          // Gaussian, each coordinate of both frames
   double outlier_fraction = 0.0;  // these get the curr point displaced by ...
   double outlier_min_px = 10.0, outlier_max_px = 50.0;  // ... this many pixels
+  // These get their ground point on a second layer this far above the plane
+  // (tree tops over a lawn); the altimeter still sees the plane.
+  double raised_fraction = 0.0, raised_height_m = 0.0;
   uint32_t seed = 1;
 };
 
 struct Scene {
   FramePair pair;
   std::vector<bool> is_outlier;
+  std::vector<bool> is_raised;
   // Truth.
   Eigen::Vector3d translation;
   double dyaw = 0;
