@@ -43,7 +43,7 @@ fly() {  # fly CASE: one flight with its fault, evaluated into $out/CASE
       local logger; logger="$(pgrep -P "$set_pid" -x lcm-logger | head -1)"
       kill -STOP "$logger"; sleep 3; kill -CONT "$logger"
       sleep 5
-      pkill -KILL -P "$set_pid" -x nadir_yaw_fusion || echo "reliability: no yaw_fusion to kill" >&2 ;;
+      pkill -KILL -P "$set_pid" -f "^nadir_yaw_fusion " || echo "reliability: no yaw_fusion to kill" >&2 ;;
     stop)
       sleep 30
       local solver; solver="$(pgrep -P "$set_pid" -x nadir_vo_solver | head -1)"
