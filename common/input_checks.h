@@ -60,8 +60,6 @@ class StreamClock {
   // `gate_newest`: the newest time accepted on any channel of the gate (it is
   // raised to this message's time when accepted); nullptr: this channel only.
   Verdict admit(int64_t utime, const InputCheckOptions& options, int64_t* gate_newest);
-  bool started() const { return started_; }
-  int64_t newest() const { return newest_; }
 
  private:
   bool started_ = false;
@@ -81,6 +79,7 @@ class InputGate {
   bool admit(const std::string& channel, const image_t& msg);
   bool admit(const std::string& channel, const vo_delta_t& msg);
 
+  const InputCheckOptions& options() const { return options_; }
   int64_t rejected() const { return rejected_total_; }
   // Rejections on channels whose messages disagree with the stream's time:
   // the sign of a second publisher (or a driver's clock gone wrong).

@@ -24,7 +24,7 @@ TrackerNode::TrackerNode(const Config& root, Bus& bus)
       options_(TrackerOptions::from_config(root)),
       camera_(CameraModel::from_config(root)),
       gate_(image_checks(root)),
-      max_ahead_us_(static_cast<int64_t>(image_checks(root).max_ahead_s * 1e6)),
+      max_ahead_us_(static_cast<int64_t>(gate_.options().max_ahead_s * 1e6)),
       tracker_(options_) {
   bus_.subscribe<image_t>(channels::kCameraImage, [this](const image_t& msg) { on_image(msg); });
 }
