@@ -31,8 +31,7 @@ class Bus {
 
   template <class Msg>
   void publish(const std::string& channel, const Msg& msg) {
-    std::vector<uint8_t> buffer(static_cast<size_t>(msg.getEncodedSize()));
-    msg.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
+    const std::vector<uint8_t> buffer = encode_message(msg);
     publish_raw(channel, buffer.data(), buffer.size());
   }
 

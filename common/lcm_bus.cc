@@ -6,6 +6,7 @@
 #include "common/channels.h"
 #include "common/config.h"
 #include "common/time_base.h"
+#include "common/udp_drops.h"
 
 namespace nadir {
 
@@ -36,19 +37,54 @@ LcmBus::LcmBus(const LcmBusOptions& options)
 
 LcmBus::~LcmBus() = default;
 
+namespace {
+bool counted_channel(const std::string& channel) {
+  return channel != channels::kStatus && channel != channels::kConfig;
+}
+}  // namespace
+
 void LcmBus::publish_raw(const std::string& channel, const uint8_t* data, size_t size) {
-  if (channel != channels::kStatus && channel != channels::kConfig) {
+  const bool counted = counted_channel(channel);
+  if (counted) {
     int64_t utime = 0;
     if (encoded_utime(data, size, &utime)) latency_.add_ms(static_cast<double>(vehicle_time_now_us() - utime) / 1000.0);
   }
-  std::lock_guard<std::mutex> lock(publish_mutex_);
-  if (lcm_.publish(channel, data, static_cast<unsigned int>(size)) != 0) {
-    throw std::runtime_error("LCM publish on " + channel + " failed (" + url_ + ")");
+  {
+    std::lock_guard<std::mutex> lock(publish_mutex_);
+    if (lcm_.publish(channel, data, static_cast<unsigned int>(size)) != 0) {
+      throw std::runtime_error("LCM publish on " + channel + " failed (" + url_ + ")");
+    }
+  }
+  // Counted once sent: a STATUS built afterwards (on any thread) leaves the
+  // same socket after this message, so a capture holds it before that STATUS.
+  if (counted) {
+    std::lock_guard<std::mutex> lock(counts_mutex_);
+    ++tx_counts_[channel];
   }
 }
 
 void LcmBus::dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Subscription* sub) {
+  if (counted_channel(channel)) {
+    std::lock_guard<std::mutex> lock(sub->bus->counts_mutex_);
+    ++sub->bus->rx_counts_[channel];
+  }
   sub->handler(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
+}
+
+void LcmBus::add_transport_status(status_t* msg) {
+  latency_.take(&msg->latency_p50_ms, &msg->latency_p99_ms, &msg->latency_max_ms);
+  auto add = [msg](const std::string& name, double value) {
+    msg->counter_names.push_back(name);
+    msg->counter_values.push_back(value);
+  };
+  {
+    std::lock_guard<std::mutex> lock(counts_mutex_);
+    for (const auto& [channel, n] : tx_counts_) add("tx." + channel, static_cast<double>(n));
+    for (const auto& [channel, n] : rx_counts_) add("rx." + channel, static_cast<double>(n));
+  }
+  const int64_t drops = own_udp_receive_drops();
+  if (drops >= 0) add("udp_rx_drops", static_cast<double>(drops));
+  msg->num_counters = static_cast<int32_t>(msg->counter_names.size());
 }
 
 void LcmBus::subscribe_raw(const std::string& channel, RawHandler handler) {

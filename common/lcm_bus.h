@@ -3,6 +3,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -38,6 +39,13 @@ class LcmBus : public Bus {
 
   // Sensor time -> publish latency of everything published (not STATUS/CONFIG).
   LatencyWindow& latency() { return latency_; }
+  // Fills a STATUS message's transport part: the latency of the period (then
+  // restarted), and counters "tx.<CHANNEL>" / "rx.<CHANNEL>" (messages
+  // published / delivered since start, STATUS and CONFIG excepted) and
+  // "udp_rx_drops" (datagrams the kernel dropped for a full receive buffer).
+  // A capture is checked against the tx counts (nadir_log info, nadir_eval),
+  // so a message lost between a publisher and the logger is counted.
+  void add_transport_status(status_t* msg);
   const std::string& url() const { return url_; }
 
  private:
@@ -49,6 +57,8 @@ class LcmBus : public Bus {
   LcmBusOptions options_;
   std::mutex publish_mutex_;
   LatencyWindow latency_;
+  std::mutex counts_mutex_;
+  std::map<std::string, int64_t> tx_counts_, rx_counts_;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
 };
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace nadir {
 
@@ -28,6 +29,14 @@ template <class Msg>
 bool decode_message(const uint8_t* data, size_t size, Msg* msg, std::string* reason) {
   return decode_checked(Msg::getHash(), data, size, reason,
                         [&] { return msg->decode(data, 0, static_cast<int>(size)); });
+}
+
+// The LCM encoding of a generated nadir type (what decode_message reads).
+template <class Msg>
+std::vector<uint8_t> encode_message(const Msg& msg) {
+  std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
+  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
 }
 
 }  // namespace nadir

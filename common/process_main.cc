@@ -67,7 +67,7 @@ int run_node_process(int argc, char** argv, const NodeProcessSpec& spec) {
       if (forced_state >= 0) report.state = forced_state;
       status_t msg = make_status_message(spec.name, static_cast<int32_t>(getpid()), vehicle_time_now_us(), report,
                                          bus.error_counts());
-      bus.latency().take(&msg.latency_p50_ms, &msg.latency_p99_ms, &msg.latency_max_ms);
+      bus.add_transport_status(&msg);
       bus.publish(channels::kStatus, msg);
     };
     while (!shutdown_requested()) {

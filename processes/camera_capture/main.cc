@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
       if (forced_state >= 0) report.state = forced_state;
       nadir::status_t msg = nadir::make_status_message(kName, static_cast<int32_t>(getpid()),
                                                        nadir::vehicle_time_now_us(), report, bus.error_counts());
-      bus.latency().take(&msg.latency_p50_ms, &msg.latency_p99_ms, &msg.latency_max_ms);
+      bus.add_transport_status(&msg);
       bus.publish(nadir::channels::kStatus, msg);
       return msg;
     };

@@ -183,7 +183,7 @@ void BridgeRunner::publish_status(int8_t forced_state) {
   // Serial input that failed to decode is malformed input as much as a bad
   // LCM message: rejected INS sentences and altimeter lines.
   msg.malformed += bridge_.rejected_sentences();
-  bus_.latency().take(&msg.latency_p50_ms, &msg.latency_p99_ms, &msg.latency_max_ms);
+  bus_.add_transport_status(&msg);
   bus_.publish(channels::kStatus, msg);
 }
 

@@ -154,7 +154,7 @@ int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us
                        {"rate", args.rate}};
     nadir::status_t msg = nadir::make_status_message("sim", static_cast<int32_t>(getpid()),
                                                      nadir::vehicle_time_now_us(), report, bus.error_counts());
-    bus.latency().take(&msg.latency_p50_ms, &msg.latency_p99_ms, &msg.latency_max_ms);
+    bus.add_transport_status(&msg);
     bus.publish(nadir::channels::kStatus, msg);
   };
   nadir::sim::SimEvent event;

@@ -22,13 +22,6 @@
 namespace nadir {
 namespace {
 
-template <class Msg>
-std::vector<uint8_t> encode(const Msg& msg) {
-  std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
-  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  return bytes;
-}
-
 image_t sample_image() {
   image_t m{};
   m.utime = 1000;
@@ -86,7 +79,7 @@ vo_delta_t sample_delta() {
 // bytes.
 template <class Msg>
 void expect_every_corruption_is_decided(const Msg& sample, int* rejected) {
-  const std::vector<uint8_t> good = encode(sample);
+  const std::vector<uint8_t> good = encode_message(sample);
   Msg out;
   std::string reason;
   ASSERT_TRUE(decode_message(good.data(), good.size(), &out, &reason)) << reason;
@@ -146,7 +139,7 @@ void put_i32(std::vector<uint8_t>* bytes, size_t offset, int32_t v) {
 
 TEST(MessageGuard, NegativeAndHugeCountsAreNamed) {
   // image_t.size sits after 4 int64, 3 int32, 2 int8 and 2 float: offset 8 + 54.
-  std::vector<uint8_t> image = encode(sample_image());
+  std::vector<uint8_t> image = encode_message(sample_image());
   std::string reason;
   image_t img;
   put_i32(&image, 62, -1);
@@ -157,7 +150,7 @@ TEST(MessageGuard, NegativeAndHugeCountsAreNamed) {
   EXPECT_NE(reason.find("image_t.size 2147483647 declares"), std::string::npos) << reason;
 
   // tracks_t.num_tracks: after 3 int64 and 3 int32: offset 8 + 36.
-  std::vector<uint8_t> tracks = encode(sample_tracks());
+  std::vector<uint8_t> tracks = encode_message(sample_tracks());
   tracks_t t;
   put_i32(&tracks, 44, -1);
   EXPECT_FALSE(decode_message(tracks.data(), tracks.size(), &t, &reason));
@@ -176,8 +169,8 @@ TEST(MessageGuard, BusCountsHostileMessagesAndDeliversTheNextGoodOne) {
   int images = 0, tracks = 0;
   bus.subscribe<image_t>("IMG", [&](const image_t&) { ++images; });
   bus.subscribe<tracks_t>("TRK", [&](const tracks_t&) { ++tracks; });
-  std::vector<uint8_t> image = encode(sample_image());
-  std::vector<uint8_t> track = encode(sample_tracks());
+  std::vector<uint8_t> image = encode_message(sample_image());
+  std::vector<uint8_t> track = encode_message(sample_tracks());
   for (const int32_t v : {-1, INT32_MAX, INT32_MIN, 100000}) {
     std::vector<uint8_t> bad_image = image, bad_tracks = track;
     put_i32(&bad_image, 62, v);

@@ -9,7 +9,8 @@
 #      continues from its checkpoint (no pose back at the origin), within its
 #      reported covariance;
 #  (c) the same flight's capture, lcm-logger stopped for 3 s: the hole is
-#      reported by nadir_log info and nadir_eval.
+#      reported by nadir_log info and nadir_eval, and so are the messages the
+#      publishers' STATUS counted that the capture lacks.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 export PATH="${NADIR_BUILD:-$root/build}/bin:$PATH"
@@ -41,4 +42,10 @@ nadir_log info "$work/kill/capture.lcmlog" >"$work/kill/info.txt"
 grep -E "^INS: no messages for [0-9.]+ s" "$work/kill/info.txt" || { cat "$work/kill/info.txt"; fail "(c) nadir_log info reports no hole"; }
 grep -q "hole(s) in the capture" "$work/kill/eval_stderr.txt" || fail "(c) nadir_eval did not warn about the hole"
 [ "$(metric "$work/kill/metrics.json" capture_holes)" -ge 1 ] || fail "(c) metrics.json has no hole"
+# 3 s of the sim's 100 Hz INS alone is ~300 messages the logger never wrote.
+grep -E "^INS: [0-9]+ of [0-9]+ published by sim missing from the capture" "$work/kill/info.txt" ||
+  fail "(c) nadir_log info does not count the INS messages the capture lacks"
+missing="$(metric "$work/kill/metrics.json" capture_missing)"
+[ "$missing" -ge 200 ] || fail "(c) metrics.json capture_missing $missing < 200"
+echo "(c) the stopped logger's hole and its $missing missing messages are reported"
 echo "PASS: hostile input ratio $ratio; killed yaw_fusion continued; the 3 s capture hole is reported"

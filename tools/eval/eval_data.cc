@@ -46,8 +46,10 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
   LogEvent e;
   const bool truth_here = truth_path.empty() || truth_path == log_path;
   LogHoleFinder hole_finder;
+  CaptureAccountant accountant;
   while (reader.next(&e)) {
     hole_finder.add(e);
+    accountant.add(e);
     if (e.channel == channels::kCameraImage || e.channel == channels::kTracks || e.channel == channels::kVoDelta ||
         e.channel == channels::kPose) {
       int64_t utime = 0;
@@ -94,6 +96,7 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
   data.truncated = reader.truncated();
   data.damage_report = reader.damage_report();
   data.holes = hole_finder.holes();
+  data.accounting = accountant.result();
   if (!truth_here) read_truth(truth_path, truth_shift_us, &data);
   if (data.poses.empty()) throw std::runtime_error(log_path + ": no POSE messages (run the estimator first)");
   if (data.truth.size() < 2) {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "common/capture_accounting.h"
 #include "common/log_holes.h"
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/ins_t.hpp"
@@ -28,6 +29,7 @@ struct EvalData {
   bool truncated = false;
   std::string damage_report;        // "FILE: byte N: what" lines
   std::vector<LogHole> holes;       // capture holes (lcm-logger stopped, buffers overflowed)
+  CaptureAccounting accounting;     // the capture against its publishers' STATUS counts
   std::map<std::string, status_t> last_status;  // per process name
   // Per process, the publish latency (sensor time -> publish, measured by the
   // process) of every 1 s STATUS period that published anything: p50s, p99s.

@@ -49,6 +49,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "nadir_eval: warning: %s: %zu hole(s) in the capture\n%s", log_path.c_str(),
                    data.holes.size(), nadir::format_log_holes(data.holes).c_str());
     }
+    const std::string accounting = nadir::format_capture_accounting(data.accounting);
+    if (!accounting.empty()) {
+      std::fprintf(stderr, "nadir_eval: warning: %s: messages lost or unaccounted\n%s", log_path.c_str(),
+                   accounting.c_str());
+    }
     const nadir::EvalResult result = nadir::evaluate(data);
     fs::create_directories(out_dir);
     const std::string metrics = nadir::metrics_json(result.metrics);
@@ -107,9 +112,13 @@ int main(int argc, char** argv) {
                     static_cast<long long>(s.malformed), latency.c_str(), s.detail.empty() ? "" : " -- ",
                     s.detail.c_str());
       }
-      std::printf("capture             %10lld corrupt record(s)%s, %zu hole(s)%s\n",
+      std::printf("capture             %10lld corrupt record(s)%s, %zu hole(s), %lld missing, %lld unaccounted, "
+                  "%lld kernel-dropped datagram(s)%s\n",
                   static_cast<long long>(data.corrupt_records), data.truncated ? ", truncated" : "", data.holes.size(),
-                  data.holes.empty() ? "" : " (listed on stderr)");
+                  static_cast<long long>(data.accounting.missing_total()),
+                  static_cast<long long>(result.metrics.capture_unaccounted),
+                  static_cast<long long>(data.accounting.udp_rx_drops_total()),
+                  data.holes.empty() && accounting.empty() ? "" : " (listed on stderr)");
       std::printf("report              %s\n", out_dir.c_str());
     }
     return 0;

@@ -112,6 +112,9 @@ EvalResult evaluate(const EvalData& data) {
   m.capture_truncated = data.truncated;
   m.capture_holes = static_cast<int64_t>(data.holes.size());
   for (const LogHole& h : data.holes) m.capture_hole_seconds = std::max(m.capture_hole_seconds, h.seconds());
+  m.capture_missing = data.accounting.missing_total();
+  for (const ChannelAccount& c : data.accounting.channels) m.capture_unaccounted += c.unaccounted();
+  m.udp_rx_drops = data.accounting.udp_rx_drops;
   for (const auto& [name, s] : data.last_status) {
     m.process_counts[name] = {s.received, s.published, s.dropped, s.errors, s.malformed};
   }
@@ -149,10 +152,13 @@ std::string metrics_json(const EvalMetrics& m) {
   j.field("triggers", m.triggers).field("frames_dropped", m.frames_dropped).field("tracks", m.tracks);
   j.field("capture_corrupt_records", m.capture_corrupt_records).field("capture_truncated", m.capture_truncated);
   j.field("capture_holes", m.capture_holes).field("capture_longest_hole_s", m.capture_hole_seconds);
+  j.field("capture_missing", m.capture_missing).field("capture_unaccounted", m.capture_unaccounted);
   j.key("processes").begin_object();
   for (const auto& [name, c] : m.process_counts) {
     j.key(name).begin_object().field("received", c[0]).field("published", c[1]).field("dropped", c[2]);
-    j.field("errors", c[3]).field("malformed", c[4]).end_object();
+    j.field("errors", c[3]).field("malformed", c[4]);
+    const auto drops = m.udp_rx_drops.find(name);
+    j.field("udp_rx_drops", drops == m.udp_rx_drops.end() ? int64_t{0} : drops->second).end_object();
   }
   j.end_object();
   j.field("vo_deltas", m.vo_deltas).field("vo_deltas_flagged", m.vo_deltas_flagged);

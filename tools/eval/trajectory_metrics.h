@@ -51,6 +51,9 @@ struct EvalMetrics {
   bool capture_truncated = false;
   int64_t capture_holes = 0;         // stretches a regular channel has no messages for
   double capture_hole_seconds = 0.0; // the longest
+  int64_t capture_missing = 0;       // published (per the publishers' STATUS) but not in the capture
+  int64_t capture_unaccounted = 0;   // in the capture but counted by no publisher (a second publisher?)
+  std::map<std::string, int64_t> udp_rx_drops;  // per process: datagrams its kernel dropped
   // Per process, from its last STATUS: received, published, dropped, errors, malformed.
   std::map<std::string, std::array<int64_t, 5>> process_counts;
   int64_t tracks = 0;

@@ -22,8 +22,10 @@ LogSummary summarize_log(const std::string& path) {
   s.file_bytes = reader.size();
   LogEvent event;
   LogHoleFinder hole_finder;
+  CaptureAccountant accountant;
   while (reader.next(&event)) {
     hole_finder.add(event);
+    accountant.add(event);
     if (s.events == 0) s.first_timestamp = event.timestamp;
     s.last_timestamp = event.timestamp;
     ++s.events;
@@ -44,6 +46,7 @@ LogSummary summarize_log(const std::string& path) {
   s.truncated = reader.truncated();
   s.damage_report = reader.damage_report();
   s.holes = hole_finder.holes();
+  s.accounting = accountant.result();
   return s;
 }
 
@@ -56,6 +59,8 @@ std::string format_log_summary(const LogSummary& s) {
   out << line;
   out << "damage:   " << s.corrupt_records << " corrupt record(s)" << (s.truncated ? ", truncated" : "") << "\n";
   out << "holes:    " << s.holes.size() << " (stretches a regular channel has no messages for)\n";
+  out << "missing:  " << s.accounting.missing_total() << " message(s) its publishers' STATUS counted but the capture "
+      << "lacks; " << s.accounting.udp_rx_drops_total() << " datagram(s) dropped by receivers' kernels\n";
   std::snprintf(line, sizeof(line), "%-16s %-24s %9s %9s %11s %19s %19s\n", "channel", "type", "messages", "rate_hz",
                 "MB", "first_utime", "last_utime");
   out << line;
@@ -67,6 +72,7 @@ std::string format_log_summary(const LogSummary& s) {
   }
   if (!s.damage_report.empty()) out << s.damage_report;
   out << format_log_holes(s.holes);
+  out << format_capture_accounting(s.accounting);
   return out.str();
 }
 
@@ -91,6 +97,18 @@ std::string log_summary_json(const LogSummary& s) {
     j.field("seconds", h.seconds()).field("expected_messages", h.expected_messages).end_object();
   }
   j.end_array();
+  j.key("accounting").begin_object();
+  j.field("missing_total", s.accounting.missing_total()).field("udp_rx_drops_total", s.accounting.udp_rx_drops_total());
+  j.key("channels").begin_array();
+  for (const ChannelAccount& c : s.accounting.channels) {
+    j.begin_object().field("channel", c.channel).field("publishers", c.publishers).field("published", c.published);
+    j.field("captured", c.captured).field("missing", c.missing()).field("unaccounted", c.unaccounted()).end_object();
+  }
+  j.end_array();
+  j.key("udp_rx_drops").begin_object();
+  for (const auto& [name, drops] : s.accounting.udp_rx_drops) j.field(name, drops);
+  j.end_object();
+  j.end_object();
   j.end_object();
   return j.str();
 }

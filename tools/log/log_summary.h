@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "common/capture_accounting.h"
 #include "common/log_file.h"
 #include "common/log_holes.h"
 
@@ -32,6 +33,7 @@ struct LogSummary {
   bool truncated = false;
   std::string damage_report;
   std::vector<LogHole> holes;  // stretches of log time a regular channel has no messages for
+  CaptureAccounting accounting;  // the capture against its publishers' STATUS counts
   std::map<std::string, ChannelSummary> channels;
 };
 
