@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include "common/channels.h"
 #include "common/config.h"
@@ -44,6 +45,7 @@ struct Arguments {
   std::string sensors_path;
   std::string sensor_set = "standard";
   std::optional<double> roll_pitch_noise_deg, yaw_noise_deg, altimeter_noise_pct;
+  std::vector<std::string> outages;
   bool json = false;
   double snapshot_s = -1.0;
   std::string png;
@@ -208,6 +210,9 @@ int main(int argc, char** argv) {
   app.add_option("--roll-pitch-noise-deg", args.roll_pitch_noise_deg, "override INS roll/pitch white noise sigma");
   app.add_option("--yaw-noise-deg", args.yaw_noise_deg, "override INS yaw white noise sigma");
   app.add_option("--altimeter-noise-pct", args.altimeter_noise_pct, "override altimeter noise, percent of range");
+  app.add_option("--outage", args.outages,
+                 "cut a sensor outage into the flight (repeatable): KIND:START_S:DURATION_S[:CONTRAST], KIND one of "
+                 "altimeter (no return), ins, camera (not published), texture (contrast cut to CONTRAST, default 0.03)");
   app.add_option("--snapshot", args.snapshot_s, "render only the frame at this flight time (s) into --png and exit")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--png", args.png, "PNG file for --snapshot");
@@ -247,6 +252,7 @@ int main(int argc, char** argv) {
     options.seed = args.seed;
     options.duration_s = args.duration_s;
     options.camera_yaml = config.section("camera").dump();
+    for (const std::string& o : args.outages) options.outages.push_back(nadir::sim::SensorOutage::parse(o));
     options.epoch_us = args.live ? nadir::vehicle_time_now_us() : nadir::sim::kLogEpochUs;
     nadir::sim::Simulator sim(profile, camera, sensors, options);
     std::fprintf(stderr, "nadir_sim: profile %s (%s), %.1f s, seed %llu, sensors %s:%s\n", profile.name.c_str(),

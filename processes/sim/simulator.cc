@@ -74,6 +74,14 @@ Simulator::Simulator(const FlightProfile& profile, const SimCamera& camera, cons
   root["profile"] = YAML::Load(profile.yaml);
   root["sensors"] = YAML::Load(sensors_.to_yaml());
   if (!options.camera_yaml.empty()) root["camera"] = YAML::Load(options.camera_yaml);
+  for (const SensorOutage& o : options.outages) {
+    YAML::Node outage;
+    outage["kind"] = o.name();
+    outage["start_s"] = o.start_s;
+    outage["duration_s"] = o.duration_s;
+    if (o.kind == SensorOutage::Kind::kTexture) outage["contrast"] = o.contrast;
+    root["outages"].push_back(outage);
+  }
   YAML::Emitter out;
   out << root;
   config_yaml_ = out.c_str();
@@ -136,12 +144,19 @@ void Simulator::set_epoch(int64_t epoch_us) {
 }
 
 bool Simulator::next(SimEvent* e) {
-  if (queue_.empty()) return false;
-  const Pending p = queue_.top();
-  queue_.pop();
-  started_ = true;
-  e->utime = p.utime;
-  sim_time_s_ = std::max(sim_time_s_, (p.utime - options_.epoch_us) * 1e-6);
+  while (!queue_.empty()) {
+    const Pending p = queue_.top();
+    queue_.pop();
+    started_ = true;
+    e->utime = p.utime;
+    sim_time_s_ = std::max(sim_time_s_, (p.utime - options_.epoch_us) * 1e-6);
+    if (make(p, e)) return true;
+    ++counts_.outage_messages;
+  }
+  return false;
+}
+
+bool Simulator::make(const Pending& p, SimEvent* e) {
   switch (p.kind) {
     case kConfig:
       make_config(e);
@@ -151,14 +166,16 @@ bool Simulator::next(SimEvent* e) {
       schedule_frame(p.index + 1);
       break;
     case kImage:
+      if (outage(SensorOutage::Kind::kCamera, frames_[static_cast<size_t>(p.index)].true_us)) return false;
       make_image(p.index, e);
       break;
     case kFrameTruth:
       make_truth(frames_[static_cast<size_t>(p.index)].true_us, ground_truth_t::KIND_FRAME, e);
       break;
     case kIns:
-      make_ins(p.index, e);
+      make_ins(p.index, e);  // drawn also when withheld: the noise after the outage is unchanged
       schedule_ins(p.index + 1);
+      if (outage(SensorOutage::Kind::kIns, tick_us(p.index, sensors_.ins.rate_hz))) return false;
       break;
     case kInsTruth:
       make_truth(tick_us(p.index, sensors_.ins.rate_hz), ground_truth_t::KIND_INS, e);
@@ -204,6 +221,10 @@ void Simulator::make_image(int64_t k, SimEvent* e) {
   renderer_.render(s.position_ned, world_from_camera, options_.seed * 0x100000001b3ULL + static_cast<uint64_t>(k),
                    &image_buffer_);
   counts_.marched_pixels += renderer_.last_stats().marched_pixels;
+  if (const SensorOutage* o = outage(SensorOutage::Kind::kTexture, f.true_us)) {
+    cut_contrast(o->contrast, &image_buffer_);
+    ++counts_.outage_messages;
+  }
   image_t msg;
   msg.utime = options_.epoch_us + f.reported_us;
   msg.trigger_utime = msg.utime;
@@ -322,11 +343,12 @@ void Simulator::make_altimeter(int64_t k, SimEvent* e) {
   // Draw both deviates every sample so the noise sequence does not depend on dropouts.
   const double noise = altimeter_rng_.normal();
   const bool dropout = altimeter_rng_.bernoulli(sensors_.altimeter.dropout_probability);
-  if (dropout) {
+  const bool withheld = outage(SensorOutage::Kind::kAltimeter, t_us) != nullptr;
+  if (dropout || withheld) {
     msg.range_m = 0.0;
     msg.signal_quality = 0.0f;
     msg.validity = altimeter_t::VALID_NO_RETURN;
-    ++counts_.altimeter_dropouts;
+    ++(dropout ? counts_.altimeter_dropouts : counts_.outage_messages);
   } else if (!hit || range > sensors_.altimeter.max_range_m) {
     msg.range_m = 0.0;
     msg.signal_quality = 0.0f;

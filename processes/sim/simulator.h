@@ -13,6 +13,7 @@
 #include "processes/sim/flight_profile.h"
 #include "processes/sim/renderer.h"
 #include "processes/sim/sensor_options.h"
+#include "processes/sim/sensor_outage.h"
 #include "processes/sim/sim_camera.h"
 #include "processes/sim/sim_random.h"
 #include "processes/sim/terrain.h"
@@ -37,6 +38,7 @@ struct SimulatorOptions {
   // false: no CAMERA_IMAGE messages at all (triggers, INS, altimeter and
   // truth unchanged) -- for sensor statistics over long flights in tests.
   bool render_images = true;
+  std::vector<SensorOutage> outages;  // faults cut into the flight (none by default)
 };
 
 struct SimulatorCounts {
@@ -46,6 +48,7 @@ struct SimulatorCounts {
   int64_t ins = 0;
   int64_t altimeter = 0;
   int64_t altimeter_dropouts = 0;
+  int64_t outage_messages = 0;  // messages withheld or degraded by outages
   int64_t ground_truth = 0;
   int64_t marched_pixels = 0;
 };
@@ -103,6 +106,11 @@ class Simulator {
   void make_ins(int64_t k, SimEvent* e);
   void make_altimeter(int64_t k, SimEvent* e);
   void make_config(SimEvent* e);
+  // Makes the message of `p`; false when an outage withholds it.
+  bool make(const Pending& p, SimEvent* e);
+  const SensorOutage* outage(SensorOutage::Kind kind, int64_t t_us) const {
+    return find_outage(options_.outages, kind, static_cast<double>(t_us) * 1e-6);
+  }
 
   FlightProfile profile_;
   SimCamera camera_;

@@ -53,7 +53,33 @@ void SolverOptions::Check() const {
   layers.Check();
 }
 
-Estimate solve(const FramePair& pair, const SolverOptions& options) {
+namespace {
+
+// The last line of defence, whatever a variant made of a degenerate pair
+// (features in a line, a beam that never meets the ground, attitude at the
+// edge of the range): nothing non-finite leaves the solver. A motion that is
+// not finite becomes none at all with an unknown (huge) covariance, flagged
+// not converged, which every consumer rejects.
+void make_finite(Estimate* e) {
+  constexpr double kUnknownVariance = 1e6;     // m^2, rad^2: "no information"
+  constexpr double kUnknownResidualPx = 1e6;
+  const bool motion_finite = e->translation.allFinite() && std::isfinite(e->dyaw) && std::isfinite(e->ground_roll) &&
+                             std::isfinite(e->ground_pitch) && std::isfinite(e->altitude_m);
+  if (!motion_finite) {
+    e->translation.setZero();
+    e->dyaw = e->ground_roll = e->ground_pitch = e->altitude_m = 0.0;
+  }
+  if (!motion_finite || !e->covariance.allFinite()) {
+    e->covariance = Eigen::Matrix<double, 6, 6>::Identity() * kUnknownVariance;
+    e->quality |= kNotConverged;
+  }
+  if (!std::isfinite(e->residual_rms_px)) {
+    e->residual_rms_px = kUnknownResidualPx;
+    e->quality |= kHighResidual;
+  }
+}
+
+Estimate solve_variant(const FramePair& pair, const SolverOptions& options) {
   switch (options.variant) {
     case Variant::kPaper: return solve_paper(pair, options, true);
     case Variant::kLevelGround: return solve_paper(pair, options, false);
@@ -61,6 +87,14 @@ Estimate solve(const FramePair& pair, const SolverOptions& options) {
     case Variant::kFlow: return solve_flow(pair, options);
   }
   return solve_paper(pair, options, true);
+}
+
+}  // namespace
+
+Estimate solve(const FramePair& pair, const SolverOptions& options) {
+  Estimate estimate = solve_variant(pair, options);
+  make_finite(&estimate);
+  return estimate;
 }
 
 namespace {

@@ -486,7 +486,10 @@ pose_t YawFusionEstimator::make_pose(int64_t utime, int32_t flags) const {
   pose.roll = roll_;
   pose.pitch = pitch_;
   pose.yaw = filter_.yaw();
-  pose.height_agl_m = have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN();
+  // No POSE field is ever non-finite (a consumer's arithmetic would spread
+  // it): an unknown height is -1 and flagged.
+  pose.height_agl_m = have_height_ ? height_agl_ : -1.0;
+  if (!have_height_) flags |= pose_t::FLAG_NO_ALTIMETER;
   pose.yaw_variance = filter_.yaw_variance();
   pose.flags = flags | (yaw_from_ins_ ? 0 : pose_t::FLAG_INITIALIZING);
   pose.frames = frames_;
