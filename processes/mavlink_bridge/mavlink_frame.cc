@@ -9,6 +9,9 @@ namespace {
 constexpr size_t kHeaderV1 = 6;
 constexpr size_t kHeaderV2 = 10;
 constexpr size_t kCrcLength = 2;
+// Unknown frames in a row that may confirm each other before a known frame
+// (or the end of a datagram) must: longer runs are taken for garbage.
+constexpr int kMaxUnknownChain = 64;
 
 bool is_start(uint8_t byte, bool accept_v1) { return byte == kStxV2 || (accept_v1 && byte == kStxV1); }
 
@@ -66,70 +69,102 @@ void FrameParser::process(bool at_end, std::vector<Frame>* out) {
   }
 }
 
+FrameParser::Candidate FrameParser::inspect(size_t pos, bool at_end, int depth) const {
+  Candidate c;
+  const size_t avail = buffer_.size() - pos;
+  const uint8_t* p = buffer_.data() + pos;
+  const bool v2 = p[0] == kStxV2;
+  const size_t header = v2 ? kHeaderV2 : kHeaderV1;
+  if (avail < header) return c;  // kNeedMore
+  c.v2 = v2;
+  c.length = p[1];
+  auto reject = [&c](int64_t FrameCounts::*counter, const char* reason) {
+    c.verdict = Verdict::kRejected;
+    c.counter = counter;
+    c.reason = reason;
+    return c;
+  };
+  bool is_signed = false;
+  if (v2) {
+    if (p[2] & ~kIncompatSigned) return reject(&FrameCounts::bad_flags, "incompatibility flags not supported");
+    is_signed = (p[2] & kIncompatSigned) != 0;
+    c.msgid = static_cast<uint32_t>(p[7]) | (static_cast<uint32_t>(p[8]) << 8) | (static_cast<uint32_t>(p[9]) << 16);
+  } else {
+    c.msgid = p[5];
+  }
+  const size_t total = header + c.length + kCrcLength + (is_signed ? kSignatureLength : 0);
+  const MessageInfo* info = find_message(c.msgid);
+  if (!info) {
+    if (!options_.skip_unknown) return reject(&FrameCounts::unknown_id, "unknown");
+    // Its CRC cannot be checked, so it is skipped whole only when what
+    // follows confirms where it ends: the end of the input, or a frame that
+    // checks out (a known one with a good CRC, or unknown ones confirmed so).
+    if (avail < total || (avail == total && !at_end)) return c;
+    if (avail > total) {
+      if (depth >= kMaxUnknownChain) return reject(&FrameCounts::unknown_id, "unknown, too many in a row");
+      if (!is_start(p[total], options_.accept_v1)) return reject(&FrameCounts::unknown_id, "unknown, no frame follows");
+      const Candidate next = inspect(pos + total, at_end, depth + 1);
+      if (next.verdict == Verdict::kNeedMore && !at_end) return c;
+      if (next.verdict != Verdict::kAccepted && next.verdict != Verdict::kSkippedUnknown) {
+        return reject(&FrameCounts::unknown_id, "unknown, the frame after it is bad");
+      }
+    }
+    // Nor may it swallow a frame that checks out (garbage before a good frame
+    // must not be taken for an unknown frame spanning it).
+    for (size_t i = pos + 1; i < pos + total; ++i) {
+      if (is_start(buffer_[i], options_.accept_v1) &&
+          inspect(i, at_end, kMaxUnknownChain).verdict == Verdict::kAccepted) {
+        return reject(&FrameCounts::unknown_id, "unknown, a good frame starts inside it");
+      }
+    }
+    c.verdict = Verdict::kSkippedUnknown;
+    c.size = total;
+    return c;
+  }
+  const bool length_ok = v2 ? c.length <= info->length : (c.length >= info->base_length && c.length <= info->length);
+  if (!length_ok) return reject(&FrameCounts::bad_length, "length impossible for the message");
+  if (avail < total) return c;
+  uint16_t crc = crc_accumulate(p + 1, header - 1 + c.length, kCrcSeed);
+  crc = crc_accumulate(info->crc_extra, crc);
+  const uint16_t sent = static_cast<uint16_t>(p[header + c.length] | (p[header + c.length + 1] << 8));
+  if (crc != sent) return reject(&FrameCounts::bad_crc, "CRC mismatch");
+  c.verdict = Verdict::kAccepted;
+  c.size = total;
+  return c;
+}
+
 FrameParser::Verdict FrameParser::examine(bool at_end, Frame* frame, size_t* frame_size) {
-  const size_t avail = buffer_.size();
+  const Candidate c = inspect(0, at_end, 0);
+  if (c.verdict == Verdict::kRejected) {
+    const MessageInfo* info = find_message(c.msgid);
+    reject_candidate(&(counts_.*c.counter), std::string(c.v2 ? "v2 " : "v1 ") +
+                                                (info ? info->name : "message id " + std::to_string(c.msgid)) +
+                                                " (" + std::to_string(c.length) + " payload bytes): " + c.reason);
+    return c.verdict;
+  }
+  if (c.verdict == Verdict::kNeedMore) return c.verdict;
+  *frame_size = c.size;
+  if (c.verdict == Verdict::kSkippedUnknown) {
+    ++counts_.unknown_skipped;
+    return c.verdict;
+  }
   const uint8_t* p = buffer_.data();
   const bool v2 = p[0] == kStxV2;
   const size_t header = v2 ? kHeaderV2 : kHeaderV1;
-  if (avail < header) return Verdict::kNeedMore;
-  const uint8_t length = p[1];
-  bool is_signed = false;
-  uint32_t msgid = 0;
-  if (v2) {
-    const uint8_t incompat = p[2];
-    if (incompat & ~kIncompatSigned) {
-      reject_candidate(&counts_.bad_flags, "incompatibility flags 0x" + std::to_string(incompat) + " not supported");
-      return Verdict::kRejected;
-    }
-    is_signed = (incompat & kIncompatSigned) != 0;
-    msgid = static_cast<uint32_t>(p[7]) | (static_cast<uint32_t>(p[8]) << 8) | (static_cast<uint32_t>(p[9]) << 16);
-  } else {
-    msgid = p[5];
-  }
-  const size_t total = header + length + kCrcLength + (is_signed ? kSignatureLength : 0);
-  const MessageInfo* info = find_message(msgid);
-  if (!info) {
-    if (!options_.skip_unknown) {
-      reject_candidate(&counts_.unknown_id, "message id " + std::to_string(msgid) + " unknown");
-      return Verdict::kRejected;
-    }
-    // Its CRC cannot be checked: only a frame that ends where another starts is skipped whole.
-    if (avail < total || (avail == total && !at_end)) return Verdict::kNeedMore;
-    if (avail > total && !is_start(p[total], options_.accept_v1)) {
-      reject_candidate(&counts_.unknown_id, "message id " + std::to_string(msgid) + " unknown, no frame follows");
-      return Verdict::kRejected;
-    }
-    ++counts_.unknown_skipped;
-    *frame_size = total;
-    return Verdict::kSkippedUnknown;
-  }
-  const bool length_ok = v2 ? length <= info->length : (length >= info->base_length && length <= info->length);
-  if (!length_ok) {
-    reject_candidate(&counts_.bad_length, std::string(info->name) + " with " + std::to_string(length) +
-                                              " payload bytes (v" + (v2 ? "2" : "1") + ")");
-    return Verdict::kRejected;
-  }
-  if (avail < total) return Verdict::kNeedMore;
-  uint16_t crc = crc_accumulate(p + 1, header - 1 + length, kCrcSeed);
-  crc = crc_accumulate(info->crc_extra, crc);
-  const uint16_t sent = static_cast<uint16_t>(p[header + length] | (p[header + length + 1] << 8));
-  if (crc != sent) {
-    reject_candidate(&counts_.bad_crc, std::string(info->name) + ": CRC mismatch");
-    return Verdict::kRejected;
-  }
   frame->version = v2 ? 2 : 1;
   frame->seq = v2 ? p[4] : p[2];
   frame->sysid = v2 ? p[5] : p[3];
   frame->compid = v2 ? p[6] : p[4];
-  frame->msgid = msgid;
-  frame->payload_length = length;
+  frame->msgid = v2 ? (static_cast<uint32_t>(p[7]) | (static_cast<uint32_t>(p[8]) << 8) |
+                       (static_cast<uint32_t>(p[9]) << 16))
+                    : p[5];
+  frame->payload_length = p[1];
   frame->payload.fill(0);
-  std::copy(p + header, p + header + length, frame->payload.begin());
-  frame->is_signed = is_signed;
+  std::copy(p + header, p + header + p[1], frame->payload.begin());
+  frame->is_signed = v2 && (p[2] & kIncompatSigned);
   if (v2) ++counts_.frames_v2;
   else ++counts_.frames_v1;
-  if (is_signed) ++counts_.frames_signed;
-  *frame_size = total;
+  if (frame->is_signed) ++counts_.frames_signed;
   return Verdict::kAccepted;
 }
 

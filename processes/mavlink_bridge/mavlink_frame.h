@@ -8,9 +8,9 @@
 // The parser never trusts a candidate's declared length to skip bytes it has
 // not verified: a rejected candidate gives up one byte and the search resumes
 // after its start byte, so a corrupt header cannot hide the good frame behind
-// it. Frames with an unknown id are skipped whole (when skip_unknown) only if
-// the frame ends where the input ends or another start byte follows, else
-// treated as a bad candidate.
+// it. Frames with an unknown id are skipped whole
+// (when skip_unknown) only when what follows confirms where they end: the end
+// of the input, or a frame that checks out.
 //
 // Accounting: every byte fed ends up in an accepted frame, a skipped unknown
 // frame, or a rejected span; a rejected span is one maximal run of bytes
@@ -90,7 +90,18 @@ class FrameParser {
 
  private:
   enum class Verdict { kAccepted, kSkippedUnknown, kRejected, kNeedMore };
+  struct Candidate {
+    Verdict verdict = Verdict::kNeedMore;
+    size_t size = 0;                          // bytes of an accepted or skipped frame
+    int64_t FrameCounts::*counter = nullptr;  // rejected: which count, and why
+    const char* reason = "";
+    bool v2 = true;
+    uint32_t msgid = 0;
+    uint8_t length = 0;
+  };
   void process(bool at_end, std::vector<Frame>* out);
+  // The candidate starting at `pos`, without changing anything.
+  Candidate inspect(size_t pos, bool at_end, int depth) const;
   // The candidate at the buffer's start; at_end: no more bytes will follow.
   Verdict examine(bool at_end, Frame* frame, size_t* frame_size);
   void reject_candidate(int64_t* counter, const std::string& why);
