@@ -40,14 +40,7 @@ BridgeOptions BridgeOptions::from_config(const Config& root) {
   o.input.truth = in.get<bool>("truth", o.input.truth);
   o.input.truth_channel = in.get<std::string>("truth_channel", o.input.truth_channel);
   o.input.autopilot_system_id = in.get_in_range<int>("autopilot_system_id", o.input.autopilot_system_id, 0, 255);
-  const Config sync = in.section_or_empty("clock_sync");
-  ClockSyncOptions& c = o.input.clock_sync;
-  c.window_s = sync.get<double>("window_s", c.window_s);
-  c.block_s = sync.get<double>("block_s", c.block_s);
-  c.jump_threshold_us = sync.get<double>("jump_threshold_us", c.jump_threshold_us);
-  c.min_delay_us = sync.get<double>("min_delay_us", c.min_delay_us);
-  c.settle_s = sync.get<double>("settle_s", c.settle_s);
-  c.step_confirm_s = sync.get<double>("step_confirm_s", c.step_confirm_s);
+  o.input.clock_sync = ClockSyncOptions::from_config(in.section_or_empty("clock_sync"), o.input.clock_sync);
 
   const Config out = s.section_or_empty("output");
   o.output.vision_position_estimate_hz =

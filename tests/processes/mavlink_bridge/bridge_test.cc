@@ -333,6 +333,14 @@ TEST(MavlinkBridge, ConfigErrorsNameTheKey) {
   const Config rate = Config::parse("mavlink_bridge:\n  output:\n    gps_input_hz: 500\n", "test.yaml");
   EXPECT_THROW(BridgeOptions::from_config(rate), ConfigError);
   EXPECT_NO_THROW(BridgeOptions::from_config(Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml")));
+  const BridgeOptions read = BridgeOptions::from_config(Config::parse(
+      "mavlink_bridge:\n  input:\n    clock_sync: {window_s: 10, settle_s: 0.5}\n", "test.yaml"));
+  EXPECT_EQ(read.input.clock_sync.window_s, 10.0);
+  EXPECT_EQ(read.input.clock_sync.settle_s, 0.5);
+  EXPECT_EQ(read.input.clock_sync.block_s, ClockSyncOptions{}.block_s);  // absent: the default
+  const Config bad_sync =
+      Config::parse("mavlink_bridge:\n  input:\n    clock_sync: {window_s: 1}\n", "test.yaml");
+  EXPECT_THROW(BridgeOptions::from_config(bad_sync), ConfigError);
 }
 
 }  // namespace
