@@ -302,7 +302,9 @@ void MavlinkBridge::tick(int64_t now_us) {
     request.ts1 = now_us * 1000;
     request.target_system = static_cast<uint8_t>(autopilot_sysid_);
     timesync_requests_ns_.push_back(request.ts1);
-    if (timesync_requests_ns_.size() > kTimesyncRequestsKept) timesync_requests_ns_.erase(timesync_requests_ns_.begin());
+    if (timesync_requests_ns_.size() > kTimesyncRequestsKept) {
+      timesync_requests_ns_.erase(timesync_requests_ns_.begin());
+    }
     send(request);
     ++out_.timesync;
   }

@@ -1,16 +1,17 @@
 #pragma once
 // MAVLink framing: v2 frames (0xFD) written and read, v1 frames (0xFE) read.
 // A frame is accepted only when its id is known, its length fits the message
-// (v1: at least the base fields; v2: 1..full length, zeros truncated) and its
+// (v1: at least the base fields; v2: up to the full length, trailing zeros
+// truncated) and its
 // CRC with the message's CRC_EXTRA matches. Signed v2 frames are accepted
 // with the signature skipped, not verified (signing is not configured).
 //
 // The parser never trusts a candidate's declared length to skip bytes it has
 // not verified: a rejected candidate gives up one byte and the search resumes
 // after its start byte, so a corrupt header cannot hide the good frame behind
-// it. Frames with an unknown id are skipped whole
-// (when skip_unknown) only when what follows confirms where they end: the end
-// of the input, or a frame that checks out.
+// it. Frames with an unknown id are skipped whole (when skip_unknown) only
+// when what follows confirms where they end (the end of the input, or a frame
+// that checks out) and no frame that checks out starts inside them.
 //
 // Accounting: every byte fed ends up in an accepted frame, a skipped unknown
 // frame, or a rejected span; a rejected span is one maximal run of bytes

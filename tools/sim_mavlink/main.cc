@@ -90,8 +90,8 @@ int main(int argc, char** argv) {
     mavlink_bridge::UdpLink udp(false, local, remote);
     udp.open();
     install_shutdown_handlers();
-    sim_mavlink::SimAutopilot autopilot(options, vehicle_time_now_us(),
-                                        [&](const std::vector<uint8_t>& frame) { udp.send(frame.data(), frame.size()); });
+    auto send = [&](const std::vector<uint8_t>& frame) { udp.send(frame.data(), frame.size()); };
+    sim_mavlink::SimAutopilot autopilot(options, vehicle_time_now_us(), send);
     SimRelay relay(bus, autopilot);
     sim.subscribe(".*", &SimRelay::handle, &relay);
     std::fprintf(stderr, "nadir_sim_mavlink: simulator on %s, relaying to %s; MAVLink %s -> %s\n", sim_url.c_str(),

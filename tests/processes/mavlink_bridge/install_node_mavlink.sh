@@ -14,5 +14,7 @@ if [ -f "$dir/node_modules/node-mavlink/package.json" ] &&
 fi
 mkdir -p "$dir"
 [ -f "$dir/package.json" ] || echo '{"name": "nadir-node-mavlink", "private": true}' >"$dir/package.json"
-npm install --prefix "$dir" --no-audit --no-fund --loglevel=error "node-mavlink@$version" ||
-  { echo "install_node_mavlink: error: npm install node-mavlink@$version into $dir failed (registry reachable?)" >&2; exit 1; }
+npm install --prefix "$dir" --no-audit --no-fund --loglevel=error "node-mavlink@$version" || {
+  echo "install_node_mavlink: error: npm install node-mavlink@$version into $dir failed (registry reachable?)" >&2
+  exit 1
+}

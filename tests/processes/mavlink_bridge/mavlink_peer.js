@@ -84,4 +84,7 @@ function send(target, file) {
 const [mode, a, b] = process.argv.slice(2);
 if (mode === 'listen') listen(Number(a), Number(b));
 else if (mode === 'send') send(a, b);
-else { process.stderr.write('usage: mavlink_peer.js listen COUNT TIMEOUT_MS | send HOST:PORT FILE\n'); process.exit(2); }
+else {
+  process.stderr.write('usage: mavlink_peer.js listen COUNT TIMEOUT_MS | send HOST:PORT FILE\n');
+  process.exit(2);
+}

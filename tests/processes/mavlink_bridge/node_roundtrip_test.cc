@@ -296,7 +296,8 @@ TEST_F(NodeRoundTrip, WeDecodeWhatNodeMavlinkEncodes) {
   out.close();
   mavlink_bridge::UdpLink link(true, "127.0.0.1:0", "");
   link.open();
-  const int status = std::system(peer_command("send 127.0.0.1:" + std::to_string(link.local_port()) + " " + file).c_str());
+  const std::string target = "127.0.0.1:" + std::to_string(link.local_port());
+  const int status = std::system(peer_command("send " + target + " " + file).c_str());
   ASSERT_EQ(status, 0);
   FrameParser parser;
   std::vector<Frame> frames;
