@@ -17,7 +17,7 @@ struct LinkOptions {
   std::string kind = "udp_server";  // udp_server | udp_client | serial
   // udp_server: bind here, answer whoever sent last. udp_client: bind here
   // (port 0: any) and send to `remote`.
-  std::string local = "0.0.0.0:14540";
+  std::string local = "127.0.0.1:14540";  // loopback unless configured: nothing listens outside by default
   std::string remote = "127.0.0.1:14580";
   ins_bridge::SerialOptions serial;  // kind serial: termios settings as the INS bridge's
 };
