@@ -34,5 +34,6 @@ cmake --build "$NADIR_BUILD" -j"$(nproc)" 2>&1 | grep -vE '^\[ *[0-9]+%\] (Build
 test "${PIPESTATUS[0]}" -eq 0
 # node-mavlink from the npm registry: the independent MAVLink implementation
 # the MAVLink bridge's codec is tested against (once; tests run without network).
-"$NADIR_ROOT/tests/processes/mavlink_bridge/install_node_mavlink.sh" "$NADIR_BUILD"
+"$NADIR_ROOT/tests/processes/mavlink_bridge/install_node_mavlink.sh" "$NADIR_BUILD" ||
+  echo "setup: warning: node-mavlink not installed; nadir_test_mavlink_bridge_node will fail until it is" >&2
 echo "setup: built into $NADIR_BUILD"
