@@ -33,9 +33,12 @@ void FrameParser::end_of_datagram(std::vector<Frame>* out) {
 }
 
 void FrameParser::reset() {
-  std::vector<Frame> ignored;  // a reopened link: even whole frames left are stale
-  process(true, &ignored);
-  span_open_ = false;
+  // Only an unfinished candidate can be left: its rest is not coming.
+  if (!buffer_.empty()) {
+    reject_candidate(&counts_.truncated, "link reopened inside a frame");
+    reject_bytes(buffer_.size());
+  }
+  close_span();
 }
 
 void FrameParser::process(bool at_end, std::vector<Frame>* out) {

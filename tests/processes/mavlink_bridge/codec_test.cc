@@ -146,6 +146,20 @@ TEST(MavlinkFrame, UnknownMessagesAreSkippedWholeWhenAFrameFollows) {
   EXPECT_EQ(parser.counts().garbage_bytes, 0);
 }
 
+TEST(MavlinkFrame, AReopenedLinkDropsAnUnfinishedFrameAsOneRejectedSpan) {
+  FrameEncoder encoder(1, 1);
+  const std::vector<uint8_t> frame = encoder.encode(Attitude{});
+  FrameParser parser;
+  std::vector<Frame> frames;
+  parser.feed(frame.data(), 12, 0, 0.0, &frames);  // unplugged mid-frame
+  parser.reset();
+  parser.feed(frame.data(), frame.size(), 0, 0.0, &frames);
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(parser.counts().truncated, 1);
+  EXPECT_EQ(parser.counts().rejected_spans, 1);
+  EXPECT_EQ(parser.counts().garbage_bytes, 12);
+}
+
 TEST(MavlinkFrame, ByteTimesFollowTheLine) {
   FrameEncoder encoder(1, 1);
   std::vector<uint8_t> stream = {0x00, 0x11};
