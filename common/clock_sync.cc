@@ -16,6 +16,17 @@ void ClockSyncOptions::Check() const {
                  "must be in (0, 10]");
 }
 
+ClockSyncOptions ClockSyncOptions::from_config(const Config& section, const ClockSyncOptions& defaults) {
+  ClockSyncOptions o;
+  o.window_s = section.get<double>("window_s", defaults.window_s);
+  o.block_s = section.get<double>("block_s", defaults.block_s);
+  o.jump_threshold_us = section.get<double>("jump_threshold_us", defaults.jump_threshold_us);
+  o.min_delay_us = section.get<double>("min_delay_us", defaults.min_delay_us);
+  o.settle_s = section.get<double>("settle_s", defaults.settle_s);
+  o.step_confirm_s = section.get<double>("step_confirm_s", defaults.step_confirm_s);
+  return o;
+}
+
 ClockSync::ClockSync(const ClockSyncOptions& options) : options_(options) { options_.Check(); }
 
 double ClockSync::predict(int64_t device_us) const {

@@ -24,6 +24,8 @@
 
 namespace nadir {
 
+class Config;
+
 struct ClockSyncOptions {
   double window_s = 30.0;            // sliding window for the fit
   double block_s = 1.0;              // one minimum per block
@@ -32,6 +34,8 @@ struct ClockSyncOptions {
   double settle_s = 0.2;             // after a restart: the minimum must hold this long
   double step_confirm_s = 0.5;       // late beyond the threshold this long: an offset step
   void Check() const;                // throws ConfigError naming the option
+  // The keys above from a `clock_sync:` section; absent keys keep `defaults`.
+  static ClockSyncOptions from_config(const Config& section, const ClockSyncOptions& defaults);
 };
 
 struct ClockSyncState {

@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   openjdk-17-jdk-headless libjchart2d-java xvfb xauth
   iproute2 util-linux python3 python3-matplotlib python3-numpy
+  nodejs npm
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -31,4 +32,8 @@ if [ ! -f "$NADIR_BUILD/CMakeCache.txt" ]; then
 fi
 cmake --build "$NADIR_BUILD" -j"$(nproc)" 2>&1 | grep -vE '^\[ *[0-9]+%\] (Building|Linking|Built)' || true
 test "${PIPESTATUS[0]}" -eq 0
+# node-mavlink from the npm registry: the independent MAVLink implementation
+# the MAVLink bridge's codec is tested against (once; tests run without network).
+"$NADIR_ROOT/tests/processes/mavlink_bridge/install_node_mavlink.sh" "$NADIR_BUILD" ||
+  echo "setup: warning: node-mavlink not installed; nadir_test_mavlink_bridge_node will fail until it is" >&2
 echo "setup: built into $NADIR_BUILD"

@@ -10,17 +10,19 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
 if [ "${NADIR_SKIP_SANITIZERS:-0}" != 1 ]; then
   asan="$NADIR_ROOT/build-asan"
-  sanitized_modules="ins_bridge;vo_solver;yaw_fusion;tracker"
+  sanitized_modules="ins_bridge;vo_solver;yaw_fusion;tracker;mavlink_bridge"
   if [ ! -f "$asan/CMakeCache.txt" ]; then
     cmake -S "$NADIR_ROOT" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_SANITIZE=ON \
       -DNADIR_MODULES="$sanitized_modules" >/dev/null
+  elif ! grep -qxF "NADIR_MODULES:STRING=$sanitized_modules" "$asan/CMakeCache.txt"; then
+    cmake -S "$NADIR_ROOT" -B "$asan" -DNADIR_MODULES="$sanitized_modules" >/dev/null  # the list grew
   fi
   echo "test: building the ASan/UBSan suites in $asan"
   cmake --build "$asan" -j"$(nproc)" 2>&1 | grep -vE '^\[ *[0-9]+%\] (Building|Linking|Built)' || true
   test "${PIPESTATUS[0]}" -eq 0
   echo "test: ASan/UBSan run"
   (cd "$asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-     nadir_in_netns ctest --output-on-failure -j"$(nproc)" -R 'nadir_test_(common|ins_bridge|vo_solver|yaw_fusion|tracker)')
+     nadir_in_netns ctest --output-on-failure -j"$(nproc)" -R 'nadir_test_(common|ins_bridge|vo_solver|yaw_fusion|tracker|mavlink_bridge_(codec|fuzz|logic|runner))')
 fi
 
 echo "test: full suite"
