@@ -1,5 +1,7 @@
 #include "common/lcm_bus.h"
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <stdexcept>
 
@@ -69,6 +71,12 @@ void LcmBus::dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel
     ++sub->bus->rx_counts_[channel];
   }
   sub->handler(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
+}
+
+status_t LcmBus::status_message(const std::string& name, const StatusReport& report) {
+  status_t msg = make_status_message(name, static_cast<int32_t>(getpid()), vehicle_time_now_us(), report, error_counts());
+  add_transport_status(&msg);
+  return msg;
 }
 
 void LcmBus::add_transport_status(status_t* msg) {

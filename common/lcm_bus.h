@@ -46,6 +46,9 @@ class LcmBus : public Bus {
   // A capture is checked against the tx counts (nadir_log info, nadir_eval),
   // so a message lost between a publisher and the logger is counted.
   void add_transport_status(status_t* msg);
+  // A live process's STATUS: its report, this bus's malformed counts, this
+  // process's pid, vehicle time now and the transport part above.
+  status_t status_message(const std::string& name, const StatusReport& report);
   const std::string& url() const { return url_; }
 
  private:

@@ -65,10 +65,7 @@ int run_node_process(int argc, char** argv, const NodeProcessSpec& spec) {
     auto send_status = [&](int8_t forced_state) {
       StatusReport report = node->status();
       if (forced_state >= 0) report.state = forced_state;
-      status_t msg = make_status_message(spec.name, static_cast<int32_t>(getpid()), vehicle_time_now_us(), report,
-                                         bus.error_counts());
-      bus.add_transport_status(&msg);
-      bus.publish(channels::kStatus, msg);
+      bus.publish(channels::kStatus, bus.status_message(spec.name, report));
     };
     while (!shutdown_requested()) {
       if (bus.handle(50) < 0) {

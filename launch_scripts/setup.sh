@@ -13,8 +13,10 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   openjdk-17-jdk-headless libjchart2d-java xvfb xauth
   iproute2 util-linux python3 python3-matplotlib python3-numpy
-  nodejs npm
 )
+# node and npm (node-mavlink, for the MAVLink bridge's tests): Debian's only
+# where none is installed -- Debian's npm conflicts with a nodesource nodejs.
+command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

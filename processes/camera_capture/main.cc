@@ -125,9 +125,7 @@ int main(int argc, char** argv) {
     auto send_status = [&](int8_t forced_state) {
       nadir::StatusReport report = capture.status();
       if (forced_state >= 0) report.state = forced_state;
-      nadir::status_t msg = nadir::make_status_message(kName, static_cast<int32_t>(getpid()),
-                                                       nadir::vehicle_time_now_us(), report, bus.error_counts());
-      bus.add_transport_status(&msg);
+      const nadir::status_t msg = bus.status_message(kName, report);
       bus.publish(nadir::channels::kStatus, msg);
       return msg;
     };

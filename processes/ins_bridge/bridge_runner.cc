@@ -178,12 +178,10 @@ StatusReport BridgeRunner::status() const {
 void BridgeRunner::publish_status(int8_t forced_state) {
   StatusReport report = status();
   if (forced_state >= 0) report.state = forced_state;
-  status_t msg = make_status_message(name_, static_cast<int32_t>(getpid()), vehicle_time_now_us(), report,
-                                     bus_.error_counts());
+  status_t msg = bus_.status_message(name_, report);
   // Serial input that failed to decode is malformed input as much as a bad
   // LCM message: rejected INS sentences and altimeter lines.
   msg.malformed += bridge_.rejected_sentences();
-  bus_.add_transport_status(&msg);
   bus_.publish(channels::kStatus, msg);
 }
 

@@ -161,11 +161,9 @@ StatusReport BridgeRunner::status() const {
 void BridgeRunner::publish_status(int8_t forced_state) {
   StatusReport report = status();
   if (forced_state >= 0) report.state = forced_state;
-  status_t msg = make_status_message(name_, static_cast<int32_t>(getpid()), vehicle_time_now_us(), report,
-                                     bus_.error_counts());
+  status_t msg = bus_.status_message(name_, report);
   // Link bytes that decoded to nothing are malformed input as much as a bad LCM message.
   msg.malformed += bridge_.rejected_frames();
-  bus_.latency().take(&msg.latency_p50_ms, &msg.latency_p99_ms, &msg.latency_max_ms);
   bus_.publish(channels::kStatus, msg);
 }
 

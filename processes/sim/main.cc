@@ -154,10 +154,7 @@ int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us
                        {"ins", static_cast<double>(counts.ins)},
                        {"altimeter", static_cast<double>(counts.altimeter)},
                        {"rate", args.rate}};
-    nadir::status_t msg = nadir::make_status_message("sim", static_cast<int32_t>(getpid()),
-                                                     nadir::vehicle_time_now_us(), report, bus.error_counts());
-    bus.add_transport_status(&msg);
-    bus.publish(nadir::channels::kStatus, msg);
+    bus.publish(nadir::channels::kStatus, bus.status_message("sim", report));
   };
   nadir::sim::SimEvent event;
   while (!nadir::shutdown_requested() && ahead.pop(&event)) {

@@ -117,8 +117,7 @@ int main(int argc, char** argv) {
         }
         report.counters.emplace_back("companion_rejected_spans",
                                      static_cast<double>(autopilot.companion().rejected_spans));
-        bus.publish(channels::kStatus, make_status_message("sim_mavlink", static_cast<int32_t>(getpid()),
-                                                           vehicle_time_now_us(), report, bus.error_counts()));
+        bus.publish(channels::kStatus, bus.status_message("sim_mavlink", report));
       }
     }
     std::fprintf(stderr, "nadir_sim_mavlink: stopped: %lld MAVLink frames sent, %lld messages relayed;",
