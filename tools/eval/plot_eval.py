@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Plots an evaluation folder written by nadir_eval: trajectory.png (top view,
 estimate vs truth, start marked), drift.png (Fig. 7a), velocity_errors.png
-(Fig. 7b). Usage: plot_eval.py DIR"""
+(Fig. 7b), consistency.png (north/east position and yaw error against the
+reported +-3 sigma). Usage: plot_eval.py DIR"""
 import csv
 import json
 import sys
@@ -64,6 +65,28 @@ def main() -> int:
     fig.tight_layout()
     fig.savefig(f"{folder}/velocity_errors.png", dpi=110)
     plt.close(fig)
+
+    if "sigma_n_m" in rows[0]:
+        t = col("t_s")
+        fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+        series = (("north", [r["est_n"] - r["true_n"] for r in rows], col("sigma_n_m"), "m"),
+                  ("east", [r["est_e"] - r["true_e"] for r in rows], col("sigma_e_m"), "m"),
+                  ("yaw", col("yaw_error_deg"), col("sigma_yaw_deg"), "deg"))
+        for ax, (name, err, sigma, unit) in zip(axes, series):
+            ax.fill_between(t, [-3 * v for v in sigma], [3 * v for v in sigma], color="tab:green", alpha=0.25,
+                            label="reported ±3σ")
+            ax.plot(t, err, color="tab:blue", lw=1, label=f"{name} error")
+            ax.set_ylabel(f"{name} error [{unit}]")
+            ax.grid(True, alpha=0.3)
+            ax.legend(loc="upper left", fontsize=8)
+        axes[-1].set_xlabel("time [s]")
+        axes[0].set_title(f"NEES horizontal mean {m.get('nees_h_mean', 0):.1f} (consistent: 2), "
+                          f"{m.get('nees_h_within_95_pct', 0):.0f} % within the 95 % bound; yaw mean "
+                          f"{m.get('nees_yaw_mean', 0):.1f} (1), {m.get('nees_yaw_within_95_pct', 0):.0f} %",
+                          fontsize=9)
+        fig.tight_layout()
+        fig.savefig(f"{folder}/consistency.png", dpi=110)
+        plt.close(fig)
     return 0
 
 

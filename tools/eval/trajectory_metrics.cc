@@ -8,6 +8,7 @@
 #include "common/json_writer.h"
 #include "common/status.h"
 #include "common/time_base.h"
+#include "tools/eval/consistency.h"
 
 namespace nadir {
 namespace {
@@ -46,6 +47,7 @@ EvalResult evaluate(const EvalData& data) {
   double distance = 0;
   double sum_v2 = 0, sum_yaw2 = 0, sum_e2_h = 0, sum_e2_v = 0;
   std::vector<float> latencies;
+  NeesSummary nees_h(kChi2Dof2Pct95), nees_yaw(kChi2Dof1Pct95);
   for (size_t i = 0; i < data.poses.size(); ++i) {
     const pose_t& p = data.poses[i];
     TruthAt t{};
@@ -72,6 +74,18 @@ EvalResult evaluate(const EvalData& data) {
     s.yaw_error_deg = rad_to_deg(angle_difference(p.yaw, t.yaw));
     s.flags = p.flags;
     s.sigma_h_m = std::sqrt(std::max(0.0, p.position_covariance[0][0] + p.position_covariance[1][1]));
+    s.sigma_n_m = std::sqrt(std::max(0.0, p.position_covariance[0][0]));
+    s.sigma_e_m = std::sqrt(std::max(0.0, p.position_covariance[1][1]));
+    s.sigma_yaw_deg = rad_to_deg(std::sqrt(std::max(0.0, p.yaw_variance)));
+    // The first pose is the origin (error and covariance zero): no statement.
+    if (&p != first) {
+      s.nees_h = horizontal_nees(s.estimate[0] - s.truth[0], s.estimate[1] - s.truth[1], p.position_covariance[0][0],
+                                 0.5 * (p.position_covariance[0][1] + p.position_covariance[1][0]),
+                                 p.position_covariance[1][1]);
+      s.nees_yaw = scalar_nees(deg_to_rad(s.yaw_error_deg), p.yaw_variance);
+      nees_h.add(s.nees_h);
+      nees_yaw.add(s.nees_yaw);
+    }
     const double v_h = std::hypot(s.velocity_error[0], s.velocity_error[1]);
     sum_v2 += v_h * v_h;
     sum_yaw2 += s.yaw_error_deg * s.yaw_error_deg;
@@ -112,6 +126,11 @@ EvalResult evaluate(const EvalData& data) {
   m.capture_truncated = data.truncated;
   m.capture_holes = static_cast<int64_t>(data.holes.size());
   for (const LogHole& h : data.holes) m.capture_hole_seconds = std::max(m.capture_hole_seconds, h.seconds());
+  m.nees_samples = nees_h.samples();
+  m.nees_h_mean = nees_h.mean();
+  m.nees_h_within_95_pct = nees_h.within_95_pct();
+  m.nees_yaw_mean = nees_yaw.mean();
+  m.nees_yaw_within_95_pct = nees_yaw.within_95_pct();
   m.capture_missing = data.accounting.missing_total();
   for (const ChannelAccount& c : data.accounting.channels) m.capture_unaccounted += c.unaccounted();
   m.udp_rx_drops = data.accounting.udp_rx_drops;
@@ -152,6 +171,9 @@ std::string metrics_json(const EvalMetrics& m) {
   j.field("triggers", m.triggers).field("frames_dropped", m.frames_dropped).field("tracks", m.tracks);
   j.field("capture_corrupt_records", m.capture_corrupt_records).field("capture_truncated", m.capture_truncated);
   j.field("capture_holes", m.capture_holes).field("capture_longest_hole_s", m.capture_hole_seconds);
+  j.field("nees_samples", m.nees_samples).field("nees_h_mean", m.nees_h_mean);
+  j.field("nees_h_within_95_pct", m.nees_h_within_95_pct).field("nees_yaw_mean", m.nees_yaw_mean);
+  j.field("nees_yaw_within_95_pct", m.nees_yaw_within_95_pct);
   j.field("capture_missing", m.capture_missing).field("capture_unaccounted", m.capture_unaccounted);
   j.key("processes").begin_object();
   for (const auto& [name, c] : m.process_counts) {

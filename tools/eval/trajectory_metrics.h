@@ -24,6 +24,10 @@ struct EvalSample {
   double yaw_error_deg = 0;
   int32_t flags = 0;
   double sigma_h_m = 0;                // reported: sqrt of the horizontal position variances
+  double sigma_n_m = 0, sigma_e_m = 0;  // reported, per axis
+  double sigma_yaw_deg = 0;            // reported: sqrt of the yaw variance
+  double nees_h = -1;                  // horizontal NEES (chi-square, 2 dof); < 0: undefined
+  double nees_yaw = -1;                // yaw NEES (1 dof)
 };
 
 struct EvalMetrics {
@@ -51,6 +55,10 @@ struct EvalMetrics {
   bool capture_truncated = false;
   int64_t capture_holes = 0;         // stretches a regular channel has no messages for
   double capture_hole_seconds = 0.0; // the longest
+  // Consistency of the reported covariance (tools/eval/consistency.h).
+  int64_t nees_samples = 0;
+  double nees_h_mean = 0, nees_h_within_95_pct = 0;      // consistent: ~2 and ~95
+  double nees_yaw_mean = 0, nees_yaw_within_95_pct = 0;  // consistent: ~1 and ~95
   int64_t capture_missing = 0;       // published (per the publishers' STATUS) but not in the capture
   int64_t capture_unaccounted = 0;   // in the capture but counted by no publisher (a second publisher?)
   std::map<std::string, int64_t> udp_rx_drops;  // per process: datagrams its kernel dropped
