@@ -23,7 +23,7 @@ need_tools() {
   local missing=()
   for t in munged mungekey slurmctld slurmd sinfo scontrol; do command -v "$t" >/dev/null || missing+=("$t"); done
   ((${#missing[@]} == 0)) || die "missing ${missing[*]}: install Debian's slurm-wlm and munge (launch_scripts/setup.sh)"
-  [ "$(id -u)" -eq 0 ] || die "must run as root (slurmd runs jobs as their user; munged key ownership)"
+  id -un >/dev/null 2>&1 || die "user id $(id -u) has no name (Slurm needs one for SlurmUser)"
 }
 
 write_config() {
@@ -40,8 +40,9 @@ ClusterName=nadir-local
 SlurmctldHost=$host(127.0.0.1)
 SlurmctldPort=$ctld_port
 SlurmdPort=$d_port
-SlurmUser=root
-SlurmdUser=root
+# The daemons run as whoever started them: root runs jobs of any user, another user only its own.
+SlurmUser=$(id -un)
+SlurmdUser=$(id -un)
 AuthType=auth/munge
 AuthInfo=socket=$socket
 CredType=cred/munge
