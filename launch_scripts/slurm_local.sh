@@ -2,7 +2,8 @@
 # A single-node Slurm cluster on this machine (Debian's slurm-wlm and munge):
 # munged, slurmctld and slurmd on localhost, no systemd needed. Its key,
 # slurm.conf, state, spool, logs and pid files live in one git-ignored folder
-# (default logs/slurm_local, or $NADIR_SLURM_DIR). Runs as root (slurmd must).
+# (default logs/slurm_local, or $NADIR_SLURM_DIR). The daemons run as the user
+# who starts them: as root, jobs of any user; as another user, only its own.
 # Usage: slurm_local.sh start | stop | status | env
 #   start   generate the config, start the three daemons, wait for the node to be idle
 #   stop    stop the daemons this script started (by their pid files)
@@ -119,6 +120,6 @@ case "${1:-}" in
   stop) stop ;;
   status) SLURM_CONF="$conf" sinfo ;;
   env) echo "export SLURM_CONF='$conf'" ;;
-  -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//' ;;
+  -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//' ;;
   *) echo "slurm_local: error: expected start, stop, status or env (--help)" >&2; exit 2 ;;
 esac

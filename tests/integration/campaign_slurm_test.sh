@@ -19,7 +19,8 @@ tool="$NADIR_BUILD/bin/nadir_campaign"
 fail() { echo "FAIL: $*"; exit 1; }
 
 for t in munged slurmctld slurmd sbatch; do
-  command -v "$t" >/dev/null || { echo "SKIP: $t not installed (Debian slurm-wlm and munge; launch_scripts/setup.sh)"; exit 77; }
+  command -v "$t" >/dev/null ||
+    { echo "SKIP: $t not installed (Debian slurm-wlm and munge; launch_scripts/setup.sh)"; exit 77; }
 done
 if [ "$(cat /proc/self/setgroups 2>/dev/null)" = deny ] && [ "$(id -u)" = 0 ] && [ -z "${NADIR_SLURM_NESTED:-}" ]; then
   [ "${NADIR_IN_NETNS:-0}" != 1 ] || ip addr add 10.254.254.1/32 dev lo 2>/dev/null || true
@@ -43,16 +44,20 @@ cat "$work/start.log"
 eval "$("$root/launch_scripts/slurm_local.sh" env)"
 campaign="$root/config/campaigns/test_small.yaml"
 
-"$tool" submit --slurm "$campaign" --out "$work/slurm_run" >"$work/submit" 2>&1 || { cat "$work/submit"; fail "submit"; }
+"$tool" submit --slurm "$campaign" --out "$work/slurm_run" >"$work/submit" 2>&1 ||
+  { cat "$work/submit"; fail "submit"; }
 cat "$work/submit"
 read -r array_job agg_job < <(sed -n 's/^submitted //p' "$work/submit")
-[ -n "$agg_job" ] && [ "$array_job" != - ] || fail "no job ids from submit"
+if [ -z "$agg_job" ] || [ "$array_job" = - ]; then fail "no job ids from submit"; fi
 grep -qE '^#SBATCH --array=0-5%2$' "$work"/slurm_run/slurm/cells-*.sbatch || fail "array without its concurrency limit"
-scontrol show job "$agg_job" | grep -qF "Dependency=afterok:$array_job" || fail "aggregation job does not depend (afterok) on the array"
+scontrol show job "$agg_job" | grep -qF "Dependency=afterok:$array_job" ||
+  fail "aggregation job does not depend (afterok) on the array"
 
 # Meanwhile, the same campaign on this machine.
-"$tool" run --local -j 1 "$campaign" --out "$work/local_run" >"$work/local" 2>&1 || { cat "$work/local"; fail "run --local"; }
-"$tool" aggregate "$campaign" --out "$work/local_run" >"$work/local_agg" 2>&1 || { cat "$work/local_agg"; fail "local aggregate"; }
+"$tool" run --local -j 1 "$campaign" --out "$work/local_run" >"$work/local" 2>&1 ||
+  { cat "$work/local"; fail "run --local"; }
+"$tool" aggregate "$campaign" --out "$work/local_run" >"$work/local_agg" 2>&1 ||
+  { cat "$work/local_agg"; fail "local aggregate"; }
 
 for ((i = 0; i < 600; ++i)); do
   "$tool" status --wait "$campaign" --out "$work/slurm_run" >"$work/status" 2>&1 && break

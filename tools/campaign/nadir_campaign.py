@@ -111,7 +111,8 @@ def cmd_run_cell(args, spec, out):
         version = json.load(f)
     cell = spec.cell(ids[args.index])
     ok = campaign_cells.run(ROOT, out, spec, cell, version)
-    print(f"{cell['id']}: {'done' if ok else 'FAILED, log ' + os.path.join(campaign_cells.cell_dir(out, cell), 'cell.log')}")
+    log = os.path.join(campaign_cells.cell_dir(out, cell), "cell.log")
+    print(f"{cell['id']}: {'done' if ok else 'FAILED, log ' + log}")
     return 0   # recorded either way: the aggregation job (afterok) must still run
 
 
