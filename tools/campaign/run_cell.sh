@@ -5,6 +5,7 @@
 # KEEP_LOGS=1, the simulator log (the seed and the config reproduce it).
 # Usage: run_cell.sh PROFILE SEED CELL_DIR [nadir_sim options...] -- [nadir_replay options...]
 set -euo pipefail
+case "${1:-}" in -h|--help) sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
 source "$(dirname "${BASH_SOURCE[0]}")/../../launch_scripts/eval_common.sh"
 (($# >= 3)) || { echo "run_cell: error: expected PROFILE SEED CELL_DIR [sim options] -- [replay options]" >&2; exit 2; }
 profile="$1" seed="$2" dir="$3"
