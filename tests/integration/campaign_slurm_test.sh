@@ -59,9 +59,9 @@ scontrol show job "$agg_job" | grep -qF "Dependency=afterok:$array_job" ||
 "$tool" aggregate "$campaign" --out "$work/local_run" >"$work/local_agg" 2>&1 ||
   { cat "$work/local_agg"; fail "local aggregate"; }
 
-for ((i = 0; i < 600; ++i)); do
+for ((i = 0; i < 300; ++i)); do
   "$tool" status --wait "$campaign" --out "$work/slurm_run" >"$work/status" 2>&1 && break
-  sleep 1
+  sleep 2
 done
 cat "$work/status"
 grep -qF "6 done, 0 failed" "$work/status" || { cat "$work"/slurm_run/slurm/*.out; fail "not all Slurm cells done"; }

@@ -164,8 +164,9 @@ def cmd_status(args, spec, out):
         for j in ids:
             shown = "unknown to squeue" if q is None else (", ".join(sorted(set(q[j]))) or "finished")
             print(f"  slurm job {j}: {shown}")
-        if args.wait:
-            return 0 if not q or not any(q[j] for j in ids) else 3
+        if args.wait:   # finished jobs stay listed (COMPLETED, FAILED...) for MinJobAge: only these are waited for
+            active = {"PENDING", "CONFIGURING", "RUNNING", "COMPLETING", "SUSPENDED", "REQUEUED", "RESIZING"}
+            return 3 if q and any(active.intersection(q[j]) for j in ids) else 0
     agg = os.path.join(out, "aggregate", "aggregate.json")
     if os.path.exists(agg):
         print(f"  aggregate: {agg}")
