@@ -5,6 +5,7 @@
 
 #include "common/channels.h"
 #include "common/config.h"
+#include "common/publish_latency.h"
 #include "common/time_base.h"
 
 namespace nadir {
@@ -37,10 +38,7 @@ LcmBus::LcmBus(const LcmBusOptions& options)
 LcmBus::~LcmBus() = default;
 
 void LcmBus::publish_raw(const std::string& channel, const uint8_t* data, size_t size) {
-  if (channel != channels::kStatus && channel != channels::kConfig) {
-    int64_t utime = 0;
-    if (encoded_utime(data, size, &utime)) latency_.add_ms(static_cast<double>(vehicle_time_now_us() - utime) / 1000.0);
-  }
+  note_publish_latency(channel, data, size, &latency_);
   std::lock_guard<std::mutex> lock(publish_mutex_);
   if (lcm_.publish(channel, data, static_cast<unsigned int>(size)) != 0) {
     throw std::runtime_error("LCM publish on " + channel + " failed (" + url_ + ")");
