@@ -51,8 +51,8 @@ void FrameSync::add_ins(const ins_t& ins) {
   if (!std::isfinite(ins.roll) || !std::isfinite(ins.pitch) || !std::isfinite(ins.yaw)) return;
   const Eigen::Vector3d rate(ins.angular_rate[0], ins.angular_rate[1], ins.angular_rate[2]);
   const bool has_rate = ins.has_rates && rate.allFinite();
-  const auto [it, added] =
-      ins_.insert_or_assign(ins.utime, Attitude{ins.roll, ins.pitch, ins.yaw, has_rate, has_rate ? rate : Eigen::Vector3d::Zero()});
+  const Attitude attitude{ins.roll, ins.pitch, ins.yaw, has_rate, has_rate ? rate : Eigen::Vector3d::Zero()};
+  const auto [it, added] = ins_.insert_or_assign(ins.utime, attitude);
   if (added) {
     // Sample times only: the bound the propagate policy's readiness relies on.
     auto note_interval = [this](int64_t interval_us) {
