@@ -15,16 +15,25 @@
 namespace nadir {
 namespace {
 
-TEST(ComposedBus, ChainRunsInOneDeliveryAndEveryChannelGoesOutside) {
+LcmBusOptions memq() {
   LcmBusOptions options;
   options.url = "memq://";
-  LcmBus outside(options);
-  ComposedBus composed(outside);
-  NodePort port1(composed), port2(composed);
-  const Config config = Config::parse("ins_delta: {scale: 2.0}", "test");
-  testing::InsDeltaNode stage1(config, port1);
-  testing::DeltaIntegratorNode stage2(config, port2);
-  composed.connect_inputs({channels::kVoDelta, channels::kPose});
+  return options;
+}
+
+// INS -> ins_delta (port 1) -> VO_DELTA -> delta_integrator (port 2) -> POSE,
+// composed in one process over a memq:// LCM.
+struct Composed : public ::testing::Test {
+  Composed() { composed.connect_inputs({channels::kVoDelta, channels::kPose}); }
+  LcmBus outside{memq()};
+  ComposedBus composed{outside};
+  NodePort port1{composed}, port2{composed};
+  Config config = Config::parse("ins_delta: {scale: 2.0}", "test");
+  testing::InsDeltaNode stage1{config, port1};
+  testing::DeltaIntegratorNode stage2{config, port2};
+};
+
+TEST_F(Composed, ChainRunsInOneDeliveryAndEveryChannelGoesOutside) {
 
   std::vector<pose_t> poses_outside;
   int deltas_outside = 0;
@@ -49,16 +58,7 @@ TEST(ComposedBus, ChainRunsInOneDeliveryAndEveryChannelGoesOutside) {
   EXPECT_EQ(stage2.status().received, 19) << "VO_DELTA is produced here: never taken back from outside";
 }
 
-TEST(ComposedBus, MalformedMessagesAndPublishLatencyArePerNode) {
-  LcmBusOptions options;
-  options.url = "memq://";
-  LcmBus outside(options);
-  ComposedBus composed(outside);
-  NodePort port1(composed), port2(composed);
-  const Config config = Config::parse("", "test");
-  testing::InsDeltaNode stage1(config, port1);
-  testing::DeltaIntegratorNode stage2(config, port2);
-  composed.connect_inputs({channels::kVoDelta, channels::kPose});
+TEST_F(Composed, MalformedMessagesAndPublishLatencyArePerNode) {
   const uint8_t garbage[5] = {1, 2, 3, 4, 5};
   composed.deliver(channels::kVoDelta, garbage, sizeof(garbage));
   EXPECT_EQ(port2.error_counts().malformed, 1);
