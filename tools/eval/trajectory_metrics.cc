@@ -120,6 +120,7 @@ EvalResult evaluate(const EvalData& data) {
   m.vo_deltas_flagged = data.vo_deltas_flagged;
   m.latency_p50_ms = percentile(latencies, 50);
   m.latency_p99_ms = percentile(latencies, 99);
+  m.latency_max_ms = percentile(latencies, 100);
 
   // Geographic reference: the INS fix nearest the first pose, moved back by
   // the truth offset between them.
@@ -157,6 +158,7 @@ std::string metrics_json(const EvalMetrics& m) {
   j.end_object();
   j.field("vo_deltas", m.vo_deltas).field("vo_deltas_flagged", m.vo_deltas_flagged);
   j.field("latency_p50_ms", m.latency_p50_ms).field("latency_p99_ms", m.latency_p99_ms);
+  j.field("latency_max_ms", m.latency_max_ms);
   j.end_object();
   return j.str();
 }
