@@ -4,25 +4,31 @@
 # the estimator nodes in one process) RUNS times inside the private network
 # namespace, evaluates each capture and prints per run the latency by stage
 # (p50/p99/worst) with the load average, then the medians over the runs.
-# Usage: latency.sh [--set sim|sim_composed] [--runs N] [--keep-captures]
-#        (reports in logs/latency/<UTC>-SET/; captures are deleted unless kept)
+# Usage: latency.sh [--set sim|sim_composed] [--runs N] [--attitude-policy propagate|interpolate]
+#        [--keep-captures]   (reports in logs/latency/<UTC>-SET-POLICY/; captures deleted unless kept)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 set_name=sim
 runs=5
 keep=0
+policy=""
 while (($#)); do
   case "$1" in
     -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --set) set_name="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
+    --attitude-policy) policy="$2"; shift 2 ;;
     --keep-captures) keep=1; shift ;;
     *) echo "latency: error: unknown option $1" >&2; exit 2 ;;
   esac
 done
 [[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "latency: error: --runs must be a positive integer, got '$runs'" >&2; exit 2; }
-out="$NADIR_ROOT/logs/latency/$(nadir_utc_stamp)-$set_name"
+out="$NADIR_ROOT/logs/latency/$(nadir_utc_stamp)-$set_name${policy:+-$policy}"
 mkdir -p "$out"
+if [ -n "$policy" ]; then
+  nadir_config_with_attitude_policy "$policy" "$out/config.yaml"
+  export NADIR_CONFIG="$out/config.yaml"   # every process of the set reads it
+fi
 for ((i = 1; i <= runs; i++)); do
   run_dir="$out/run$i"
   load_before=$(cut -d' ' -f1 /proc/loadavg)

@@ -28,7 +28,7 @@ AttitudePolicy attitude_policy_from_name(const std::string& name);  // throws st
 const char* attitude_policy_name(AttitudePolicy policy);
 
 struct SyncOptions {
-  AttitudePolicy attitude_policy = AttitudePolicy::kPropagate;
+  AttitudePolicy attitude_policy = AttitudePolicy::kInterpolate;
   // propagate: INS samples are never closer together than this, so a frame
   // less than this after the newest sample has all its samples (no wait). A
   // closer pair, once seen, lowers the bound (counted as ins_interval_short).

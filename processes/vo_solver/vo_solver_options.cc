@@ -57,7 +57,7 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
 
   const Config y = c.section_or_empty("sync");
   auto& t = o.sync;
-  const std::string attitude_policy = y.get<std::string>("attitude_policy", "propagate");
+  const std::string attitude_policy = y.get<std::string>("attitude_policy", "interpolate");
   try {
     t.attitude_policy = vo::attitude_policy_from_name(attitude_policy);
   } catch (const std::invalid_argument& e) {
