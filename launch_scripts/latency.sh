@@ -36,6 +36,7 @@ for ((i = 1; i <= runs; i++)); do
     nadir_in_netns "$NADIR_ROOT/launch_scripts/run_set.sh" "$set_name" >"$run_dir.txt" 2>&1 ||
     { tail -20 "$run_dir.txt" >&2; echo "latency: error: run $i of set $set_name failed" >&2; exit 1; }
   load_after=$(cut -d' ' -f1 /proc/loadavg)
+  mkdir -p "$run_dir/report"
   nadir_eval --log "$run_dir/capture.lcmlog" --out "$run_dir/report" >"$run_dir/report/summary.txt"
   ((keep)) || rm -f "$run_dir/capture.lcmlog"
   echo "run $i (load average $load_before -> $load_after):"
