@@ -5,25 +5,28 @@
 # namespace, evaluates each capture and prints per run the latency by stage
 # (p50/p99/worst) with the load average, then the medians over the runs.
 # Usage: latency.sh [--set sim|sim_composed] [--runs N] [--attitude-policy propagate|interpolate]
-#        [--keep-captures]   (reports in logs/latency/<UTC>-SET-POLICY/; captures deleted unless kept)
+#        [--nice N] [--keep-captures]   (reports in logs/latency/<UTC>-SET-POLICY/; captures deleted
+#        unless kept; --nice runs the whole set at that niceness, e.g. -10 on a machine others load)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 set_name=sim
 runs=5
 keep=0
 policy=""
+niceness=0
 while (($#)); do
   case "$1" in
-    -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --set) set_name="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
     --attitude-policy) policy="$2"; shift 2 ;;
+    --nice) niceness="$2"; shift 2 ;;
     --keep-captures) keep=1; shift ;;
     *) echo "latency: error: unknown option $1" >&2; exit 2 ;;
   esac
 done
 [[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "latency: error: --runs must be a positive integer, got '$runs'" >&2; exit 2; }
-out="$NADIR_ROOT/logs/latency/$(nadir_utc_stamp)-$set_name${policy:+-$policy}"
+out="$NADIR_ROOT/logs/latency/$(nadir_utc_stamp)-$set_name${policy:+-$policy}-nice$niceness"
 mkdir -p "$out"
 if [ -n "$policy" ]; then
   nadir_config_with_attitude_policy "$policy" "$out/config.yaml"
@@ -33,13 +36,14 @@ for ((i = 1; i <= runs; i++)); do
   run_dir="$out/run$i"
   load_before=$(cut -d' ' -f1 /proc/loadavg)
   NADIR_PROFILE=demo NADIR_SEED=1 NADIR_CAPTURE_DIR="$run_dir" \
-    nadir_in_netns "$NADIR_ROOT/launch_scripts/run_set.sh" "$set_name" >"$run_dir.txt" 2>&1 ||
+    nice -n "$niceness" bash -c "$(declare -f nadir_in_netns); nadir_in_netns \"\$@\"" _ \
+    "$NADIR_ROOT/launch_scripts/run_set.sh" "$set_name" >"$run_dir.txt" 2>&1 ||
     { tail -20 "$run_dir.txt" >&2; echo "latency: error: run $i of set $set_name failed" >&2; exit 1; }
   load_after=$(cut -d' ' -f1 /proc/loadavg)
   mkdir -p "$run_dir/report"
   nadir_eval --log "$run_dir/capture.lcmlog" --out "$run_dir/report" >"$run_dir/report/summary.txt"
   ((keep)) || rm -f "$run_dir/capture.lcmlog"
-  echo "run $i (load average $load_before -> $load_after):"
+  echo "run $i (load average $load_before -> $load_after, nice $niceness):"
   grep -E '^latency' "$run_dir/report/summary.txt" | sed 's/^/  /'
   echo "$load_before $load_after" >"$run_dir/load.txt"
 done
