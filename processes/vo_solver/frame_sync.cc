@@ -9,19 +9,8 @@
 #include <string>
 
 #include "common/geometry.h"
-#include "processes/vo_solver/attitude_propagation.h"
 
 namespace nadir::vo {
-
-AttitudePolicy attitude_policy_from_name(const std::string& name) {
-  if (name == "propagate") return AttitudePolicy::kPropagate;
-  if (name == "interpolate") return AttitudePolicy::kInterpolate;
-  throw std::invalid_argument("attitude policy '" + name + "' is not one of propagate, interpolate");
-}
-
-const char* attitude_policy_name(AttitudePolicy policy) {
-  return policy == AttitudePolicy::kPropagate ? "propagate" : "interpolate";
-}
 
 void SyncOptions::Check() const {
   auto require = [](bool ok, const std::string& field, const std::string& range) {
@@ -45,23 +34,22 @@ void SyncOptions::Check() const {
 FrameSync::FrameSync(const SyncOptions& options, const Eigen::Vector3d& default_beam_body)
     : options_(options),
       default_beam_body_(default_beam_body.normalized()),
-      ins_interval_bound_us_(options.ins_min_interval_us) {}
+      ins_complete_(options.ins_min_interval_us) {}
 
 void FrameSync::add_ins(const ins_t& ins) {
   if (!std::isfinite(ins.roll) || !std::isfinite(ins.pitch) || !std::isfinite(ins.yaw)) return;
-  const Eigen::Vector3d rate(ins.angular_rate[0], ins.angular_rate[1], ins.angular_rate[2]);
-  const bool has_rate = ins.has_rates && rate.allFinite();
-  const Attitude attitude{ins.roll, ins.pitch, ins.yaw, has_rate, has_rate ? rate : Eigen::Vector3d::Zero()};
-  const auto [it, added] = ins_.insert_or_assign(ins.utime, attitude);
-  if (added) {
-    // Sample times only: the bound the propagate policy's readiness relies on.
-    auto note_interval = [this](int64_t interval_us) {
-      if (interval_us >= options_.ins_min_interval_us) return;
-      ++short_ins_intervals_;
-      ins_interval_bound_us_ = std::min(ins_interval_bound_us_, interval_us);
-    };
-    if (it != ins_.begin()) note_interval(it->first - std::prev(it)->first);
-    if (std::next(it) != ins_.end()) note_interval(std::next(it)->first - it->first);
+  InsAttitude sample;
+  sample.utime = ins.utime;
+  sample.roll = ins.roll;
+  sample.pitch = ins.pitch;
+  sample.yaw = ins.yaw;
+  sample.body_rate = Eigen::Vector3d(ins.angular_rate[0], ins.angular_rate[1], ins.angular_rate[2]);
+  sample.has_rate = ins.has_rates && sample.body_rate.allFinite();
+  if (!sample.has_rate) sample.body_rate.setZero();
+  const auto [it, added] = ins_.insert_or_assign(ins.utime, sample);
+  if (added) {  // sample times only: what the propagate policy's readiness relies on
+    if (it != ins_.begin()) ins_complete_.note_interval(it->first - std::prev(it)->first);
+    if (std::next(it) != ins_.end()) ins_complete_.note_interval(std::next(it)->first - it->first);
   }
   while (static_cast<int>(ins_.size()) > options_.max_ins_samples) {
     ins_.erase(ins_.begin());
@@ -91,7 +79,7 @@ bool FrameSync::ins_final(int64_t utime) const {
   // cannot be, so the samples at or before it are all here. Not when the
   // channel may reorder itself (settle_us): then only a later sample tells.
   return options_.attitude_policy == AttitudePolicy::kPropagate && options_.settle_us == 0 &&
-         utime - newest < ins_interval_bound_us_;
+         ins_complete_.complete_at(utime, newest);
 }
 
 bool FrameSync::ready(int64_t utime) const {
@@ -151,29 +139,16 @@ void FrameSync::propagate_attitude_to(int64_t utime, FrameState* state) const {
     return;
   }
   const auto base = std::prev(after);
-  const Attitude& a = base->second;
-  const int64_t dt_us = utime - base->first;
-  if (dt_us == 0) {
-    set_attitude(state, a.roll, a.pitch, a.yaw);
-    return;
-  }
-  if (dt_us > options_.max_ins_gap_us) return;
-  const Eigen::Matrix3d r = rotation_from_rpy(a.roll, a.pitch, a.yaw);
-  Eigen::Vector3d rate;
-  if (a.has_rate) {
-    rate = a.body_rate;
-  } else if (base != ins_.begin() && base->first - std::prev(base)->first <= options_.max_ins_gap_us) {
-    const auto earlier = std::prev(base);
-    const Attitude& e = earlier->second;
-    rate = body_rate_between(rotation_from_rpy(e.roll, e.pitch, e.yaw), r,
-                             static_cast<double>(base->first - earlier->first) * 1e-6);
-  } else {
+  const InsAttitude& a = base->second;
+  if (utime - base->first > options_.max_ins_gap_us) return;
+  const bool earlier_usable = base != ins_.begin() && base->first - std::prev(base)->first <= options_.max_ins_gap_us;
+  const auto rpy = propagated_rpy(a, earlier_usable ? &std::prev(base)->second : nullptr, utime);
+  if (rpy) {
+    set_attitude(state, rpy->x(), rpy->y(), rpy->z());
+  } else if (utime - base->first <= options_.max_ins_extrapolation_us) {
     // One sample and no rate: held, as the interpolate policy holds a one-sided sample.
-    if (dt_us <= options_.max_ins_extrapolation_us) set_attitude(state, a.roll, a.pitch, a.yaw);
-    return;
+    set_attitude(state, a.roll, a.pitch, a.yaw);
   }
-  const Eigen::Vector3d rpy = rpy_from_rotation(propagate_attitude(r, rate, static_cast<double>(dt_us) * 1e-6));
-  set_attitude(state, rpy.x(), rpy.y(), rpy.z());
 }
 
 void FrameSync::interpolate_attitude(int64_t utime, FrameState* state) const {

@@ -18,14 +18,11 @@
 #include <map>
 #include <string>
 
+#include "common/attitude_propagation.h"
 #include "nadir/altimeter_t.hpp"
 #include "nadir/ins_t.hpp"
 
 namespace nadir::vo {
-
-enum class AttitudePolicy { kPropagate, kInterpolate };
-AttitudePolicy attitude_policy_from_name(const std::string& name);  // throws std::invalid_argument
-const char* attitude_policy_name(AttitudePolicy policy);
 
 struct SyncOptions {
   AttitudePolicy attitude_policy = AttitudePolicy::kInterpolate;
@@ -86,14 +83,9 @@ class FrameSync {
   int64_t invalid_altimeter_samples() const { return invalid_altimeter_; }
   int64_t dropped_samples() const { return dropped_samples_; }
   // INS intervals shorter than ins_min_interval_us (propagate waits longer after one).
-  int64_t short_ins_intervals() const { return short_ins_intervals_; }
+  int64_t short_ins_intervals() const { return ins_complete_.short_intervals(); }
 
  private:
-  struct Attitude {
-    double roll, pitch, yaw;
-    bool has_rate;
-    Eigen::Vector3d body_rate;  // rad/s
-  };
   struct Range {
     bool valid;
     double range_m;
@@ -108,13 +100,12 @@ class FrameSync {
 
   SyncOptions options_;
   Eigen::Vector3d default_beam_body_;
-  std::map<int64_t, Attitude> ins_;
+  std::map<int64_t, InsAttitude> ins_;
   std::map<int64_t, Range> altimeter_;
   std::map<int64_t, FrameState> cache_;
   int64_t invalid_altimeter_ = 0;
   int64_t dropped_samples_ = 0;
-  int64_t short_ins_intervals_ = 0;
-  int64_t ins_interval_bound_us_;  // ins_min_interval_us, or the shortest interval seen if shorter
+  InsCompleteness ins_complete_;
 };
 
 }  // namespace nadir::vo

@@ -59,7 +59,7 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   auto& t = o.sync;
   const std::string attitude_policy = y.get<std::string>("attitude_policy", "interpolate");
   try {
-    t.attitude_policy = vo::attitude_policy_from_name(attitude_policy);
+    t.attitude_policy = attitude_policy_from_name(attitude_policy);
   } catch (const std::invalid_argument& e) {
     throw y.error("attitude_policy", "= '" + attitude_policy + "' must be propagate or interpolate");
   }
