@@ -57,5 +57,11 @@ worst = [x["latency_max_ms"] for x in m]
 print(f"trigger -> POSE over {runs} runs: p50 median {statistics.median(p50):.1f} ms; "
       f"p99 median {statistics.median(p99):.1f} ms (runs: {', '.join('%.1f' % v for v in p99)}); "
       f"worst {max(worst):.1f} ms")
+after = [x.get("after_image_latency_p99_ms") for x in m]
+if all(v is not None for v in after):
+    print(f"after the image (POSE logged - CAMERA_IMAGE logged) over {runs} runs: p50 median "
+          f"{statistics.median(x['after_image_latency_p50_ms'] for x in m):.1f} ms; p99 median "
+          f"{statistics.median(after):.1f} ms (runs: {', '.join('%.1f' % v for v in after)}); "
+          f"worst {max(x['after_image_latency_max_ms'] for x in m):.1f} ms")
 PY
 echo "reports: $out/run*/report/"

@@ -89,6 +89,11 @@ int main(int argc, char** argv) {
                     nadir::percentile(it->second, 99), nadir::percentile(it->second, 100));
       }
       std::printf("  (p50/p99/worst ms)\n");
+      if (!data.after_image_latency_ms.empty()) {
+        std::printf("latency after image %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - CAMERA_IMAGE logged: "
+                    "the estimator without the image source)\n",
+                    m.after_image_latency_p50_ms, m.after_image_latency_p99_ms, m.after_image_latency_max_ms);
+      }
       // Counters from each process's last STATUS; its publish latency over
       // the whole run (the last period may have published nothing).
       for (const auto& [name, s] : data.last_status) {
