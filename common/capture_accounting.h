@@ -1,7 +1,7 @@
 #pragma once
 // Checks a capture against what its publishers say they sent. Every live
 // process's STATUS counts the messages it published per channel
-// ("tx.<CHANNEL>", LcmBus::add_transport_status); a capture that holds fewer
+// ("tx.<CHANNEL>", LcmBus::add_transport_counters); a capture that holds fewer
 // of a channel's records before that STATUS than the count lost them on the
 // way (the logger stopped or its receive buffer overflowed). A capture that
 // holds more has a publisher that sends no STATUS: a second publisher on the

@@ -7,6 +7,7 @@
 
 #include "common/channels.h"
 #include "common/config.h"
+#include "common/publish_latency.h"
 #include "common/time_base.h"
 #include "common/udp_drops.h"
 
@@ -46,11 +47,7 @@ bool counted_channel(const std::string& channel) {
 }  // namespace
 
 void LcmBus::publish_raw(const std::string& channel, const uint8_t* data, size_t size) {
-  const bool counted = counted_channel(channel);
-  if (counted) {
-    int64_t utime = 0;
-    if (encoded_utime(data, size, &utime)) latency_.add_ms(static_cast<double>(vehicle_time_now_us() - utime) / 1000.0);
-  }
+  note_publish_latency(channel, data, size, &latency_);
   {
     std::lock_guard<std::mutex> lock(publish_mutex_);
     if (lcm_.publish(channel, data, static_cast<unsigned int>(size)) != 0) {
@@ -59,7 +56,7 @@ void LcmBus::publish_raw(const std::string& channel, const uint8_t* data, size_t
   }
   // Counted once sent: a STATUS built afterwards (on any thread) leaves the
   // same socket after this message, so a capture holds it before that STATUS.
-  if (counted) {
+  if (counted_channel(channel)) {
     std::lock_guard<std::mutex> lock(counts_mutex_);
     ++tx_counts_[channel];
   }
@@ -75,12 +72,12 @@ void LcmBus::dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel
 
 status_t LcmBus::status_message(const std::string& name, const StatusReport& report) {
   status_t msg = make_status_message(name, static_cast<int32_t>(getpid()), vehicle_time_now_us(), report, error_counts());
-  add_transport_status(&msg);
+  latency_.take(&msg.latency_p50_ms, &msg.latency_p99_ms, &msg.latency_max_ms);
+  add_transport_counters(&msg);
   return msg;
 }
 
-void LcmBus::add_transport_status(status_t* msg) {
-  latency_.take(&msg->latency_p50_ms, &msg->latency_p99_ms, &msg->latency_max_ms);
+void LcmBus::add_transport_counters(status_t* msg) {
   auto add = [msg](const std::string& name, double value) {
     msg->counter_names.push_back(name);
     msg->counter_values.push_back(value);

@@ -39,15 +39,15 @@ class LcmBus : public Bus {
 
   // Sensor time -> publish latency of everything published (not STATUS/CONFIG).
   LatencyWindow& latency() { return latency_; }
-  // Fills a STATUS message's transport part: the latency of the period (then
-  // restarted), and counters "tx.<CHANNEL>" / "rx.<CHANNEL>" (messages
-  // published / delivered since start, STATUS and CONFIG excepted) and
-  // "udp_rx_drops" (datagrams the kernel dropped for a full receive buffer).
+  // Adds the counters "tx.<CHANNEL>" / "rx.<CHANNEL>" (messages published /
+  // delivered since start, STATUS and CONFIG excepted) and "udp_rx_drops"
+  // (datagrams the kernel dropped for a full receive buffer) to a STATUS.
   // A capture is checked against the tx counts (nadir_log info, nadir_eval),
   // so a message lost between a publisher and the logger is counted.
-  void add_transport_status(status_t* msg);
+  void add_transport_counters(status_t* msg);
   // A live process's STATUS: its report, this bus's malformed counts, this
-  // process's pid, vehicle time now and the transport part above.
+  // process's pid, vehicle time now, the period's latency (then restarted)
+  // and the transport counters above.
   status_t status_message(const std::string& name, const StatusReport& report);
   const std::string& url() const { return url_; }
 

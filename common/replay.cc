@@ -14,33 +14,10 @@
 
 namespace nadir {
 
-void ReplayBus::publish_raw(const std::string& channel, const uint8_t* data, size_t size) {
+void ReplayBus::forward(const std::string& channel, const uint8_t* data, size_t size) {
   if (out_ != nullptr) out_->write(log_time_, channel, data, size);
   ++published_;
   ++per_channel_[channel];
-  if (handlers_.count(channel) != 0) pending_.emplace_back(channel, std::vector<uint8_t>(data, data + size));
-}
-
-void ReplayBus::subscribe_raw(const std::string& channel, RawHandler handler) {
-  handlers_[channel].push_back(std::move(handler));
-}
-
-void ReplayBus::dispatch(const std::string& channel, const uint8_t* data, size_t size) {
-  const auto it = handlers_.find(channel);
-  if (it == handlers_.end()) return;
-  for (const RawHandler& handler : it->second) handler(channel, data, size);
-}
-
-void ReplayBus::deliver(const std::string& channel, const uint8_t* data, size_t size) {
-  dispatch(channel, data, size);
-  if (draining_) return;  // an outer deliver() drains
-  draining_ = true;
-  while (!pending_.empty()) {
-    const auto message = std::move(pending_.front());
-    pending_.pop_front();
-    dispatch(message.first, message.second.data(), message.second.size());
-  }
-  draining_ = false;
 }
 
 void ReplayOptions::Check() const {

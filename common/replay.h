@@ -6,7 +6,6 @@
 // order before the next input event. Same input + same config => same bytes.
 
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <memory>
 #include <set>
@@ -14,35 +13,29 @@
 #include <vector>
 
 #include "common/bus.h"
+#include "common/local_bus.h"
 #include "common/log_file.h"
 #include "common/node.h"
 
 namespace nadir {
 
-class ReplayBus : public Bus {
+class ReplayBus : public LocalBus {
  public:
   explicit ReplayBus(LogWriter* out) : out_(out) {}
 
-  void publish_raw(const std::string& channel, const uint8_t* data, size_t size) override;
-  void subscribe_raw(const std::string& channel, RawHandler handler) override;
-
-  // Delivers one message to its subscribers, then everything published in
-  // response, until nothing is pending.
-  void deliver(const std::string& channel, const uint8_t* data, size_t size);
   void set_log_time(int64_t timestamp) { log_time_ = timestamp; }
   int64_t published() const { return published_; }
   const std::map<std::string, int64_t>& published_per_channel() const { return per_channel_; }
 
- private:
-  void dispatch(const std::string& channel, const uint8_t* data, size_t size);
+ protected:
+  // Appends to the output log, stamped with the input event's time.
+  void forward(const std::string& channel, const uint8_t* data, size_t size) override;
 
+ private:
   LogWriter* out_;
   int64_t log_time_ = 0;
   int64_t published_ = 0;
   std::map<std::string, int64_t> per_channel_;
-  std::map<std::string, std::vector<RawHandler>> handlers_;
-  std::deque<std::pair<std::string, std::vector<uint8_t>>> pending_;
-  bool draining_ = false;
 };
 
 struct ReplayOptions {

@@ -15,3 +15,14 @@ nadir_in_netns() {
 }
 
 nadir_utc_stamp() { date -u +%Y%m%dT%H%M%SZ; }
+
+# nadir_config_with_attitude_policy POLICY OUT: writes OUT, a copy of
+# config/default.yaml with vo_solver.sync.attitude_policy and
+# yaw_fusion.attitude_policy set to POLICY (propagate | interpolate); point
+# NADIR_CONFIG at it for a whole set.
+nadir_config_with_attitude_policy() {
+  local policy="$1" out="$2"
+  sed -E "s/^( +attitude_policy:) [a-z]+/\1 $policy/" "$NADIR_ROOT/config/default.yaml" >"$out"
+  [ "$(grep -cE "^ +attitude_policy: $policy( |$)" "$out")" = 2 ] ||
+    { echo "error: could not set both attitude_policy keys to '$policy' in $out" >&2; return 1; }
+}

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <stdexcept>
@@ -15,6 +16,7 @@ void SyncOptions::Check() const {
   auto require = [](bool ok, const std::string& field, const std::string& range) {
     if (!ok) throw std::invalid_argument("sync option " + field + " must be " + range);
   };
+  require(ins_min_interval_us >= 0 && ins_min_interval_us <= 1000000, "ins_min_interval_us", "in [0, 1 s]");
   require(max_ins_gap_us > 0 && max_ins_gap_us <= 10000000, "max_ins_gap_us", "in (0, 10 s]");
   require(max_ins_extrapolation_us >= 0 && max_ins_extrapolation_us <= 1000000, "max_ins_extrapolation_us",
           "in [0, 1 s]");
@@ -30,11 +32,25 @@ void SyncOptions::Check() const {
 }
 
 FrameSync::FrameSync(const SyncOptions& options, const Eigen::Vector3d& default_beam_body)
-    : options_(options), default_beam_body_(default_beam_body.normalized()) {}
+    : options_(options),
+      default_beam_body_(default_beam_body.normalized()),
+      ins_complete_(options.ins_min_interval_us) {}
 
 void FrameSync::add_ins(const ins_t& ins) {
   if (!std::isfinite(ins.roll) || !std::isfinite(ins.pitch) || !std::isfinite(ins.yaw)) return;
-  ins_[ins.utime] = Attitude{ins.roll, ins.pitch, ins.yaw};
+  InsAttitude sample;
+  sample.utime = ins.utime;
+  sample.roll = ins.roll;
+  sample.pitch = ins.pitch;
+  sample.yaw = ins.yaw;
+  sample.body_rate = Eigen::Vector3d(ins.angular_rate[0], ins.angular_rate[1], ins.angular_rate[2]);
+  sample.has_rate = ins.has_rates && sample.body_rate.allFinite();
+  if (!sample.has_rate) sample.body_rate.setZero();
+  const auto [it, added] = ins_.insert_or_assign(ins.utime, sample);
+  if (added) {  // sample times only: what the propagate policy's readiness relies on
+    if (it != ins_.begin()) ins_complete_.note_interval(it->first - std::prev(it)->first);
+    if (std::next(it) != ins_.end()) ins_complete_.note_interval(std::next(it)->first - it->first);
+  }
   while (static_cast<int>(ins_.size()) > options_.max_ins_samples) {
     ins_.erase(ins_.begin());
     ++dropped_samples_;
@@ -55,11 +71,22 @@ void FrameSync::add_altimeter(const altimeter_t& altimeter) {
   }
 }
 
+bool FrameSync::ins_final(int64_t utime) const {
+  if (ins_.empty()) return false;
+  const int64_t newest = ins_.rbegin()->first;
+  if (newest >= utime + options_.settle_us) return true;
+  // Propagate: the newest sample is at or before the frame and the next one
+  // cannot be, so the samples at or before it are all here. Not when the
+  // channel may reorder itself (settle_us): then only a later sample tells.
+  return options_.attitude_policy == AttitudePolicy::kPropagate && options_.settle_us == 0 &&
+         ins_complete_.complete_at(utime, newest);
+}
+
 bool FrameSync::ready(int64_t utime) const {
   if (cache_.count(utime)) return true;
-  const int64_t settled = utime + options_.settle_us;
-  if (ins_.empty() || ins_.rbegin()->first < settled) return false;
+  if (!ins_final(utime)) return false;
   if (!options_.altimeter_interpolate) return true;
+  const int64_t settled = utime + options_.settle_us;
   if (!altimeter_.empty() && altimeter_.rbegin()->first >= settled) return true;
   return ins_.rbegin()->first >= settled + options_.altimeter_wait_us;
 }
@@ -83,16 +110,52 @@ FrameState FrameSync::compute(int64_t utime) const {
   return state;
 }
 
+namespace {
+
+void set_attitude(FrameState* state, double roll, double pitch, double yaw) {
+  state->has_attitude = true;
+  state->roll = roll;
+  state->pitch = pitch;
+  state->yaw = yaw;
+}
+
+}  // namespace
+
 void FrameSync::attitude_at(int64_t utime, FrameState* state) const {
+  if (options_.attitude_policy == AttitudePolicy::kPropagate) {
+    propagate_attitude_to(utime, state);
+  } else {
+    interpolate_attitude(utime, state);
+  }
+}
+
+void FrameSync::propagate_attitude_to(int64_t utime, FrameState* state) const {
+  auto after = ins_.upper_bound(utime);  // first sample after the frame
+  if (after == ins_.begin()) {
+    // Nothing at or before the frame (start of the INS): a close later sample as is.
+    if (after != ins_.end() && after->first - utime <= options_.max_ins_extrapolation_us) {
+      set_attitude(state, after->second.roll, after->second.pitch, after->second.yaw);
+    }
+    return;
+  }
+  const auto base = std::prev(after);
+  const InsAttitude& a = base->second;
+  if (utime - base->first > options_.max_ins_gap_us) return;
+  const bool earlier_usable = base != ins_.begin() && base->first - std::prev(base)->first <= options_.max_ins_gap_us;
+  const auto rpy = propagated_rpy(a, earlier_usable ? &std::prev(base)->second : nullptr, utime);
+  if (rpy) {
+    set_attitude(state, rpy->x(), rpy->y(), rpy->z());
+  } else if (utime - base->first <= options_.max_ins_extrapolation_us) {
+    // One sample and no rate: held, as the interpolate policy holds a one-sided sample.
+    set_attitude(state, a.roll, a.pitch, a.yaw);
+  }
+}
+
+void FrameSync::interpolate_attitude(int64_t utime, FrameState* state) const {
   auto upper = ins_.lower_bound(utime);  // first sample at or after the frame
   const bool has_upper = upper != ins_.end();
   const bool has_lower = upper != ins_.begin();
-  auto set = [state](double roll, double pitch, double yaw) {
-    state->has_attitude = true;
-    state->roll = roll;
-    state->pitch = pitch;
-    state->yaw = yaw;
-  };
+  auto set = [state](double roll, double pitch, double yaw) { set_attitude(state, roll, pitch, yaw); };
   if (has_upper && upper->first == utime) {
     set(upper->second.roll, upper->second.pitch, upper->second.yaw);
     return;

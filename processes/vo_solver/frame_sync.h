@@ -4,19 +4,34 @@
 // computed once and cached, so a frame has the same attitude in both pairs it
 // belongs to (that is what makes roll/pitch errors telescope, paper eq. 21-23).
 // Bounded buffers; independent of the bus.
+//
+// Attitude policies: `interpolate` waits for the INS sample after the frame
+// and slerps between the two around it; `propagate` takes the newest sample
+// at or before the frame and rotates it on to the frame time with the body
+// rates (the sample's own, or from the two newest samples), so a frame never
+// waits for the future. Either way the attitude is a function of the samples'
+// times and values only, never of when they arrived: live = lockstep replay.
 
 #include <Eigen/Core>
 
 #include <cstdint>
 #include <map>
+#include <string>
 
+#include "common/attitude_propagation.h"
 #include "nadir/altimeter_t.hpp"
 #include "nadir/ins_t.hpp"
 
 namespace nadir::vo {
 
 struct SyncOptions {
-  int64_t max_ins_gap_us = 100000;           // bracketing INS samples farther apart: no attitude
+  AttitudePolicy attitude_policy = AttitudePolicy::kInterpolate;
+  // propagate: INS samples are never closer together than this, so a frame
+  // less than this after the newest sample has all its samples (no wait). A
+  // closer pair, once seen, lowers the bound (counted as ins_interval_short).
+  int64_t ins_min_interval_us = 9000;
+  int64_t max_ins_gap_us = 100000;           // bracketing INS samples farther apart (or propagated
+                                             // farther than this): no attitude
   int64_t max_ins_extrapolation_us = 20000;  // one-sided INS sample at most this far: used as is
   int64_t altimeter_staleness_us = 200000;   // nearest valid range farther than this: stale
   int64_t altimeter_wait_us = 300000;        // INS time to wait for an altimeter sample after a frame
@@ -52,10 +67,12 @@ class FrameSync {
   void add_altimeter(const altimeter_t& altimeter);
 
   // True once the inputs for a frame at `utime` are final: an INS sample at
-  // or after utime + settle exists, and an altimeter sample at or after it
-  // exists or the INS has run altimeter_wait_us further. Messages of one
-  // channel are assumed to arrive in utime order unless settle_us covers
-  // their reordering; across channels any interleaving is fine.
+  // or after utime + settle exists (propagate, settle 0: or the newest sample
+  // is less than the INS interval before utime, so no other sample at or
+  // before it can come), and an altimeter sample at or after it exists or the
+  // INS has run altimeter_wait_us further. Messages of one channel are assumed
+  // to arrive in utime order unless settle_us covers their reordering; across
+  // channels any interleaving is fine.
   bool ready(int64_t utime) const;
 
   // The frame's attitude and range, computed on first use and then cached.
@@ -65,27 +82,30 @@ class FrameSync {
   size_t altimeter_samples() const { return altimeter_.size(); }
   int64_t invalid_altimeter_samples() const { return invalid_altimeter_; }
   int64_t dropped_samples() const { return dropped_samples_; }
+  // INS intervals shorter than ins_min_interval_us (propagate waits longer after one).
+  int64_t short_ins_intervals() const { return ins_complete_.short_intervals(); }
 
  private:
-  struct Attitude {
-    double roll, pitch, yaw;
-  };
   struct Range {
     bool valid;
     double range_m;
     Eigen::Vector3d beam_body;
   };
   FrameState compute(int64_t utime) const;
+  bool ins_final(int64_t utime) const;
   void attitude_at(int64_t utime, FrameState* state) const;
+  void interpolate_attitude(int64_t utime, FrameState* state) const;
+  void propagate_attitude_to(int64_t utime, FrameState* state) const;
   void range_at(int64_t utime, FrameState* state) const;
 
   SyncOptions options_;
   Eigen::Vector3d default_beam_body_;
-  std::map<int64_t, Attitude> ins_;
+  std::map<int64_t, InsAttitude> ins_;
   std::map<int64_t, Range> altimeter_;
   std::map<int64_t, FrameState> cache_;
   int64_t invalid_altimeter_ = 0;
   int64_t dropped_samples_ = 0;
+  InsCompleteness ins_complete_;
 };
 
 }  // namespace nadir::vo

@@ -175,6 +175,7 @@ StatusReport VoSolverNode::status() const {
   }
   r.counters = {{"pending_frames", static_cast<double>(pending_.size())},
                 {"history_evicted", static_cast<double>(sync_.dropped_samples())},
+                {"ins_interval_short", static_cast<double>(sync_.short_ins_intervals())},
                 {"ins_buffered", static_cast<double>(sync_.ins_samples())},
                 {"altimeter_buffered", static_cast<double>(sync_.altimeter_samples())},
                 {"altimeter_invalid", static_cast<double>(sync_.invalid_altimeter_samples())},

@@ -57,6 +57,13 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
 
   const Config y = c.section_or_empty("sync");
   auto& t = o.sync;
+  const std::string attitude_policy = y.get<std::string>("attitude_policy", "interpolate");
+  try {
+    t.attitude_policy = attitude_policy_from_name(attitude_policy);
+  } catch (const std::invalid_argument& e) {
+    throw y.error("attitude_policy", "= '" + attitude_policy + "' must be propagate or interpolate");
+  }
+  t.ins_min_interval_us = ms_to_us(y.get_in_range("ins_min_interval_ms", 9.0, 0.0, 1000.0));
   t.max_ins_gap_us = ms_to_us(y.get_in_range("max_ins_gap_ms", 100.0, 0.001, 10000.0));
   t.max_ins_extrapolation_us = ms_to_us(y.get_in_range("max_ins_extrapolation_ms", 20.0, 0.0, 1000.0));
   t.altimeter_staleness_us = ms_to_us(y.get_in_range("altimeter_staleness_ms", 200.0, 0.001, 60000.0));

@@ -18,16 +18,20 @@ size_t upper_index(const std::deque<Sample>& samples, int64_t t) {
   return static_cast<size_t>(it - samples.begin());
 }
 
-// Keeps the last sample at or before t (a query at t needs it) and all after.
+// Keeps the last `keep` samples at or before t (a query at t needs them) and all after.
 template <class Sample>
-void forget_samples_before(std::deque<Sample>* samples, int64_t t) {
-  while (samples->size() >= 2 && (*samples)[1].utime <= t) samples->pop_front();
+void forget_samples_before(std::deque<Sample>* samples, int64_t t, size_t keep = 1) {
+  while (samples->size() > keep && (*samples)[keep].utime <= t) samples->pop_front();
 }
 
 }  // namespace
 
 bool InsHistory::add(const AttitudeSample& sample) {
   if (!insert_sorted(&samples_, sample)) return false;
+  // Sample times only: what the propagate policy's completeness relies on.
+  const size_t i = upper_index(samples_, sample.utime) - 1;
+  if (i > 0) complete_.note_interval(samples_[i].utime - samples_[i - 1].utime);
+  if (i + 1 < samples_.size()) complete_.note_interval(samples_[i + 1].utime - samples_[i].utime);
   while (samples_.size() > capacity_) {
     samples_.pop_front();
     ++dropped_;
@@ -35,12 +39,42 @@ bool InsHistory::add(const AttitudeSample& sample) {
   return true;
 }
 
-std::optional<AttitudeSample> InsHistory::at(int64_t utime, int64_t max_bracket_us) const {
+namespace {
+
+InsAttitude ins_attitude(const AttitudeSample& s) {
+  InsAttitude a;
+  a.utime = s.utime;
+  a.roll = s.roll;
+  a.pitch = s.pitch;
+  a.yaw = s.yaw;
+  a.has_rate = s.has_rate;
+  a.body_rate = s.body_rate;
+  return a;
+}
+
+}  // namespace
+
+std::optional<AttitudeSample> InsHistory::at(int64_t utime, int64_t max_bracket_us, AttitudePolicy policy) const {
   if (samples_.empty()) return std::nullopt;
   const size_t upper = upper_index(samples_, utime);
   const AttitudeSample* before = upper > 0 ? &samples_[upper - 1] : nullptr;
   const AttitudeSample* after = upper < samples_.size() ? &samples_[upper] : nullptr;
   if (before != nullptr && before->utime == utime) return *before;
+  if (policy == AttitudePolicy::kPropagate && before != nullptr) {
+    // Never the later sample: the answer must not depend on whether it has arrived.
+    if (utime - before->utime > max_bracket_us) return std::nullopt;
+    const AttitudeSample* earlier = upper > 1 ? &samples_[upper - 2] : nullptr;
+    const InsAttitude earlier_attitude = earlier != nullptr ? ins_attitude(*earlier) : InsAttitude{};
+    const bool earlier_usable = earlier != nullptr && before->utime - earlier->utime <= max_bracket_us;
+    AttitudeSample out = *before;
+    out.utime = utime;
+    if (const auto rpy = propagated_rpy(ins_attitude(*before), earlier_usable ? &earlier_attitude : nullptr, utime)) {
+      out.roll = rpy->x();
+      out.pitch = rpy->y();
+      out.yaw = rpy->z();
+    }
+    return out;
+  }
   if (before != nullptr && after != nullptr && after->utime - before->utime <= max_bracket_us) {
     const double f = static_cast<double>(utime - before->utime) / static_cast<double>(after->utime - before->utime);
     AttitudeSample out;
@@ -65,7 +99,8 @@ std::optional<AttitudeSample> InsHistory::at(int64_t utime, int64_t max_bracket_
   return out;
 }
 
-void InsHistory::forget_before(int64_t utime) { forget_samples_before(&samples_, utime); }
+// Two: propagating without INS rates takes the rate from the two newest samples.
+void InsHistory::forget_before(int64_t utime) { forget_samples_before(&samples_, utime, 2); }
 
 bool AltimeterHistory::add(const RangeSample& sample) {
   note_time(sample.utime);

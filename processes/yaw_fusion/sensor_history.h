@@ -12,6 +12,8 @@
 #include <limits>
 #include <optional>
 
+#include "common/attitude_propagation.h"
+
 namespace nadir {
 
 struct AttitudeSample {
@@ -20,6 +22,8 @@ struct AttitudeSample {
   double pitch = 0.0;
   double yaw = 0.0;
   double yaw_variance = -1.0;  // < 0: this sample's yaw must not be used
+  bool has_rate = false;       // body_rate is the INS's own
+  Eigen::Vector3d body_rate = Eigen::Vector3d::Zero();  // rad/s
 };
 
 // Inserts `value` into a deque sorted by utime; false for a duplicate utime.
@@ -35,7 +39,10 @@ bool insert_sorted(std::deque<Sample>* samples, const Sample& value) {
 
 class InsHistory {
  public:
-  explicit InsHistory(size_t capacity = 4096) : capacity_(capacity) {}
+  // min_interval_us: INS samples are never closer (propagate policy, see
+  // common/attitude_propagation.h).
+  explicit InsHistory(size_t capacity = 4096, int64_t min_interval_us = 9000)
+      : capacity_(capacity), complete_(min_interval_us) {}
 
   // False for a duplicate utime (ignored).
   bool add(const AttitudeSample& sample);
@@ -43,11 +50,18 @@ class InsHistory {
   int64_t newest_utime() const {
     return samples_.empty() ? std::numeric_limits<int64_t>::min() : samples_.back().utime;
   }
-  // Attitude at t: interpolated between the samples around t when they are at
+  // Attitude at t. interpolate: between the samples around t when they are at
   // most max_bracket_us apart; otherwise the nearest sample within
   // max_bracket_us of t; otherwise nothing. The yaw is usable only when both
-  // interpolated samples' yaws are (variance = the larger one).
-  std::optional<AttitudeSample> at(int64_t utime, int64_t max_bracket_us) const;
+  // interpolated samples' yaws are (variance = the larger one). propagate: the
+  // newest sample at or before t (within max_bracket_us), rotated on to t with
+  // its rate or the rate from the sample before it, held when there is none;
+  // a later sample only when none is at or before t.
+  std::optional<AttitudeSample> at(int64_t utime, int64_t max_bracket_us,
+                                   AttitudePolicy policy = AttitudePolicy::kInterpolate) const;
+  // propagate: every sample at or before `utime` is in (no sample after it needed).
+  bool complete_at(int64_t utime) const { return complete_.complete_at(utime, newest_utime()); }
+  int64_t short_intervals() const { return complete_.short_intervals(); }
   // Forgets samples no query at or after `utime` can need.
   void forget_before(int64_t utime);
   size_t size() const { return samples_.size(); }
@@ -57,6 +71,7 @@ class InsHistory {
   size_t capacity_;
   std::deque<AttitudeSample> samples_;
   int64_t dropped_ = 0;
+  InsCompleteness complete_;
 };
 
 struct RangeSample {

@@ -32,6 +32,7 @@ std::string utime_label(const char* channel, int64_t utime) {
 
 YawFusionEstimator::YawFusionEstimator(const YawFusionOptions& options)
     : options_(options),
+      ins_(4096, static_cast<int64_t>(options.ins_min_interval_s * 1e6)),
       sensor_now_(std::numeric_limits<int64_t>::min()),
       vo_jump_candidate_(std::numeric_limits<int64_t>::min()),
       ins_jump_candidate_(std::numeric_limits<int64_t>::min()),
@@ -104,6 +105,9 @@ std::vector<pose_t> YawFusionEstimator::add_ins(const ins_t& ins) {
   sample.roll = ins.roll;
   sample.pitch = ins.pitch;
   sample.yaw = wrap_angle(ins.yaw);
+  sample.body_rate = Eigen::Vector3d(ins.angular_rate[0], ins.angular_rate[1], ins.angular_rate[2]);
+  sample.has_rate = ins.has_rates && sample.body_rate.allFinite();
+  if (!sample.has_rate) sample.body_rate.setZero();
   double stddev = deg_to_rad(options_.ins_yaw_stddev_deg);
   if (ins.has_stddev && std::isfinite(ins.attitude_stddev[2]) && ins.attitude_stddev[2] > 0.0) {
     stddev = ins.attitude_stddev[2];
@@ -145,10 +149,17 @@ std::vector<pose_t> YawFusionEstimator::add_altimeter(const altimeter_t& altimet
   return out;
 }
 
+std::optional<AttitudeSample> YawFusionEstimator::ins_attitude_at(int64_t utime) const {
+  return ins_.at(utime, static_cast<int64_t>(options_.max_ins_bracket_s * 1e6), options_.attitude_policy);
+}
+
 bool YawFusionEstimator::delta_ready(const vo_delta_t& delta) const {
   if (sensor_now_ >= delta.utime + options_.ins_wait_us()) return true;
   if (static_cast<int>(pending_.size()) > options_.max_pending_deltas) return true;
-  if (ins_.newest_utime() < delta.utime) return false;
+  const bool ins_complete = options_.attitude_policy == AttitudePolicy::kPropagate
+                                ? ins_.complete_at(delta.utime)
+                                : ins_.newest_utime() >= delta.utime;
+  if (!ins_complete) return false;
   if (!options_.altimeter_interpolate) return true;
   return altimeter_.newest_utime() >= delta.utime || sensor_now_ >= delta.utime + options_.altimeter_wait_us();
 }
@@ -257,7 +268,7 @@ bool YawFusionEstimator::resume(int64_t t0) {
 
 void YawFusionEstimator::start(const vo_delta_t& first, std::vector<pose_t>* out) {
   const int64_t t0 = first.prev_utime;
-  const auto attitude = ins_.at(t0, static_cast<int64_t>(options_.max_ins_bracket_s * 1e6));
+  const auto attitude = ins_attitude_at(t0);
   // A resumed run continues the previous one's frame (flagged as a gap);
   // otherwise this frame is the origin.
   const bool resumed = resume_ && resume(t0);
@@ -402,7 +413,7 @@ int32_t YawFusionEstimator::advance_without_vo(int64_t utime) {
 }
 
 int32_t YawFusionEstimator::update_attitude(int64_t utime) {
-  const auto attitude = ins_.at(utime, static_cast<int64_t>(options_.max_ins_bracket_s * 1e6));
+  const auto attitude = ins_attitude_at(utime);
   if (!attitude) {
     ++counters_.ins_yaw_unusable;  // roll/pitch held from the last frame
     return 0;

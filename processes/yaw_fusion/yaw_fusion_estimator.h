@@ -98,6 +98,8 @@ class YawFusionEstimator {
   bool vo_lost() const;
 
  private:
+  // The INS attitude at a frame time under the configured attitude policy.
+  std::optional<AttitudeSample> ins_attitude_at(int64_t utime) const;
   bool delta_ready(const vo_delta_t& delta) const;
   void pump(std::vector<pose_t>* out);
   void start(const vo_delta_t& first, std::vector<pose_t>* out);

@@ -1,5 +1,7 @@
 #include "processes/yaw_fusion/yaw_fusion_options.h"
 
+#include <stdexcept>
+
 namespace nadir {
 
 namespace {
@@ -24,6 +26,13 @@ YawFusionOptions YawFusionOptions::from_config(const Config& root) {
   o.max_consecutive_yaw_rejections =
       c.get_in_range("max_consecutive_yaw_rejections", o.max_consecutive_yaw_rejections, 1, 100000);
   o.max_ins_bracket_s = c.get_in_range("max_ins_bracket_s", o.max_ins_bracket_s, 0.001, 10.0);
+  const std::string attitude_policy = c.get<std::string>("attitude_policy", "interpolate");
+  try {
+    o.attitude_policy = attitude_policy_from_name(attitude_policy);
+  } catch (const std::invalid_argument&) {
+    throw c.error("attitude_policy", "= '" + attitude_policy + "' must be propagate or interpolate");
+  }
+  o.ins_min_interval_s = c.get_in_range("ins_min_interval_ms", o.ins_min_interval_s * 1e3, 0.0, 1000.0) * 1e-3;
   o.min_translation_stddev_m = c.get_in_range("min_translation_stddev_m", o.min_translation_stddev_m, 0.0, 100.0);
   o.min_dyaw_stddev_deg = c.get_in_range("min_dyaw_stddev_deg", o.min_dyaw_stddev_deg, 0.0, 30.0);
   o.reject_quality_mask = c.get_in_range("reject_quality_mask", o.reject_quality_mask, 0, 0x7fffffff);

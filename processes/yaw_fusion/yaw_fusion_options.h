@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "common/attitude_propagation.h"
 #include "common/config.h"
 
 namespace nadir {
@@ -21,6 +22,10 @@ struct YawFusionOptions {
   double ins_yaw_gate_sigma = 3.0;       // reject INS yaw whose innovation exceeds this many sigma
   int max_consecutive_yaw_rejections = 20;  // then re-initialise yaw from the INS
   double max_ins_bracket_s = 0.5;        // INS samples further apart are not interpolated between
+  // Attitude at frame time: interpolate (wait for the INS sample after the
+  // frame) or propagate (samples at or before it, rotated on with the rates).
+  AttitudePolicy attitude_policy = AttitudePolicy::kInterpolate;
+  double ins_min_interval_s = 0.009;     // propagate: INS samples are never closer
 
   // VO delta use.
   double min_translation_stddev_m = 0.01;  // floor on dx/dy/dz stddev (solver covariance may be 0)

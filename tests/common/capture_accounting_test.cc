@@ -111,7 +111,7 @@ TEST(CaptureAccounting, LcmBusStatusCountsPublishedAndDeliveredMessagesPerChanne
   }
   ASSERT_EQ(delivered, 7);
   status_t msg{};
-  bus.add_transport_status(&msg);
+  bus.add_transport_counters(&msg);
   ASSERT_EQ(msg.num_counters, static_cast<int32_t>(msg.counter_names.size()));
   double tx = -1;
   double rx = -1;

@@ -47,6 +47,7 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
   const bool truth_here = truth_path.empty() || truth_path == log_path;
   LogHoleFinder hole_finder;
   CaptureAccountant accountant;
+  std::map<int64_t, int64_t> image_logged;  // frame utime -> log time, until its POSE
   while (reader.next(&e)) {
     hole_finder.add(e);
     accountant.add(e);
@@ -55,6 +56,12 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
       int64_t utime = 0;
       if (encoded_utime(e.data, e.size, &utime)) {
         data.stage_latency_ms[e.channel].push_back(static_cast<float>((e.timestamp - utime) * 1e-3));
+        if (e.channel == channels::kCameraImage) image_logged[utime] = e.timestamp;
+        const auto image = e.channel == channels::kPose ? image_logged.find(utime) : image_logged.end();
+        if (image != image_logged.end()) {
+          data.after_image_latency_ms.push_back(static_cast<float>((e.timestamp - image->second) * 1e-3));
+          image_logged.erase(image_logged.begin(), std::next(image));
+        }
       }
     }
     if (e.channel == channels::kPose) {

@@ -36,6 +36,9 @@ struct EvalData {
   std::map<std::string, std::vector<float>> publish_p50_ms, publish_p99_ms;
   // Logger receive time - sensor time, ms, per pipeline stage (live captures).
   std::map<std::string, std::vector<float>> stage_latency_ms;
+  // Per POSE: logged time - its frame's CAMERA_IMAGE logged time (the
+  // estimator and its hops, without the image source's own delay).
+  std::vector<float> after_image_latency_ms;
 };
 
 // Reads POSE (and STATUS, counts) from `log_path`, GROUND_TRUTH and INS from

@@ -69,6 +69,10 @@ struct EvalMetrics {
   int64_t vo_deltas_flagged = 0;
   double latency_p50_ms = 0;   // logger receive time - sensor time of POSE
   double latency_p99_ms = 0;
+  double latency_max_ms = 0;   // the worst frame
+  double after_image_latency_p50_ms = 0;  // POSE logged - CAMERA_IMAGE logged, per frame
+  double after_image_latency_p99_ms = 0;
+  double after_image_latency_max_ms = 0;
 };
 
 struct EvalResult {

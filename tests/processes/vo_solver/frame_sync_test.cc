@@ -18,6 +18,12 @@ ins_t ins_at(int64_t utime, double roll, double pitch, double yaw) {
   return m;
 }
 
+SyncOptions interpolating() {
+  SyncOptions options;
+  options.attitude_policy = AttitudePolicy::kInterpolate;
+  return options;
+}
+
 altimeter_t altimeter_at(int64_t utime, double range, int8_t validity = altimeter_t::VALID_OK) {
   altimeter_t m{};
   m.utime = utime;
@@ -28,7 +34,7 @@ altimeter_t altimeter_at(int64_t utime, double range, int8_t validity = altimete
 }
 
 TEST(FrameSync, InterpolatesAttitudeAcrossTheYawWrap) {
-  FrameSync sync(SyncOptions{}, Eigen::Vector3d::UnitZ());
+  FrameSync sync(interpolating(), Eigen::Vector3d::UnitZ());
   sync.add_ins(ins_at(1000000, 0.01, 0.02, deg_to_rad(179.0)));
   sync.add_ins(ins_at(1010000, 0.03, 0.04, deg_to_rad(-179.0)));
   sync.add_altimeter(altimeter_at(1010000, 200));
@@ -41,7 +47,7 @@ TEST(FrameSync, InterpolatesAttitudeAcrossTheYawWrap) {
 }
 
 TEST(FrameSync, WaitsForTheInsSampleAfterTheFrame) {
-  FrameSync sync(SyncOptions{}, Eigen::Vector3d::UnitZ());
+  FrameSync sync(interpolating(), Eigen::Vector3d::UnitZ());
   sync.add_altimeter(altimeter_at(2000000, 150));
   sync.add_ins(ins_at(990000, 0, 0, 0));
   EXPECT_FALSE(sync.ready(1000000));
@@ -53,7 +59,7 @@ TEST(FrameSync, WaitsForTheInsSampleAfterTheFrame) {
 TEST(FrameSync, AFrameKeepsItsFirstAttitude) {
   // Both pairs a frame belongs to must use the same attitude (eq. 21-23),
   // even if a sample inside its bracket turns up later.
-  FrameSync sync(SyncOptions{}, Eigen::Vector3d::UnitZ());
+  FrameSync sync(interpolating(), Eigen::Vector3d::UnitZ());
   sync.add_altimeter(altimeter_at(2000000, 150));
   sync.add_ins(ins_at(1000000, 0.0, 0, 0));
   sync.add_ins(ins_at(1020000, 0.2, 0, 0));

@@ -52,10 +52,33 @@ TEST(InsHistory, LimitsBracketAndMarksUnusableYaw) {
   EXPECT_FALSE(h.at(500, 400).has_value());        // bracket too wide, both too far
   EXPECT_NEAR(h.at(100, 400)->yaw, deg_to_rad(10.0), 1e-12);  // nearest within reach
   EXPECT_LT(h.at(500, 2000)->yaw_variance, 0.0);   // one side unusable -> unusable
-  h.forget_before(900);
-  EXPECT_EQ(h.size(), 2u);  // keeps the sample before 900
-  h.forget_before(1000);
-  EXPECT_EQ(h.size(), 1u);
+  h.add(sample(2000, 30.0));
+  h.forget_before(1900);
+  EXPECT_EQ(h.size(), 3u);  // keeps the two samples before 1900 (propagation without rates needs both)
+  h.forget_before(2000);
+  EXPECT_EQ(h.size(), 2u);
+}
+
+TEST(InsHistory, PropagateUsesOnlySamplesAtOrBeforeTheQuery) {
+  // Yaw 10 deg/s without INS rates: the rate comes from the two newest
+  // samples, so the attitude between them and the next sample is exact, and
+  // it does not change when the next sample arrives.
+  auto level = [](int64_t utime, double yaw_deg) {
+    AttitudeSample s = sample(utime, yaw_deg);
+    s.roll = s.pitch = 0.0;
+    return s;
+  };
+  InsHistory h;
+  h.add(level(0, 10.0));
+  h.add(level(10000, 10.1));
+  const auto early = h.at(14000, 500000, AttitudePolicy::kPropagate);
+  ASSERT_TRUE(early.has_value());
+  EXPECT_NEAR(early->yaw, deg_to_rad(10.14), 1e-12);
+  EXPECT_TRUE(h.complete_at(14000)) << "the next sample (20 ms) cannot be at or before 14 ms";
+  EXPECT_FALSE(h.complete_at(19000));
+  h.add(level(20000, 10.3));  // not on the straight line: must not matter for 14 ms
+  EXPECT_EQ(h.at(14000, 500000, AttitudePolicy::kPropagate)->yaw, early->yaw);
+  EXPECT_NE(h.at(14000, 500000)->yaw, early->yaw) << "interpolation does use the later sample";
 }
 
 TEST(AltimeterHistory, VerticalHeightFromTiltedBeamAndAge) {

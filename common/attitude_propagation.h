@@ -1,0 +1,63 @@
+#pragma once
+// The `propagate` attitude policy shared by vo_solver and yaw_fusion: a
+// frame's attitude from the INS samples at or before its trigger, rotated on
+// to the trigger time with the body rates, so no node waits for the INS
+// sample after a frame. Rotations are world_from_body (common/geometry.h).
+// Only sample times and values decide, never arrival: live = lockstep replay.
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace nadir {
+
+enum class AttitudePolicy { kInterpolate, kPropagate };
+AttitudePolicy attitude_policy_from_name(const std::string& name);  // throws std::invalid_argument
+const char* attitude_policy_name(AttitudePolicy policy);
+
+// R(t0 + dt) = R(t0) * exp([rate]x dt) for a body-frame rate held constant
+// over dt: exact for a constant body rate; with an angular acceleration a the
+// error is about a * dt^2 / 2.
+Eigen::Matrix3d propagate_attitude(const Eigen::Matrix3d& world_from_body, const Eigen::Vector3d& body_rate_rad_s,
+                                   double dt_s);
+
+// The constant body-frame rate that turns `earlier` into `later` in dt_s > 0
+// seconds (the inverse of propagate_attitude), for an INS without rates.
+Eigen::Vector3d body_rate_between(const Eigen::Matrix3d& earlier, const Eigen::Matrix3d& later, double dt_s);
+
+struct InsAttitude {
+  int64_t utime = 0;
+  double roll = 0, pitch = 0, yaw = 0;
+  bool has_rate = false;
+  Eigen::Vector3d body_rate = Eigen::Vector3d::Zero();  // rad/s
+};
+
+// Roll, pitch, yaw at `utime` (>= base.utime) from `base`, with its own rate
+// or, without one, the rate from `earlier` (the sample before it; may be
+// null) to it. Nothing when there is no rate at all.
+std::optional<Eigen::Vector3d> propagated_rpy(const InsAttitude& base, const InsAttitude* earlier, int64_t utime);
+
+// When the propagate policy may use the INS for a frame: every sample at or
+// before the frame is in once a later one is, or once the newest is closer
+// before the frame than the INS interval (the next cannot be at or before
+// it). Intervals shorter than the configured minimum, seen in sample times,
+// lower the bound.
+class InsCompleteness {
+ public:
+  explicit InsCompleteness(int64_t min_interval_us) : min_interval_us_(min_interval_us), bound_us_(min_interval_us) {}
+  // The interval between two neighbouring sample times (> 0).
+  void note_interval(int64_t interval_us);
+  bool complete_at(int64_t utime, int64_t newest_utime) const {
+    return newest_utime >= utime || utime - newest_utime < bound_us_;
+  }
+  int64_t short_intervals() const { return short_intervals_; }
+
+ private:
+  int64_t min_interval_us_;
+  int64_t bound_us_;
+  int64_t short_intervals_ = 0;
+};
+
+}  // namespace nadir
