@@ -23,7 +23,7 @@ def plot(agg, png_path, title):
         for i, d in enumerate(data, start=1):
             ax.plot(np.full(d.size, i) + np.linspace(-0.12, 0.12, d.size), d, ".", color="tab:blue", alpha=0.6)
         ax.set_xticks(range(1, len(groups) + 1), [_label(g) for g in groups], fontsize=8)
-        ax.set_ylabel(METRIC_LABELS[m] + " of distance flown")
+        ax.set_ylabel(METRIC_LABELS[m])
         ax.set_title(f"{METRIC_LABELS[m]} (whiskers 5-95 %)", fontsize=10)
         ax.grid(axis="y", alpha=0.3)
     ax = axes[-1]

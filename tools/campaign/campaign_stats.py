@@ -75,7 +75,11 @@ def _fmt(x):
 METRIC_LABELS = {"error_pct_3d": "final error %", "rms_error_pct_3d": "RMS error %",
                  "error_pct_h": "final horizontal %", "error_pct_v": "final vertical %",
                  "final_error_3d_m": "final error m", "rms_error_3d_m": "RMS error m",
-                 "rms_yaw_error_deg": "RMS yaw error deg"}
+                 "rms_yaw_error_deg": "RMS yaw error deg",
+                 # Consistency of the reported covariance (nadir_eval): a consistent
+                 # estimator gives mean NEES 2 (horizontal) / 1 (yaw), 95 % within.
+                 "nees_h_mean": "horizontal NEES mean", "nees_h_within_95_pct": "horizontal NEES % within 95 % bound",
+                 "nees_yaw_mean": "yaw NEES mean", "nees_yaw_within_95_pct": "yaw NEES % within 95 % bound"}
 
 
 def table(agg):
