@@ -1,6 +1,8 @@
 #pragma once
 // LCM channel names, defined once for every process, tool and test.
 
+#include <string>
+
 namespace nadir::channels {
 
 inline constexpr const char* kCameraImage = "CAMERA_IMAGE";   // nadir.image_t
@@ -13,5 +15,9 @@ inline constexpr const char* kPose = "POSE";                   // nadir.pose_t
 inline constexpr const char* kGroundTruth = "GROUND_TRUTH";    // nadir.ground_truth_t
 inline constexpr const char* kStatus = "STATUS";               // nadir.status_t
 inline constexpr const char* kConfig = "CONFIG";               // nadir.config_t
+
+// STATUS and CONFIG: a process's bookkeeping, stamped when sent. Neither has
+// a sensor-time latency nor counts as traffic of the pipeline.
+inline bool is_bookkeeping(const std::string& channel) { return channel == kStatus || channel == kConfig; }
 
 }  // namespace nadir::channels

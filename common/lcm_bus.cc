@@ -40,12 +40,6 @@ LcmBus::LcmBus(const LcmBusOptions& options)
 
 LcmBus::~LcmBus() = default;
 
-namespace {
-bool counted_channel(const std::string& channel) {
-  return channel != channels::kStatus && channel != channels::kConfig;
-}
-}  // namespace
-
 void LcmBus::publish_raw(const std::string& channel, const uint8_t* data, size_t size) {
   note_publish_latency(channel, data, size, &latency_);
   {
@@ -56,14 +50,14 @@ void LcmBus::publish_raw(const std::string& channel, const uint8_t* data, size_t
   }
   // Counted once sent: a STATUS built afterwards (on any thread) leaves the
   // same socket after this message, so a capture holds it before that STATUS.
-  if (counted_channel(channel)) {
+  if (!channels::is_bookkeeping(channel)) {
     std::lock_guard<std::mutex> lock(counts_mutex_);
     ++tx_counts_[channel];
   }
 }
 
 void LcmBus::dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Subscription* sub) {
-  if (counted_channel(channel)) {
+  if (!channels::is_bookkeeping(channel)) {
     std::lock_guard<std::mutex> lock(sub->bus->counts_mutex_);
     ++sub->bus->rx_counts_[channel];
   }

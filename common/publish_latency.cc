@@ -7,7 +7,7 @@
 namespace nadir {
 
 void note_publish_latency(const std::string& channel, const uint8_t* data, size_t size, LatencyWindow* window) {
-  if (channel == channels::kStatus || channel == channels::kConfig) return;
+  if (channels::is_bookkeeping(channel)) return;
   int64_t utime = 0;
   if (encoded_utime(data, size, &utime)) window->add_ms(static_cast<double>(vehicle_time_now_us() - utime) / 1000.0);
 }
