@@ -103,14 +103,26 @@ void parse_srt_block(const std::vector<std::string>& lines, size_t begin, size_t
   // The date line's own "HH:MM:SS" would look like fields; take them out first.
   static const std::regex date_any(R"(\d{4}-\d{2}-\d{2} \d{2}:\d{2}:\d{2}(\.\d+)?)");
   const std::map<std::string, std::string> f = srt_fields(std::regex_replace(text, date_any, ""));
+  // The line of the block that holds `key:` (for errors).
+  auto line_of = [&](const std::string& key) {
+    for (size_t i = begin + 2; i < end; ++i) {
+      if (lines[i].find(key + ":") != std::string::npos || lines[i].find(key + " :") != std::string::npos) {
+        return static_cast<int>(i) + 1;
+      }
+    }
+    return first;
+  };
   auto number = [&](const std::string& key, double* v) {
     const auto it = f.find(key);
     if (it == f.end()) return false;
-    if (!parse_number(it->second, v)) throw BadRecord(first + 2, "field '" + key + "' is not a number: '" + it->second + "'");
+    if (!parse_number(it->second, v)) {
+      throw BadRecord(line_of(key), "field '" + key + "' is not a number: '" + it->second + "'");
+    }
     return true;
   };
+  const std::string block = "subtitle block (lines " + std::to_string(first) + "-" + std::to_string(end) + ")";
   auto required = [&](const std::string& key, double* v) {
-    if (!number(key, v)) throw BadRecord(first + 2, "field '" + key + "' is missing");
+    if (!number(key, v)) throw BadRecord(first, block + ": field '" + key + "' is missing");
   };
   double frame = 0;
   if (number("FrameCnt", &frame)) r->frame = static_cast<int64_t>(frame);
@@ -124,10 +136,10 @@ void parse_srt_block(const std::vector<std::string>& lines, size_t begin, size_t
   required("gb_roll", &r->gimbal_roll_deg);
   r->has_gimbal = true;
   const int body = number("flight_yaw", &r->yaw_deg) + number("flight_pitch", &r->pitch_deg) + number("flight_roll", &r->roll_deg);
-  if (body != 0 && body != 3) throw BadRecord(first + 2, "flight_yaw/flight_pitch/flight_roll must come together");
+  if (body != 0 && body != 3) throw BadRecord(first, block + ": flight_yaw/flight_pitch/flight_roll must come together");
   r->has_body = body == 3;
   r->has_range = number("range", &r->range_m);
-  if (std::abs(r->lat_deg) > 90.0 || std::abs(r->lon_deg) > 180.0) throw BadRecord(first + 2, "latitude/longitude out of range");
+  if (std::abs(r->lat_deg) > 90.0 || std::abs(r->lon_deg) > 180.0) throw BadRecord(line_of("latitude"), "latitude/longitude out of range");
 }
 
 }  // namespace
