@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -438,7 +439,9 @@ ImportSummary run_import(const ImportOptions& o) {
   for (const Sample& s : samples) all_alt = all_alt && s.has_alt;
   // Truth altitude: the relative height when the altimeter is barometric (one
   // smooth source), the GPS altitude when the altimeter is a rangefinder.
-  const LocalFrame local(samples.front(), summary.altimeter_source == "rangefinder" && all_alt);
+  // Origin: the first frame written (set below; a frame skipped for its image is no origin).
+  const bool truth_from_alt = summary.altimeter_source == "rangefinder" && all_alt;
+  std::optional<LocalFrame> origin;
   if (summary.altimeter_source == "rangefinder" && !all_alt) {
     summary.warnings.push_back("rangefinder flight without GPS altitude in every record: truth down uses the range");
   }
@@ -516,6 +519,8 @@ ImportSummary run_import(const ImportOptions& o) {
       }
       if (!frame.isContinuous()) frame = frame.clone();
 
+      if (!origin) origin.emplace(s, truth_from_alt);
+      const LocalFrame& local = *origin;
       const int64_t t = std::llround(s.time_s * 1e6);
       const Eigen::Vector3d rpy = rpy_from_rotation(s.world_from_body);
       const Eigen::Vector3d p = local.ned(s);
@@ -591,7 +596,7 @@ ImportSummary run_import(const ImportOptions& o) {
   for (size_t i = 1; i < written.size(); ++i) {
     intervals.push_back(written[i].time_s - written[i - 1].time_s);
     summary.max_gap_s = std::max(summary.max_gap_s, intervals.back());
-    summary.distance_m += (local.ned(written[i]) - local.ned(written[i - 1])).norm();
+    summary.distance_m += (origin->ned(written[i]) - origin->ned(written[i - 1])).norm();
   }
   summary.median_interval_s = median(intervals);
   summary.mount_rpy_deg = mount;
