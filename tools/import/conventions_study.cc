@@ -224,6 +224,12 @@ int main(int argc, char** argv) {
     }
     const Eigen::Vector4d c = (x.transpose() * x).ldlt().solve(x.transpose() * y);
     const Eigen::VectorXd res = y - x * c;
+    // standard errors of the coefficients (residual variance x (X^T X)^-1), and of the ratios (first order)
+    const double sigma2 = res.squaredNorm() / static_cast<double>(y.size() - 4);
+    const Eigen::Matrix4d cov = sigma2 * (x.transpose() * x).inverse();
+    std::printf("\nE. standard errors: f %.1f px, roll coefficient / f %.2f, pitch coefficient / f %.2f, turn %.2f deg\n",
+                std::sqrt(cov(0, 0)), std::sqrt(cov(1, 1)) / c(0), std::sqrt(cov(2, 2)) / c(0),
+                rad_to_deg(std::sqrt(cov(3, 3)) / c(0)));
     std::vector<double> rel;
     for (size_t k = 0; k < straight.size(); ++k) {
       rel.push_back(Eigen::Vector2d(res(2 * static_cast<long>(k)), res(2 * static_cast<long>(k) + 1)).norm() /
