@@ -11,12 +11,6 @@
 namespace nadir::import {
 namespace {
 
-std::string trim(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t\r\n");
-  if (a == std::string::npos) return "";
-  return s.substr(a, s.find_last_not_of(" \t\r\n") - a + 1);
-}
-
 class Reader {
  public:
   Reader(const std::string& path, const Exiv2::ExifData& exif, const Exiv2::XmpData& xmp)
@@ -40,12 +34,7 @@ class Reader {
     const auto it = xmp_.findKey(Exiv2::XmpKey(key));
     if (it == xmp_.end()) return false;
     const std::string text = trim(it->toString());
-    char* end = nullptr;
-    const double value = std::strtod(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value)) {
-      throw std::runtime_error(path_ + ": " + key + " is not a number: '" + text + "'");
-    }
-    *v = value;
+    if (!parse_number(text, v)) throw std::runtime_error(path_ + ": " + key + " is not a number: '" + text + "'");
     return true;
   }
   bool xmp_text(const std::string& key, std::string* text) const {

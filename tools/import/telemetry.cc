@@ -31,24 +31,6 @@ std::vector<std::string> split_lines(const std::string& text) {
   return lines;
 }
 
-std::string trim(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t");
-  if (a == std::string::npos) return "";
-  const size_t b = s.find_last_not_of(" \t");
-  return s.substr(a, b - a + 1);
-}
-
-// A whole-string finite number, or false.
-bool parse_number(const std::string& text, double* value) {
-  const std::string t = trim(text);
-  if (t.empty()) return false;
-  char* end = nullptr;
-  const double v = std::strtod(t.c_str(), &end);
-  if (end != t.c_str() + t.size() || !std::isfinite(v)) return false;
-  *value = v;
-  return true;
-}
-
 class BadRecord : public std::runtime_error {
  public:
   BadRecord(int line, const std::string& what) : std::runtime_error(what), line(line) {}
@@ -143,6 +125,22 @@ void parse_srt_block(const std::vector<std::string>& lines, size_t begin, size_t
 }
 
 }  // namespace
+
+std::string trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) return "";
+  return s.substr(a, s.find_last_not_of(" \t\r\n") - a + 1);
+}
+
+bool parse_number(const std::string& text, double* value) {
+  const std::string t = trim(text);
+  if (t.empty()) return false;
+  char* end = nullptr;
+  const double v = std::strtod(t.c_str(), &end);
+  if (end != t.c_str() + t.size() || !std::isfinite(v)) return false;
+  *value = v;
+  return true;
+}
 
 bool parse_date_time(const std::string& text, double* unix_s) {
   static const std::regex re(R"(\s*(\d{4})[-:](\d{2})[-:](\d{2})[ T](\d{2}):(\d{2}):(\d{2})(\.\d+)?Z?\s*)");

@@ -45,6 +45,11 @@ Telemetry parse_csv_text(const std::string& text, const std::string& path, bool 
 Telemetry read_srt(const std::string& path, bool skip_bad);
 Telemetry read_csv(const std::string& path, bool skip_bad);
 
+// Text helpers shared with photo_metadata.cc: blanks (space, tab, CR, LF) trimmed;
+// a whole-string finite number (false otherwise).
+std::string trim(const std::string& text);
+bool parse_number(const std::string& text, double* value);
+
 // "YYYY-MM-DD HH:MM:SS[.fff]" or "YYYY:MM:DD HH:MM:SS" (EXIF) or "YYYY-MM-DDTHH:MM:SS" as UNIX
 // seconds, the clock's time zone taken as UTC; false when it does not parse.
 bool parse_date_time(const std::string& text, double* unix_s);

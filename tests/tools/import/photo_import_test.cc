@@ -324,6 +324,37 @@ TEST(PhotoImport, BadPhotosNamedOrSkipped) {
   EXPECT_NE(e.find("d.jpg: frame is 400x300"), std::string::npos) << e;
 }
 
+// A malformed XMP value is an error naming file and key; EXIF 35 mm focal length gives a camera with a warning.
+TEST(PhotoImport, MalformedXmpAndExifCamera) {
+  TempDir dir("import_xmp");
+  std::filesystem::create_directories(dir.file("photos"));
+  PhotoTags t;
+  write_photo(dir.file("photos/p0.jpg"), t, 360, 240);
+  t.time = "2024:05:01 10:00:05";
+  write_photo(dir.file("photos/p1.jpg"), t, 360, 240);
+  {
+    auto image = Exiv2::ImageFactory::open(dir.file("photos/p0.jpg"));
+    image->readMetadata();
+    image->exifData()["Exif.Photo.FocalLengthIn35mmFilm"] = uint16_t{24};
+    image->writeMetadata();
+    image = Exiv2::ImageFactory::open(dir.file("photos/p1.jpg"));
+    image->readMetadata();
+    image->xmpData()["Xmp.drone-dji.GimbalYawDegree"] = "north";
+    image->writeMetadata();
+  }
+  ImportOptions o = photo_options(dir);
+  const std::string e = import_error(o);
+  EXPECT_NE(e.find("p1.jpg: Xmp.drone-dji.GimbalYawDegree is not a number: 'north'"), std::string::npos) << e;
+  o.skip_bad = true;
+  const ImportSummary s = run_import(o);
+  EXPECT_EQ(s.frames_written, 1);
+  EXPECT_EQ(s.camera.source, "EXIF FocalLengthIn35mmFilm");
+  EXPECT_NEAR(s.camera.fx, 24.0 / std::hypot(36.0, 24.0) * std::hypot(360.0, 240.0), 1e-9);  // = 240 px
+  EXPECT_NEAR(s.camera.fx, 240.0, 1e-9);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("35 mm equivalent"), std::string::npos);
+}
+
 // The binary: exit 2 with the file named on a bad photo.
 TEST(PhotoImport, ToolExitsTwoOnBadInput) {
   TempDir dir("import_tool");
