@@ -16,7 +16,16 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "common/camera_model.h"
+#include "common/channels.h"
+#include "common/config.h"
 #include "common/geometry.h"
+#include "common/log_file.h"
+#include "common/message_guard.h"
+#include "nadir/altimeter_t.hpp"
+#include "nadir/ground_truth_t.hpp"
+#include "nadir/image_t.hpp"
+#include "nadir/ins_t.hpp"
 #include "tools/import/photo_metadata.h"
 
 namespace {
@@ -39,6 +48,99 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// ORB + ratio test + RANSAC homography a -> b. `u`: image b's centre located in image a, minus image a's
+// centre (px); `rot_deg`: image content rotation (x toward y). False when fewer than 25 inliers.
+bool match_pair(const cv::Mat& a, const cv::Mat& b, Eigen::Vector2d* u, double* rot_deg, int* inliers) {
+  cv::Ptr<cv::ORB> orb = cv::ORB::create(4000);
+  std::vector<cv::KeyPoint> ka, kb;
+  cv::Mat da, db;
+  orb->detectAndCompute(a, cv::noArray(), ka, da);
+  orb->detectAndCompute(b, cv::noArray(), kb, db);
+  if (da.empty() || db.empty()) return false;
+  std::vector<std::vector<cv::DMatch>> knn;
+  cv::BFMatcher(cv::NORM_HAMMING).knnMatch(da, db, knn, 2);
+  std::vector<cv::Point2f> pa, pb;
+  for (const auto& m : knn) {
+    if (m.size() == 2 && m[0].distance < 0.8f * m[1].distance) {
+      pa.push_back(ka[static_cast<size_t>(m[0].queryIdx)].pt);
+      pb.push_back(kb[static_cast<size_t>(m[0].trainIdx)].pt);
+    }
+  }
+  if (pa.size() < 20) return false;
+  std::vector<unsigned char> mask;
+  const cv::Mat h = cv::findHomography(pa, pb, cv::RANSAC, 3.0, mask, 5000, 0.999);
+  if (h.empty()) return false;
+  *inliers = cv::countNonZero(mask);
+  if (*inliers < 25) return false;
+  const double cx = (a.cols - 1) / 2.0, cy = (a.rows - 1) / 2.0;
+  std::vector<cv::Point2f> c{cv::Point2f(static_cast<float>(cx), static_cast<float>(cy))}, in_a;
+  cv::perspectiveTransform(c, in_a, h.inv());
+  *u = Eigen::Vector2d(in_a[0].x - cx, in_a[0].y - cy);
+  *rot_deg = rad_to_deg(std::atan2(h.at<double>(1, 0) - h.at<double>(0, 1), h.at<double>(0, 0) + h.at<double>(1, 1)));
+  return true;
+}
+
+// Check of an imported log with nadir's own camera model (OUT.yaml): the ground point under image b's centre
+// (ray through INS attitude + mount, plane at the altimeter's height below GROUND_TRUTH) projected into image a,
+// against where the homography puts it.
+int check_log(const std::string& log_path, const std::string& config_path) {
+  const nadir::CameraModel cam = nadir::CameraModel::from_config(nadir::Config::load_file(config_path));
+  struct Frame {
+    cv::Mat image;
+    Eigen::Matrix3d world_from_camera;
+    Eigen::Vector3d position;
+    double ground_down = 0;
+  };
+  std::vector<Frame> frames;
+  nadir::LogReader reader(log_path);
+  nadir::LogEvent e;
+  std::string why;
+  nadir::ins_t ins{};
+  nadir::altimeter_t alt{};
+  cv::Mat image;
+  while (reader.next(&e)) {
+    if (e.channel == nadir::channels::kIns) nadir::decode_message(e.data, e.size, &ins, &why);
+    if (e.channel == nadir::channels::kAltimeter) nadir::decode_message(e.data, e.size, &alt, &why);
+    if (e.channel == nadir::channels::kCameraImage) {
+      nadir::image_t m;
+      nadir::decode_message(e.data, e.size, &m, &why);
+      image = cv::Mat(m.height, m.width, CV_8UC1, m.data.data(), static_cast<size_t>(m.stride)).clone();
+    }
+    if (e.channel == nadir::channels::kGroundTruth) {
+      nadir::ground_truth_t g;
+      nadir::decode_message(e.data, e.size, &g, &why);
+      Frame f;
+      f.image = image;
+      f.world_from_camera = nadir::rotation_from_rpy(ins.roll, ins.pitch, ins.yaw) * cam.body_from_camera;
+      f.position = Eigen::Vector3d(g.position_ned[0], g.position_ned[1], g.position_ned[2]);
+      f.ground_down = f.position.z() + alt.range_m;
+      frames.push_back(f);
+    }
+  }
+  std::vector<double> err_px, rel;
+  for (size_t i = 0; i + 1 < frames.size(); ++i) {
+    const Frame& a = frames[i];
+    const Frame& b = frames[i + 1];
+    Eigen::Vector2d u;
+    double rot = 0;
+    int inliers = 0;
+    if (!match_pair(a.image, b.image, &u, &rot, &inliers)) continue;
+    // ray through b's principal point
+    const Eigen::Vector3d ray = b.world_from_camera * Eigen::Vector3d(0, 0, 1);
+    const double ground = 0.5 * (a.ground_down + b.ground_down);  // flat ground between the two
+    const Eigen::Vector3d g = b.position + ray * (ground - b.position.z()) / ray.z();
+    const Eigen::Vector3d in_a = a.world_from_camera.transpose() * (g - a.position);
+    const std::vector<cv::Point2f> px = cam.distort({cv::Point2d(in_a.x() / in_a.z(), in_a.y() / in_a.z())});
+    const Eigen::Vector2d predicted(px[0].x - cam.cx, px[0].y - cam.cy);
+    err_px.push_back((predicted - u).norm());
+    rel.push_back(err_px.back() / u.norm());
+  }
+  std::printf("%s with %s: %zu of %zu consecutive pairs matched; image b's centre predicted in image a from INS + "
+              "mount + GROUND_TRUTH + ALTIMETER vs the homography: median error %.1f px, %.1f %% of the displacement\n",
+              log_path.c_str(), config_path.c_str(), err_px.size(), frames.size() - 1, median(err_px), 100 * median(rel));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -48,11 +150,21 @@ int main(int argc, char** argv) {
   CLI::App app{"Matches consecutive photos of a senseFly flight and prints the evidence for heading / roll / pitch "
                "signs, which image axis is forward, and the focal length (tools/import/README.md).",
                "nadir_import_conventions"};
-  app.add_option("--photos", dir, "photo folder")->required();
+  std::string log_path, config_path;
+  app.add_option("--photos", dir, "photo folder (senseFly XMP)");
+  app.add_option("--log", log_path, "instead: check an imported log (with --config OUT.yaml) against its images");
+  app.add_option("--config", config_path, "the import's OUT.yaml (with --log)");
   app.add_option("--scale", scale, "image scale for matching")->capture_default_str();
   app.add_option("--max-dpsi", max_dpsi, "pairs with a smaller heading change are used for the fits (deg)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  try {
+    if (!log_path.empty()) return check_log(log_path, config_path);
+    if (dir.empty()) throw std::invalid_argument("give --photos DIR or --log FILE --config FILE");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "nadir_import_conventions: error: %s\n", e.what());
+    return 2;
+  }
 
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::directory_iterator(dir)) files.push_back(e.path());
@@ -72,36 +184,11 @@ int main(int argc, char** argv) {
   auto ned = [&](const nadir::import::PhotoMetadata& m) {
     return Eigen::Vector2d(deg_to_rad(m.sf_lat_deg - lat0) * r, deg_to_rad(m.sf_lon_deg) * r * std::cos(deg_to_rad(lat0)));
   };
-  cv::Ptr<cv::ORB> orb = cv::ORB::create(4000);
   std::vector<Pair> pairs;
-  std::vector<std::vector<cv::KeyPoint>> kps(images.size());
-  std::vector<cv::Mat> desc(images.size());
-  for (size_t i = 0; i < images.size(); ++i) orb->detectAndCompute(images[i], cv::noArray(), kps[i], desc[i]);
-  cv::BFMatcher matcher(cv::NORM_HAMMING);
   for (size_t i = 0; i + 1 < images.size(); ++i) {
-    if (images[i].size() != images[i + 1].size() || desc[i].empty() || desc[i + 1].empty()) continue;
-    std::vector<std::vector<cv::DMatch>> knn;
-    matcher.knnMatch(desc[i], desc[i + 1], knn, 2);
-    std::vector<cv::Point2f> pa, pb;
-    for (const auto& m : knn) {
-      if (m.size() == 2 && m[0].distance < 0.8f * m[1].distance) {
-        pa.push_back(kps[i][m[0].queryIdx].pt);
-        pb.push_back(kps[i + 1][m[0].trainIdx].pt);
-      }
-    }
-    if (pa.size() < 20) continue;
-    std::vector<unsigned char> mask;
-    cv::Mat h = cv::findHomography(pa, pb, cv::RANSAC, 3.0, mask, 5000, 0.999);
-    if (h.empty()) continue;
+    if (images[i].size() != images[i + 1].size()) continue;
     Pair p;
-    p.inliers = cv::countNonZero(mask);
-    if (p.inliers < 25) continue;
-    const cv::Mat hinv = h.inv();
-    const double cx = (images[i].cols - 1) / 2.0, cy = (images[i].rows - 1) / 2.0;
-    std::vector<cv::Point2f> c{cv::Point2f(static_cast<float>(cx), static_cast<float>(cy))}, in_a;
-    cv::perspectiveTransform(c, in_a, hinv);
-    p.u = Eigen::Vector2d(in_a[0].x - cx, in_a[0].y - cy);
-    p.image_rot_deg = rad_to_deg(std::atan2(h.at<double>(1, 0) - h.at<double>(0, 1), h.at<double>(0, 0) + h.at<double>(1, 1)));
+    if (!match_pair(images[i], images[i + 1], &p.u, &p.image_rot_deg, &p.inliers)) continue;
     const auto& ma = meta[i];
     const auto& mb = meta[i + 1];
     p.a = std::filesystem::path(ma.path).filename().string();
