@@ -13,7 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   openjdk-17-jdk-headless libjchart2d-java xvfb xauth
   iproute2 util-linux python3 python3-matplotlib python3-numpy
-  python3-yaml slurm-wlm munge
+  python3-yaml slurm-wlm munge libexiv2-dev
 )
 # node and npm (node-mavlink, for the MAVLink bridge's tests): Debian's only
 # where none is installed -- Debian's npm conflicts with a nodesource nodejs.
