@@ -81,6 +81,7 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
       if (decode(e, &d)) {
         ++data.vo_deltas;
         if (d.quality != 0) ++data.vo_deltas_flagged;
+        data.deltas.push_back(d);
       }
     } else if (e.channel == channels::kStatus) {
       status_t s;

@@ -12,6 +12,7 @@
 #include "nadir/ins_t.hpp"
 #include "nadir/pose_t.hpp"
 #include "nadir/status_t.hpp"
+#include "nadir/vo_delta_t.hpp"
 
 namespace nadir {
 
@@ -25,6 +26,7 @@ struct EvalData {
   int64_t tracks = 0;
   int64_t vo_deltas = 0;
   int64_t vo_deltas_flagged = 0;
+  std::vector<vo_delta_t> deltas;           // in log order
   int64_t corrupt_records = 0;
   bool truncated = false;
   std::string damage_report;        // "FILE: byte N: what" lines

@@ -18,7 +18,8 @@ namespace fs = std::filesystem;
 int main(int argc, char** argv) {
   CLI::App app{"Evaluates POSE against GROUND_TRUTH aligned by sensor time: distance flown, final error and "
                "error as % of distance (paper Table 1), drift over time and velocity errors (Fig. 7), yaw error. "
-               "Writes metrics.json, series.csv, trajectory.png, drift.png, velocity_errors.png, "
+               "Writes metrics.json, series.csv, pairs.csv (each VO_DELTA against the truth step), trajectory.png, "
+               "drift.png, velocity_errors.png, "
                "trajectory.geojson and trajectory.kml into --out.",
                "nadir_eval"};
   std::string log_path, truth_path, out_dir;
@@ -59,6 +60,7 @@ int main(int argc, char** argv) {
     const std::string metrics = nadir::metrics_json(result.metrics);
     std::ofstream(out_dir + "/metrics.json") << metrics << "\n";
     nadir::write_series_csv(result, out_dir + "/series.csv");
+    nadir::write_pairs_csv(result.pairs, out_dir + "/pairs.csv");
     nadir::write_geojson(result, out_dir + "/trajectory.geojson");
     nadir::write_kml(result, out_dir + "/trajectory.kml");
     if (!no_plots) {
@@ -83,6 +85,12 @@ int main(int argc, char** argv) {
       std::printf("frames              %10lld images, %lld dropped, %lld poses (%lld flagged)\n",
                   static_cast<long long>(m.images), static_cast<long long>(m.frames_dropped),
                   static_cast<long long>(m.poses), static_cast<long long>(m.poses_flagged));
+      if (m.pairs > 0) {
+        std::printf("frame pairs         %10lld VO_DELTA, %lld solved (%.1f %%), horizontal error per pair %.1f %% of "
+                    "the step median, %.1f %% p90 (median step %.1f m)\n",
+                    static_cast<long long>(m.pairs), static_cast<long long>(m.pairs_solved), m.pairs_solved_pct,
+                    m.pair_error_pct_median, m.pair_error_pct_p90, m.pair_step_median_m);
+      }
       std::printf("latency             %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - frame sensor time; "
                   "live runs only)\n",
                   m.latency_p50_ms, m.latency_p99_ms, m.latency_max_ms);

@@ -9,34 +9,9 @@
 #include "common/status.h"
 #include "common/time_base.h"
 #include "tools/eval/consistency.h"
+#include "tools/eval/truth_lookup.h"
 
 namespace nadir {
-namespace {
-
-struct TruthAt {
-  std::array<double, 3> position;
-  std::array<double, 3> velocity;
-  double yaw;
-};
-
-// Linear interpolation of truth at `utime`; false outside the truth span.
-bool truth_at(const std::vector<ground_truth_t>& truth, int64_t utime, TruthAt* out) {
-  if (truth.empty() || utime < truth.front().utime || utime > truth.back().utime) return false;
-  auto it = std::lower_bound(truth.begin(), truth.end(), utime,
-                             [](const ground_truth_t& t, int64_t u) { return t.utime < u; });
-  const ground_truth_t& b = *it;
-  const ground_truth_t& a = it == truth.begin() ? b : *(it - 1);
-  const double span = static_cast<double>(b.utime - a.utime);
-  const double w = span > 0 ? static_cast<double>(utime - a.utime) / span : 1.0;
-  for (int i = 0; i < 3; ++i) {
-    out->position[i] = a.position_ned[i] + w * (b.position_ned[i] - a.position_ned[i]);
-    out->velocity[i] = a.velocity_ned[i] + w * (b.velocity_ned[i] - a.velocity_ned[i]);
-  }
-  out->yaw = wrap_angle(a.yaw + w * angle_difference(b.yaw, a.yaw));
-  return true;
-}
-
-}  // namespace
 
 EvalResult evaluate(const EvalData& data) {
   EvalResult result;
@@ -140,6 +115,13 @@ EvalResult evaluate(const EvalData& data) {
   m.tracks = data.tracks;
   m.vo_deltas = data.vo_deltas;
   m.vo_deltas_flagged = data.vo_deltas_flagged;
+  result.pairs = evaluate_pairs(data.deltas, data.truth);
+  m.pairs = result.pairs.pairs;
+  m.pairs_solved = result.pairs.solved;
+  m.pairs_solved_pct = result.pairs.solved_pct;
+  m.pair_error_pct_median = result.pairs.error_pct_median;
+  m.pair_error_pct_p90 = result.pairs.error_pct_p90;
+  m.pair_step_median_m = result.pairs.step_median_m;
   m.latency_p50_ms = percentile(latencies, 50);
   m.latency_p99_ms = percentile(latencies, 99);
   m.latency_max_ms = percentile(latencies, 100);
@@ -188,6 +170,9 @@ std::string metrics_json(const EvalMetrics& m) {
   }
   j.end_object();
   j.field("vo_deltas", m.vo_deltas).field("vo_deltas_flagged", m.vo_deltas_flagged);
+  j.field("pairs", m.pairs).field("pairs_solved", m.pairs_solved).field("pairs_solved_pct", m.pairs_solved_pct);
+  j.field("pair_error_pct_median", m.pair_error_pct_median).field("pair_error_pct_p90", m.pair_error_pct_p90);
+  j.field("pair_step_median_m", m.pair_step_median_m);
   j.field("latency_p50_ms", m.latency_p50_ms).field("latency_p99_ms", m.latency_p99_ms);
   j.field("latency_max_ms", m.latency_max_ms);
   j.field("after_image_latency_p50_ms", m.after_image_latency_p50_ms);

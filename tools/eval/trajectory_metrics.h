@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tools/eval/eval_data.h"
+#include "tools/eval/pair_metrics.h"
 
 namespace nadir {
 
@@ -67,6 +68,11 @@ struct EvalMetrics {
   int64_t tracks = 0;
   int64_t vo_deltas = 0;
   int64_t vo_deltas_flagged = 0;
+  // Frame pairs (tools/eval/pair_metrics.h): VO_DELTA against the truth step.
+  int64_t pairs = 0, pairs_solved = 0;
+  double pairs_solved_pct = 0;
+  double pair_error_pct_median = 0, pair_error_pct_p90 = 0;  // horizontal, % of the step, solved pairs
+  double pair_step_median_m = 0;
   double latency_p50_ms = 0;   // logger receive time - sensor time of POSE
   double latency_p99_ms = 0;
   double latency_max_ms = 0;   // the worst frame
@@ -77,6 +83,7 @@ struct EvalMetrics {
 
 struct EvalResult {
   EvalMetrics metrics;
+  PairMetrics pairs;   // each VO_DELTA against the truth step
   std::vector<EvalSample> samples;
   double reference_lat_deg = 0;  // geographic reference of the first pose
   double reference_lon_deg = 0;

@@ -1,0 +1,64 @@
+#include "tools/eval/pair_metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace nadir {
+namespace {
+
+ground_truth_t truth(int64_t utime, double n, double e, double yaw) {
+  ground_truth_t g{};
+  g.utime = utime;
+  g.kind = ground_truth_t::KIND_FRAME;
+  g.position_ned[0] = n;
+  g.position_ned[1] = e;
+  g.yaw = yaw;
+  return g;
+}
+
+vo_delta_t delta(int64_t prev, int64_t curr, double dx, double dy, double dyaw, int32_t quality) {
+  vo_delta_t d{};
+  d.prev_utime = prev;
+  d.utime = curr;
+  d.dx = dx;
+  d.dy = dy;
+  d.dyaw = dyaw;
+  d.quality = quality;
+  return d;
+}
+
+// Heading east (yaw 90 deg), 30 m east then a half turn; 10 m west.
+TEST(PairMetrics, StepInThePreviousLevelFrame) {
+  const std::vector<ground_truth_t> t = {truth(0, 0, 0, M_PI / 2), truth(5000000, 0, 30, M_PI / 2),
+                                         truth(10000000, 0, 20, -M_PI / 2)};
+  // Pair 1: 30 m forward estimated as 31 m forward and 1 m right: error hypot(1, 1).
+  // Pair 2: heading east, the aircraft moved 10 m west: x = -10 in the frame of the previous frame.
+  // Pair 3: too few features (unsolved).
+  const std::vector<vo_delta_t> d = {delta(0, 5000000, 31, 1, 0, 0), delta(5000000, 10000000, -10, 0, M_PI, 64),
+                                     delta(5000000, 10000000, 0, 0, 0, 1)};
+  const PairMetrics m = evaluate_pairs(d, t);
+  ASSERT_EQ(m.pairs, 3);
+  EXPECT_EQ(m.solved, 2);  // high residual counts as solved (flagged)
+  EXPECT_NEAR(m.solved_pct, 200.0 / 3.0, 1e-9);
+  ASSERT_EQ(m.samples.size(), 3u);
+  EXPECT_NEAR(m.samples[0].step_m, 30.0, 1e-9);
+  EXPECT_NEAR(m.samples[0].error_h_m, std::sqrt(2.0), 1e-9);
+  EXPECT_NEAR(m.samples[0].error_pct, 100.0 * std::sqrt(2.0) / 30.0, 1e-9);
+  EXPECT_NEAR(m.samples[1].error_h_m, 0.0, 1e-9);
+  EXPECT_NEAR(std::fabs(m.samples[1].true_dyaw_deg), 180.0, 1e-9);
+  EXPECT_NEAR(std::fabs(m.samples[1].dyaw_deg), 180.0, 1e-9);
+  EXPECT_FALSE(m.samples[2].solved);
+  EXPECT_EQ(m.measured, 2);
+}
+
+TEST(PairMetrics, PairsOutsideTheTruthAreNotCounted) {
+  const std::vector<ground_truth_t> t = {truth(1000, 0, 0, 0), truth(2000, 1, 0, 0)};
+  const PairMetrics m = evaluate_pairs({delta(0, 2000, 1, 0, 0, 0), delta(1000, 2000, 1, 0, 0, 0)}, t);
+  EXPECT_EQ(m.pairs, 1);
+  EXPECT_EQ(m.solved, 1);
+  EXPECT_NEAR(m.error_pct_median, 0.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace nadir

@@ -1,0 +1,65 @@
+#include "tools/eval/pair_metrics.h"
+
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+#include "common/geometry.h"
+#include "common/status.h"
+#include "tools/eval/truth_lookup.h"
+
+namespace nadir {
+
+PairMetrics evaluate_pairs(const std::vector<vo_delta_t>& deltas, const std::vector<ground_truth_t>& truth,
+                           double min_step_m) {
+  PairMetrics m;
+  std::vector<float> errors, steps;
+  for (const vo_delta_t& d : deltas) {
+    TruthAt a{}, b{};
+    if (!truth_at(truth, d.prev_utime, &a) || !truth_at(truth, d.utime, &b)) continue;
+    PairSample s;
+    s.utime = d.utime;
+    s.prev_utime = d.prev_utime;
+    s.quality = d.quality;
+    s.inliers = d.inliers;
+    s.solved = (d.quality & kUnsolvedQualityMask) == 0;
+    // Truth step in the level frame of the previous frame (x along its heading).
+    const double dn = b.position[0] - a.position[0], de = b.position[1] - a.position[1];
+    const double c = std::cos(a.yaw), sn = std::sin(a.yaw);
+    const double step_x = c * dn + sn * de, step_y = -sn * dn + c * de;
+    s.step_m = std::hypot(dn, de);
+    s.true_dyaw_deg = rad_to_deg(angle_difference(b.yaw, a.yaw));
+    s.dyaw_deg = rad_to_deg(wrap_angle(d.dyaw));
+    s.error_h_m = std::hypot(d.dx - step_x, d.dy - step_y);
+    s.error_pct = s.step_m > 0 ? 100.0 * s.error_h_m / s.step_m : 0.0;
+    ++m.pairs;
+    if (s.solved) {
+      ++m.solved;
+      if (s.step_m >= min_step_m) {
+        ++m.measured;
+        errors.push_back(static_cast<float>(s.error_pct));
+      }
+    }
+    steps.push_back(static_cast<float>(s.step_m));
+    m.samples.push_back(s);
+  }
+  if (m.pairs > 0) m.solved_pct = 100.0 * static_cast<double>(m.solved) / static_cast<double>(m.pairs);
+  m.error_pct_median = percentile(errors, 50);
+  m.error_pct_p90 = percentile(errors, 90);
+  m.step_median_m = percentile(steps, 50);
+  return m;
+}
+
+void write_pairs_csv(const PairMetrics& metrics, const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error(path + ": cannot write");
+  out << "utime,prev_utime,step_m,true_dyaw_deg,dyaw_deg,error_h_m,error_pct,quality,inliers,solved\n";
+  out.precision(10);
+  for (const PairSample& s : metrics.samples) {
+    out << s.utime << ',' << s.prev_utime << ',' << s.step_m << ',' << s.true_dyaw_deg << ',' << s.dyaw_deg << ','
+        << s.error_h_m << ',' << s.error_pct << ',' << s.quality << ',' << s.inliers << ',' << (s.solved ? 1 : 0)
+        << '\n';
+  }
+}
+
+}  // namespace nadir

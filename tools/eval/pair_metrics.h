@@ -1,0 +1,54 @@
+#pragma once
+// Frame-pair figures: each VO_DELTA against the truth motion between its two
+// frames. What a photo survey is judged on (share of consecutive pairs
+// solved, per-pair horizontal error as % of the step), independent of how the
+// pairs are chained into a trajectory.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nadir/ground_truth_t.hpp"
+#include "nadir/vo_delta_t.hpp"
+
+namespace nadir {
+
+struct PairSample {
+  int64_t utime = 0;
+  int64_t prev_utime = 0;
+  double step_m = 0;          // truth horizontal step
+  double true_dyaw_deg = 0;   // truth heading change
+  double dyaw_deg = 0;        // estimated
+  double error_h_m = 0;       // |estimated - truth| horizontal, in the level frame of the previous frame
+  double error_pct = 0;       // error_h_m / step_m * 100
+  int32_t quality = 0;
+  int32_t inliers = 0;
+  bool solved = false;
+};
+
+struct PairMetrics {
+  int64_t pairs = 0;           // VO_DELTA with truth at both frames
+  int64_t solved = 0;          // none of the unusable quality bits
+  double solved_pct = 0;
+  int64_t measured = 0;        // solved pairs with a step long enough to take a percentage of
+  double error_pct_median = 0;  // over the measured pairs
+  double error_pct_p90 = 0;
+  double step_median_m = 0;
+  std::vector<PairSample> samples;
+};
+
+// VO_DELTA quality bits that leave a pair without a usable motion (too few
+// features, no altimeter, not converged, no attitude): yaw fusion's default
+// reject mask. HIGH_RESIDUAL, FRAME_GAP, STALE_ALTIMETER and DEPTH_LAYERS
+// pairs count as solved (flagged).
+constexpr int32_t kUnsolvedQualityMask = 1 | 2 | 8 | 16;
+
+// `truth` sorted by utime. Steps under `min_step_m` are counted but not
+// measured as a percentage.
+PairMetrics evaluate_pairs(const std::vector<vo_delta_t>& deltas, const std::vector<ground_truth_t>& truth,
+                           double min_step_m = 0.5);
+
+// One row per pair.
+void write_pairs_csv(const PairMetrics& metrics, const std::string& path);
+
+}  // namespace nadir
