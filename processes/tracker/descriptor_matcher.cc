@@ -26,7 +26,7 @@ cv::Ptr<cv::Feature2D> make_detector(const DescriptorOptions& o) {
                              cv::KAZE::DIFF_PM_G2);
   }
   if (o.type == "sift") return cv::SIFT::create(detect, 3, o.sift_contrast_threshold, 10.0, 1.6);
-  return cv::ORB::create(detect, 1.2f, 8, 31, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
+  return cv::ORB::create(detect, 1.2f, o.orb_levels, 31, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
 }
 
 }  // namespace

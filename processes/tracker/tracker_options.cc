@@ -60,6 +60,7 @@ TrackerOptions TrackerOptions::from_config(const Config& root) {
   q.grid_rows = d.get<int>("grid_rows", q.grid_rows);
   q.border_px = d.get<int>("border_px", q.border_px);
   q.orb_fast_threshold = d.get<int>("orb_fast_threshold", q.orb_fast_threshold);
+  q.orb_levels = d.get<int>("orb_levels", q.orb_levels);
   q.akaze_threshold = d.get<double>("akaze_threshold", q.akaze_threshold);
   q.sift_contrast_threshold = d.get<double>("sift_contrast_threshold", q.sift_contrast_threshold);
   q.ratio = d.get<double>("ratio", q.ratio);
@@ -147,6 +148,7 @@ void DescriptorOptions::Check(const std::string& source) const {
   check_range(source, "descriptor.grid_rows", grid_rows, 1, 32);
   check_range(source, "descriptor.border_px", border_px, 0, 200);
   check_range(source, "descriptor.orb_fast_threshold", orb_fast_threshold, 1, 255);
+  check_range(source, "descriptor.orb_levels", orb_levels, 1, 16);
   check_range(source, "descriptor.akaze_threshold", akaze_threshold, 1e-6, 0.1);
   check_range(source, "descriptor.sift_contrast_threshold", sift_contrast_threshold, 1e-4, 0.5);
   check_range(source, "descriptor.ratio", ratio, 0.1, 1.0);

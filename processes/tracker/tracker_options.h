@@ -26,6 +26,9 @@ struct DescriptorOptions {
   // Detector sensitivity, per type. Lower than OpenCV's defaults (20, 0.001,
   // 0.04): farmland seen from the air is weakly textured.
   int orb_fast_threshold = 10;
+  // ORB's pyramid (scale factor 1.2): 4 levels cover scale changes up to
+  // 1.7; every level coarsens the keypoint positions by another 20 %.
+  int orb_levels = 4;
   double akaze_threshold = 0.0003;
   double sift_contrast_threshold = 0.02;
   // Candidate matches: Lowe's ratio test (best / second-best distance below
