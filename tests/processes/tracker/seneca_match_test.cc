@@ -6,11 +6,13 @@
 // folder is absent.
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -71,36 +73,63 @@ TEST(SenecaPhotos, ConsecutivePairsMatch) {
   if (!std::filesystem::exists(kFolder / "metadata.csv")) GTEST_SKIP() << "no " << kFolder;
   const std::vector<Photo> photos = load_photos();
   ASSERT_GT(photos.size(), 10u);
-  const std::vector<std::string> types = {"orb", "akaze", "sift"};
+  std::vector<std::string> types = {"orb", "akaze", "sift"};
+  if (const char* only = std::getenv("NADIR_SENECA_TYPES")) types = {only};  // experiments: one type
   std::map<std::string, std::vector<int>> inliers;
+  // Image rotation between the pair from the tracks (a similarity fitted to
+  // them), against the autopilot's heading change: a check that the matches
+  // are right, not just many.
+  std::map<std::string, std::vector<double>> rotation;
   std::map<std::string, double> seconds;
   for (const std::string& type : types) {
     DescriptorOptions o;
+    if (const char* yaml = std::getenv("NADIR_SENECA_TRACKER")) {
+      // Experiments: a `tracker:` section, e.g. "tracker: {descriptor: {ratio: 0.9}}".
+      o = TrackerOptions::from_config(Config::parse(yaml, "NADIR_SENECA_TRACKER")).descriptor;
+    }
     o.type = type;
     DescriptorMatcher matcher(o, seneca_camera());
     const auto start = std::chrono::steady_clock::now();
     for (const Photo& p : photos) {
       const TrackStepResult step = matcher.process(p.grey);
       inliers[type].push_back(step.first_frame ? -1 : static_cast<int>(step.tracks.size()));
+      double angle = std::nan("");
+      if (step.tracks.size() >= 3) {
+        std::vector<cv::Point2f> a, b;
+        for (const FeatureTrack& t : step.tracks) {
+          a.push_back(t.prev_px);
+          b.push_back(t.curr_px);
+        }
+        const cv::Mat m = cv::estimateAffinePartial2D(a, b, cv::noArray(), cv::LMEDS);
+        if (!m.empty()) angle = std::atan2(m.at<double>(1, 0), m.at<double>(0, 0)) * 180.0 / CV_PI;
+      }
+      rotation[type].push_back(angle);
     }
     seconds[type] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  std::cout << "pair                       dheading  orb akaze sift\n";
-  std::map<std::string, int> matched, pairs_turning, matched_turning;
+  std::cout << "pair                        dheading  inliers (image rotation, deg) for orb akaze sift\n";
+  std::map<std::string, int> matched, matched_turning;
   int pairs = 0, turning = 0;
   for (size_t k = 1; k < photos.size(); ++k) {
-    if (inliers["orb"][k] < 0) continue;  // size change: no pair
+    if (inliers[types[0]][k] < 0) continue;  // size change: no pair
     ++pairs;
-    double turn = std::fmod(std::abs(photos[k].heading_deg - photos[k - 1].heading_deg), 360.0);
-    turn = std::min(turn, 360.0 - turn);
-    const bool big_turn = turn > 90.0;
+    const double turn = std::remainder(photos[k].heading_deg - photos[k - 1].heading_deg, 360.0);
+    const bool big_turn = std::abs(turn) > 90.0;
     turning += big_turn;
     std::cout << std::left << std::setw(26) << (photos[k - 1].name + "-" + photos[k].name) << std::right << std::setw(8)
               << std::fixed << std::setprecision(0) << turn;
     for (const std::string& type : types) {
       const int n = inliers[type][k];
-      std::cout << std::setw(type == "orb" ? 5 : 6) << n;
-      if (n >= 15) {
+      const double r = rotation[type][k];
+      std::cout << std::setw(6) << n << " (" << std::setw(4) << r << ")";
+      // Matched: enough inliers, and the image turned against the heading
+      // change (the scene turns the other way) within 45 deg: at reversals
+      // the image turns 20-40 deg less than `Heading` says (whole-second
+      // times; `Heading` behaves like the course over ground, and this slow
+      // aircraft flies crabbed in wind). Where several types match a pair,
+      // their rotations agree to 1-2 deg.
+      const bool agrees = std::abs(std::remainder(r + turn, 360.0)) < 45.0;
+      if (n >= 15 && agrees) {
         ++matched[type];
         if (big_turn) ++matched_turning[type];
       }
@@ -112,13 +141,16 @@ TEST(SenecaPhotos, ConsecutivePairsMatch) {
     for (size_t k = 1; k < photos.size(); ++k)
       if (inliers[type][k] >= 0) n.push_back(inliers[type][k]);
     std::sort(n.begin(), n.end());
-    std::cout << type << ": " << matched[type] << " of " << pairs << " pairs with >= 15 inliers (" << matched_turning[type]
+    std::cout << type << ": " << matched[type] << " of " << pairs << " pairs with >= 15 inliers and the right rotation (" << matched_turning[type]
               << " of " << turning << " turning > 90 deg), median " << n[n.size() / 2] << " inliers, "
               << std::setprecision(1) << 1e3 * seconds[type] / static_cast<double>(photos.size()) << " ms per photo\n";
   }
-  // The default type (tracker_options.h) matches nearly every pair.
+  // The default type (tracker_options.h) matches most pairs; the rest are
+  // mostly steps of 55-134 m (a footprint of about 100 x 76 m) and bare
+  // fields of crop rows.
   const std::string chosen = DescriptorOptions().type;
-  EXPECT_GE(matched[chosen], pairs * 9 / 10) << chosen;
+  if (matched.count(chosen) == 0) return;
+  EXPECT_GE(matched[chosen], pairs * 3 / 4) << chosen;
 }
 
 }  // namespace
