@@ -3,7 +3,8 @@
 // weak texture, crop rows, turns between photos), at half size in grey, as
 // the importer publishes them. Prints the inliers per pair for each type and
 // holds the default type to a share of pairs matched. Skipped when the
-// folder is absent.
+// folder is absent. All three types:
+//   NADIR_SENECA_TYPES=all build/bin/nadir_test_tracker_seneca
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/calib3d.hpp>
@@ -73,8 +74,12 @@ TEST(SenecaPhotos, ConsecutivePairsMatch) {
   if (!std::filesystem::exists(kFolder / "metadata.csv")) GTEST_SKIP() << "no " << kFolder;
   const std::vector<Photo> photos = load_photos();
   ASSERT_GT(photos.size(), 10u);
-  std::vector<std::string> types = {"orb", "akaze", "sift"};
-  if (const char* only = std::getenv("NADIR_SENECA_TYPES")) types = {only};  // experiments: one type
+  // The default type; NADIR_SENECA_TYPES=all for the three (the README's
+  // table), or one type's name.
+  std::vector<std::string> types = {DescriptorOptions().type};
+  if (const char* env = std::getenv("NADIR_SENECA_TYPES")) {
+    types = std::string(env) == "all" ? std::vector<std::string>{"orb", "akaze", "sift"} : std::vector<std::string>{env};
+  }
   std::map<std::string, std::vector<int>> inliers;
   // Image rotation between the pair from the tracks (a similarity fitted to
   // them), against the autopilot's heading change: a check that the matches
