@@ -3,6 +3,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <tuple>
@@ -111,33 +112,54 @@ DescribedFrame DescriptorMatcher::describe(const cv::Mat& image) const {
 
 std::vector<DescriptorMatch> DescriptorMatcher::candidates(const DescribedFrame& prev, const DescribedFrame& curr) const {
   std::vector<DescriptorMatch> out;
-  if (prev.descriptors.rows < 2 || curr.descriptors.rows < 2) return out;
-  cv::BFMatcher matcher(norm_type_, false);
-  std::vector<std::vector<cv::DMatch>> knn;
-  matcher.knnMatch(curr.descriptors, prev.descriptors, knn, 2);
-  std::vector<int> back_best;
-  if (options_.cross_check) {
-    std::vector<cv::DMatch> back;
-    matcher.match(prev.descriptors, curr.descriptors, back);
-    back_best.assign(static_cast<size_t>(prev.descriptors.rows), -1);
-    for (const cv::DMatch& m : back) back_best[static_cast<size_t>(m.queryIdx)] = m.trainIdx;
+  const int nc = curr.descriptors.rows, np = prev.descriptors.rows;
+  if (np < 2 || nc < 2) return out;
+  // All distances once (rows: current keypoints, columns: reference ones);
+  // the ratio test reads each row's two smallest, the cross check each
+  // column's smallest. The first index wins a tie, as in cv::BFMatcher.
+  cv::Mat distance;
+  cv::batchDistance(curr.descriptors, prev.descriptors, distance, norm_type_ == cv::NORM_HAMMING ? CV_32S : CV_32F,
+                    cv::noArray(), norm_type_);
+  if (distance.type() != CV_32F) distance.convertTo(distance, CV_32F);
+  std::vector<int> best(static_cast<size_t>(nc), -1);
+  std::vector<float> best_d(static_cast<size_t>(nc)), second_d(static_cast<size_t>(nc));
+  std::vector<int> column_best(static_cast<size_t>(np), -1);
+  std::vector<float> column_d(static_cast<size_t>(np), 0.0f);
+  for (int q = 0; q < nc; ++q) {
+    const float* row = distance.ptr<float>(q);
+    float d1 = std::numeric_limits<float>::max(), d2 = d1;
+    int b1 = -1;
+    for (int p = 0; p < np; ++p) {
+      const float d = row[p];
+      if (d < d1) {
+        d2 = d1;
+        d1 = d;
+        b1 = p;
+      } else if (d < d2) {
+        d2 = d;
+      }
+      const size_t c = static_cast<size_t>(p);
+      if (column_best[c] < 0 || d < column_d[c]) {
+        column_best[c] = q;
+        column_d[c] = d;
+      }
+    }
+    best[static_cast<size_t>(q)] = b1;
+    best_d[static_cast<size_t>(q)] = d1;
+    second_d[static_cast<size_t>(q)] = d2;
   }
   // Each reference keypoint goes to one current keypoint at most (its ids
   // must stay unique): the closest, the first on a tie.
-  std::vector<int> owner(static_cast<size_t>(prev.descriptors.rows), -1);
+  std::vector<int> owner(static_cast<size_t>(np), -1);
   std::vector<float> owner_distance(owner.size(), 0.0f);
-  for (size_t q = 0; q < knn.size(); ++q) {
-    if (knn[q].empty()) continue;
-    const cv::DMatch& best = knn[q][0];
-    if (options_.ratio < 1.0 && knn[q].size() > 1 &&
-        !(best.distance < static_cast<float>(options_.ratio) * knn[q][1].distance)) {
-      continue;
-    }
-    const size_t p = static_cast<size_t>(best.trainIdx);
-    if (options_.cross_check && back_best[p] != static_cast<int>(q)) continue;
-    if (owner[p] >= 0 && owner_distance[p] <= best.distance) continue;
-    owner[p] = static_cast<int>(q);
-    owner_distance[p] = best.distance;
+  for (int q = 0; q < nc; ++q) {
+    const size_t i = static_cast<size_t>(q);
+    if (options_.ratio < 1.0 && !(best_d[i] < static_cast<float>(options_.ratio) * second_d[i])) continue;
+    const size_t p = static_cast<size_t>(best[i]);
+    if (options_.cross_check && column_best[p] != q) continue;
+    if (owner[p] >= 0 && owner_distance[p] <= best_d[i]) continue;
+    owner[p] = q;
+    owner_distance[p] = best_d[i];
   }
   for (size_t p = 0; p < owner.size(); ++p)
     if (owner[p] >= 0) out.push_back({static_cast<int>(p), owner[p]});
