@@ -63,6 +63,10 @@ class FeatureTracker {
   // Forgets the reference frame and all features (ids keep counting up).
   void reset();
   bool has_reference() const { return !prev_pyramid_.empty(); }
+  // Ids are never reused; a caller that runs another tracker beside this one
+  // (tracker.mode auto) shares the count through these.
+  int64_t next_id() const { return next_id_; }
+  void set_next_id(int64_t id) { next_id_ = id; }
 
   struct Feature {
     int64_t id;

@@ -1,5 +1,6 @@
 #include "processes/tracker/tracker_node.h"
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <sstream>
@@ -26,6 +27,7 @@ TrackerNode::TrackerNode(const Config& root, Bus& bus)
       gate_(image_checks(root)),
       max_ahead_us_(static_cast<int64_t>(gate_.options().max_ahead_s * 1e6)),
       tracker_(options_) {
+  if (options_.mode != TrackerMode::kKlt) matcher_ = std::make_unique<DescriptorMatcher>(options_.descriptor, camera_);
   bus_.subscribe<image_t>(channels::kCameraImage, [this](const image_t& msg) { on_image(msg); });
 }
 
@@ -127,17 +129,15 @@ void TrackerNode::track_image(const image_t& msg) {
   if (too_long) {
     // The reference is too old to track from: start again from this frame.
     tracker_.reset();
+    if (matcher_) matcher_->reset();
     have_reference_ = false;
     out.prev_utime = 0;
     ++restarts_;
   }
   TrackStepResult step;
+  bool by_descriptor = false;
   try {
-    step = tracker_.track_frame(gray);
-    // A first frame's TRACKS reports how many corners it found; otherwise
-    // the new corners are only for the next frame and wait until this
-    // frame's tracks are out.
-    if (step.first_frame) tracker_.prepare_next(gray, step);
+    step = pair_frames(gray, msg.utime, &by_descriptor);
   } catch (const std::exception& e) {
     // Not expected after the checks above; still one flagged TRACKS per
     // image, a counted error and a fresh start rather than a lost message.
@@ -186,7 +186,14 @@ void TrackerNode::track_image(const image_t& msg) {
     ++tracked_frames_;
     tracks_total_ += static_cast<int64_t>(n);
   }
-  if (step.first_frame) replenished_ += step.replenished;
+  if (by_descriptor && !step.first_frame) {
+    const DescriptorStepStats& d = matcher_->last_stats();
+    ++descriptor_frames_;
+    descriptor_candidates_ += d.candidates;
+    descriptor_inliers_ += d.inliers;
+    if (d.geometry_failed) ++geometry_failed_;
+  }
+  if (step.first_frame || by_descriptor) replenished_ += step.replenished;
   fb_rejected_ += step.fb_rejected;
   patch_rejected_ += step.patch_rejected;
   klt_lost_ += step.klt_lost;
@@ -195,8 +202,9 @@ void TrackerNode::track_image(const image_t& msg) {
   have_reference_ = true;
   ref_utime_ = msg.utime;
   ref_frame_counter_ = msg.frame_counter;
+  if (options_.mode == TrackerMode::kAuto) gray.copyTo(ref_gray_);
   publish(out, "");
-  if (step.first_frame) return;
+  if (step.first_frame || by_descriptor || options_.mode == TrackerMode::kDescriptor) return;
   try {
     tracker_.prepare_next(gray, step);
     replenished_ += step.replenished;
@@ -206,9 +214,46 @@ void TrackerNode::track_image(const image_t& msg) {
   }
 }
 
+TrackStepResult TrackerNode::pair_frames(const cv::Mat& gray, int64_t utime, bool* by_descriptor) {
+  *by_descriptor = false;
+  if (options_.mode == TrackerMode::kDescriptor) {
+    *by_descriptor = true;
+    return matcher_->process(gray);
+  }
+  const bool automatic = options_.mode == TrackerMode::kAuto && have_reference_;
+  const bool long_step = automatic && static_cast<double>(utime - ref_utime_) > options_.auto_max_interval_s * 1e6;
+  TrackStepResult step;
+  if (!long_step) {
+    step = tracker_.track_frame(gray);
+    // A first frame's TRACKS reports how many corners it found; otherwise
+    // the new corners are only for the next frame and wait until this
+    // frame's tracks are out.
+    if (step.first_frame) tracker_.prepare_next(gray, step);
+  }
+  if (automatic && (long_step || static_cast<int>(step.tracks.size()) < options_.auto_min_tracks)) {
+    *by_descriptor = true;
+    return match_instead_of_klt(gray, utime);
+  }
+  return step;
+}
+
+TrackStepResult TrackerNode::match_instead_of_klt(const cv::Mat& gray, int64_t utime) {
+  matcher_->set_next_id(std::max(matcher_->next_id(), tracker_.next_id()));
+  if (!matcher_->has_reference() || matcher_ref_utime_ != ref_utime_) matcher_->set_reference(ref_gray_);
+  TrackStepResult step = matcher_->process(gray);
+  matcher_ref_utime_ = utime;
+  // KLT cannot continue from the old reference: it starts from this frame.
+  tracker_.reset();
+  tracker_.set_next_id(matcher_->next_id());
+  TrackStepResult restart = tracker_.track_frame(gray);
+  tracker_.prepare_next(gray, restart);
+  return step;
+}
+
 std::string TrackerNode::tracking_failed(const std::exception& e, int64_t utime) {
   ++errors_;
   tracker_.reset();
+  if (matcher_) matcher_->reset();
   have_reference_ = false;
   return "CAMERA_IMAGE utime " + std::to_string(utime) + ": tracking failed: " + e.what();
 }
@@ -244,6 +289,12 @@ StatusReport TrackerNode::status() const {
       {"few_features", static_cast<double>(few_features_)},
       {"last_flags", static_cast<double>(last_flags_)},
   };
+  if (matcher_) {  // modes descriptor and auto only: klt's STATUS stays as it was
+    r.counters.push_back({"descriptor_frames", static_cast<double>(descriptor_frames_)});
+    r.counters.push_back({"descriptor_candidates", static_cast<double>(descriptor_candidates_)});
+    r.counters.push_back({"descriptor_inliers", static_cast<double>(descriptor_inliers_)});
+    r.counters.push_back({"geometry_failed", static_cast<double>(geometry_failed_)});
+  }
   gate_.add_counters(&r);
   gate_.warn_if_rejecting(&r);
   return r;

@@ -22,6 +22,7 @@
 #include "common/node.h"
 #include "nadir/image_t.hpp"
 #include "nadir/tracks_t.hpp"
+#include "processes/tracker/descriptor_matcher.h"
 #include "processes/tracker/feature_tracker.h"
 #include "processes/tracker/track_end_norms.h"
 #include "processes/tracker/tracker_options.h"
@@ -47,6 +48,11 @@ class TrackerNode : public Node {
   // Counts the error and starts afresh; returns the problem for STATUS.
   std::string tracking_failed(const std::exception& e, int64_t utime);
   int32_t gap_flags(const image_t& msg, bool* too_long) const;
+  // Pairs the reference frame with `gray` by tracker.mode; sets *by_descriptor.
+  TrackStepResult pair_frames(const cv::Mat& gray, int64_t utime, bool* by_descriptor);
+  // `auto`: the descriptor matcher on the last good frame (ref_gray_) and
+  // `gray`; KLT then starts afresh from `gray`. Ids stay unique across both.
+  TrackStepResult match_instead_of_klt(const cv::Mat& gray, int64_t utime);
 
   Bus& bus_;
   TrackerOptions options_;
@@ -55,6 +61,9 @@ class TrackerNode : public Node {
   int64_t max_ahead_us_;
   std::unique_ptr<image_t> held_;  // a frame far ahead of the stream, until the next one confirms it
   FeatureTracker tracker_;
+  std::unique_ptr<DescriptorMatcher> matcher_;  // modes descriptor and auto
+  cv::Mat ref_gray_;                            // auto: the last good frame, for the matcher
+  int64_t matcher_ref_utime_ = -1;              // auto: the frame the matcher holds as reference
   TrackEndNorms track_end_norms_;  // last frame's curr_norm: this frame's prev_norm
   cv::Mat convert_buffer_;
 
@@ -70,6 +79,7 @@ class TrackerNode : public Node {
   int64_t few_features_ = 0, frame_gaps_ = 0, restarts_ = 0, tracked_frames_ = 0;
   int64_t tracks_total_ = 0, replenished_ = 0, fb_rejected_ = 0, patch_rejected_ = 0, klt_lost_ = 0, out_of_image_ = 0;
   int64_t last_tracks_ = 0;
+  int64_t descriptor_frames_ = 0, descriptor_candidates_ = 0, descriptor_inliers_ = 0, geometry_failed_ = 0;
   std::string last_problem_;
   int32_t last_flags_ = 0;
 };

@@ -1,6 +1,7 @@
 #include "processes/tracker/tracker_options.h"
 
 #include <sstream>
+#include <vector>
 
 namespace nadir {
 
@@ -14,11 +15,61 @@ void check_range(const std::string& source, const std::string& key, T value, T l
   require_option(false, source, "tracker." + key, what.str());
 }
 
+void check_choice(const std::string& source, const std::string& key, const std::string& value,
+                  const std::vector<std::string>& allowed) {
+  std::string list;
+  for (const std::string& a : allowed) {
+    if (value == a) return;
+    list += (list.empty() ? "" : " | ") + a;
+  }
+  require_option(false, source, "tracker." + key, "= '" + value + "' is not one of " + list);
+}
+
+const char* mode_name(TrackerMode mode) {
+  switch (mode) {
+    case TrackerMode::kDescriptor:
+      return "descriptor";
+    case TrackerMode::kAuto:
+      return "auto";
+    case TrackerMode::kKlt:
+      break;
+  }
+  return "klt";
+}
+
+TrackerMode parse_mode(const std::string& source, const std::string& text) {
+  check_choice(source, "mode", text, {"klt", "descriptor", "auto"});
+  if (text == "descriptor") return TrackerMode::kDescriptor;
+  if (text == "auto") return TrackerMode::kAuto;
+  return TrackerMode::kKlt;
+}
+
 }  // namespace
 
 TrackerOptions TrackerOptions::from_config(const Config& root) {
   const Config c = root.section_or_empty("tracker");
   TrackerOptions o;
+  o.mode = parse_mode(c.source(), c.get<std::string>("mode", mode_name(o.mode)));
+  o.auto_max_interval_s = c.get<double>("auto_max_interval_s", o.auto_max_interval_s);
+  o.auto_min_tracks = c.get<int>("auto_min_tracks", o.auto_min_tracks);
+  const Config d = c.section_or_empty("descriptor");
+  DescriptorOptions& q = o.descriptor;
+  q.type = d.get<std::string>("type", q.type);
+  q.max_features = d.get<int>("max_features", q.max_features);
+  q.grid_cols = d.get<int>("grid_cols", q.grid_cols);
+  q.grid_rows = d.get<int>("grid_rows", q.grid_rows);
+  q.border_px = d.get<int>("border_px", q.border_px);
+  q.orb_fast_threshold = d.get<int>("orb_fast_threshold", q.orb_fast_threshold);
+  q.orb_levels = d.get<int>("orb_levels", q.orb_levels);
+  q.akaze_threshold = d.get<double>("akaze_threshold", q.akaze_threshold);
+  q.sift_contrast_threshold = d.get<double>("sift_contrast_threshold", q.sift_contrast_threshold);
+  q.ratio = d.get<double>("ratio", q.ratio);
+  q.cross_check = d.get<bool>("cross_check", q.cross_check);
+  q.geometry = d.get<std::string>("geometry", q.geometry);
+  q.ransac_threshold_px = d.get<double>("ransac_threshold_px", q.ransac_threshold_px);
+  q.ransac_confidence = d.get<double>("ransac_confidence", q.ransac_confidence);
+  q.ransac_max_iterations = d.get<int>("ransac_max_iterations", q.ransac_max_iterations);
+  q.min_matches = d.get<int>("min_matches", q.min_matches);
   o.grid_cols = c.get<int>("grid_cols", o.grid_cols);
   o.grid_rows = c.get<int>("grid_rows", o.grid_rows);
   o.features_per_cell = c.get<int>("features_per_cell", o.features_per_cell);
@@ -54,6 +105,10 @@ TrackerOptions TrackerOptions::from_config(const Config& root) {
 }
 
 void TrackerOptions::Check(const std::string& source) const {
+  parse_mode(source, mode_name(mode));
+  check_range(source, "auto_max_interval_s", auto_max_interval_s, 0.0, 3600.0);
+  check_range(source, "auto_min_tracks", auto_min_tracks, 0, 100000);
+  descriptor.Check(source);
   check_range(source, "grid_cols", grid_cols, 1, 16);
   check_range(source, "grid_rows", grid_rows, 1, 16);
   check_range(source, "features_per_cell", features_per_cell, 1, 1000);
@@ -84,6 +139,24 @@ void TrackerOptions::Check(const std::string& source) const {
   check_range(source, "mono16_significant_bits", mono16_significant_bits, 8, 16);
   check_range(source, "gap_factor", gap_factor, 1.01, 100.0);
   check_range(source, "max_gap_s", max_gap_s, 0.001, 3600.0);
+}
+
+void DescriptorOptions::Check(const std::string& source) const {
+  check_choice(source, "descriptor.type", type, {"orb", "akaze", "sift"});
+  check_range(source, "descriptor.max_features", max_features, 10, 100000);
+  check_range(source, "descriptor.grid_cols", grid_cols, 1, 32);
+  check_range(source, "descriptor.grid_rows", grid_rows, 1, 32);
+  check_range(source, "descriptor.border_px", border_px, 0, 200);
+  check_range(source, "descriptor.orb_fast_threshold", orb_fast_threshold, 1, 255);
+  check_range(source, "descriptor.orb_levels", orb_levels, 1, 16);
+  check_range(source, "descriptor.akaze_threshold", akaze_threshold, 1e-6, 0.1);
+  check_range(source, "descriptor.sift_contrast_threshold", sift_contrast_threshold, 1e-4, 0.5);
+  check_range(source, "descriptor.ratio", ratio, 0.1, 1.0);
+  check_choice(source, "descriptor.geometry", geometry, {"homography", "fundamental"});
+  check_range(source, "descriptor.ransac_threshold_px", ransac_threshold_px, 0.1, 100.0);
+  check_range(source, "descriptor.ransac_confidence", ransac_confidence, 0.5, 0.999999);
+  check_range(source, "descriptor.ransac_max_iterations", ransac_max_iterations, 10, 1000000);
+  check_range(source, "descriptor.min_matches", min_matches, 8, 100000);
 }
 
 }  // namespace nadir

@@ -10,7 +10,61 @@
 
 namespace nadir {
 
+// How frames are paired (`tracker.mode`): KLT for the live camera, the
+// descriptor matcher for photo surveys and other large motions, or KLT with
+// the descriptor matcher per frame when KLT cannot follow (README.md).
+enum class TrackerMode { kKlt, kDescriptor, kAuto };
+
+// The descriptor matcher's options: the `tracker.descriptor:` subsection
+// (descriptor_matcher.h, README.md "Descriptor matching").
+struct DescriptorOptions {
+  // orb | akaze | sift (OpenCV features2d). SIFT: the most pairs of the
+  // real Seneca photos matched (81 of 98 against AKAZE's 63 and ORB's 58)
+  // and sub-pixel keypoints; it costs the most (README.md "Descriptor matching").
+  std::string type = "sift";
+  int max_features = 1500;         // keypoints kept per frame ...
+  int grid_cols = 6;               // ... spread over this grid: each cell keeps its strongest
+  int grid_rows = 5;               //     max_features / cells, the rest go to the strongest left
+  int border_px = 16;              // no keypoints closer to the image edge
+  // Detector sensitivity, per type. Lower than OpenCV's defaults (20, 0.001,
+  // 0.04): farmland seen from the air is weakly textured.
+  int orb_fast_threshold = 10;
+  // ORB's pyramid (scale factor 1.2): 4 levels cover scale changes up to
+  // 1.7; every level coarsens the keypoint positions by another 20 %.
+  int orb_levels = 4;
+  double akaze_threshold = 0.0001;
+  double sift_contrast_threshold = 0.01;
+  // Candidate matches: Lowe's ratio test (best / second-best distance below
+  // ratio; 1 = off) and the mutual-best cross check.
+  double ratio = 0.85;
+  bool cross_check = true;
+  // Geometric check: RANSAC on the undistorted normalized coordinates,
+  // `homography` (default: the ground is close to a plane at 40-1000 m, and a
+  // point-to-point model rejects wrong matches that a fundamental matrix lets
+  // through along their epipolar line - crop rows) or `fundamental`
+  // (any 3-D scene, point-to-line). The threshold is in pixels at camera.fx
+  // and loose: relief and lens error leave the plane by a few pixels.
+  std::string geometry = "homography";
+  double ransac_threshold_px = 8.0;
+  double ransac_confidence = 0.999;
+  int ransac_max_iterations = 10000;
+  // Fewer candidates or inliers than this: no tracks (FLAG_FEW_FEATURES).
+  int min_matches = 15;
+
+  // Throws ConfigError naming `tracker.descriptor.<key>` and the allowed values.
+  void Check(const std::string& source) const;
+};
+
 struct TrackerOptions {
+  // `klt` (default, the live pipeline), `descriptor` or `auto`.
+  TrackerMode mode = TrackerMode::kKlt;
+  DescriptorOptions descriptor;
+  // `auto`: a pair goes to the descriptor matcher when its sensor-time step
+  // exceeds auto_max_interval_s, or when KLT keeps fewer than auto_min_tracks
+  // tracks (then the same pair is matched again with descriptors).
+  double auto_max_interval_s = 0.5;
+  int auto_min_tracks = 40;
+
   // --- Detection: Harris corners per grid cell ---
   int grid_cols = 3;                // cells across the image
   int grid_rows = 3;                // cells down the image

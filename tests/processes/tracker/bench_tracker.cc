@@ -4,6 +4,9 @@
 //   BM_FeatureTracker: the algorithm (pyramid, KLT forward+backward, replenish)
 //   BM_TrackerNode:    the whole image_t -> tracks_t path (checks, undistortion,
 //                      LCM encoding) minus the transport.
+//   BM_DescriptorMatcher: tracker.mode descriptor, per frame (keypoints,
+//                      descriptors, matching, RANSAC) for orb, akaze, sift at
+//                      612x512 and 1000x562 on a survey-like sequence.
 //   BM_Klt*, BM_Pyramid*: one KLT pass (450 corners, 21x21, 3 levels, from
 //                      their own position) and one pyramid, OpenCV's against
 //                      lucas_kanade.h's, on a pair of frames.
@@ -15,6 +18,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include <cmath>
+#include <string>
 #include <vector>
 
 #include "common/bus.h"
@@ -22,6 +27,7 @@
 #include "processes/sim/flight_profile.h"
 #include "processes/sim/renderer.h"
 #include "processes/sim/sim_camera.h"
+#include "processes/tracker/descriptor_matcher.h"
 #include "processes/tracker/feature_tracker.h"
 #include "processes/tracker/lucas_kanade.h"
 #include "processes/tracker/tracker_node.h"
@@ -194,5 +200,48 @@ void BM_PyramidNadir(benchmark::State& state, FrameSource source) {
   for (auto _ : state) pyramid.build(image, 3, nadir::LucasKanade::border_for(21));
 }
 BENCHMARK_CAPTURE(BM_PyramidNadir, sim_test1, sim_frames)->Unit(benchmark::kMicrosecond);
+
+// Photos of a survey: the view circles the scene (radius a third of the frame
+// width) turning 45 degrees a frame, so consecutive frames overlap 60-70 %
+// and the sequence loops.
+std::vector<cv::Mat> survey_frames(cv::Size size) {
+  static const SyntheticScene scene(cv::Size(2200, 2200), 17);
+  std::vector<cv::Mat> out;
+  for (int k = 0; k < 8; ++k) {
+    const double a = k * CV_PI / 4.0;
+    const ViewPose pose{{1100 + size.width / 3.0 * std::cos(a), 1100 + size.width / 3.0 * std::sin(a)}, a};
+    out.push_back(scene.render(pose, size, 1.5, 300 + k));
+  }
+  return out;
+}
+
+void BM_DescriptorMatcher(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const char* types[] = {"orb", "akaze", "sift"};
+  const cv::Size size = state.range(1) == 0 ? cv::Size(612, 512) : cv::Size(1000, 562);
+  const std::vector<cv::Mat> sequence = survey_frames(size);
+  nadir::CameraModel camera;
+  camera.width = size.width;
+  camera.height = size.height;
+  camera.fx = camera.fy = 0.8 * size.width;
+  camera.cx = (size.width - 1) / 2.0;
+  camera.cy = (size.height - 1) / 2.0;
+  camera.distortion = {0, 0, 0, 0, 0};
+  nadir::DescriptorOptions options;
+  options.type = types[state.range(0)];
+  nadir::DescriptorMatcher matcher(options, camera);
+  size_t k = 0;
+  int64_t tracks = 0, steps = 0;
+  for (auto _ : state) {
+    const nadir::TrackStepResult step = matcher.process(sequence[k++ % sequence.size()]);
+    if (!step.first_frame) {
+      tracks += static_cast<int64_t>(step.tracks.size());
+      ++steps;
+    }
+  }
+  state.SetLabel(std::string(options.type) + (state.range(1) == 0 ? " 612x512" : " 1000x562"));
+  if (steps > 0) state.counters["tracks"] = static_cast<double>(tracks) / static_cast<double>(steps);
+}
+BENCHMARK(BM_DescriptorMatcher)->ArgsProduct({{0, 1, 2}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 }  // namespace

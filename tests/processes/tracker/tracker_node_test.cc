@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -333,6 +335,98 @@ TEST(TrackerNode, SurvivesMalformedMessages) {
   h.send(make_image_msg(frame(1), kStartUs + kPeriodUs, 1));
   ASSERT_EQ(h.tracks.size(), 2u);
   EXPECT_GT(h.tracks[1].num_tracks, 300);
+}
+
+// A photo survey as nadir_import writes it: frames tens of seconds apart,
+// turning 180 degrees between two of them, tracker.mode descriptor and a
+// max_gap_s beyond the longest gap.
+Config survey_config(const std::string& mode) {
+  Config config = default_config();
+  config.apply_override("tracker.mode=" + mode);
+  config.apply_override("tracker.max_gap_s=120");
+  config.apply_override("input_checks.max_ahead_s=120");
+  return config;
+}
+
+cv::Mat survey_photo(int k) {
+  // 40 % of a frame width between photos, the heading reversed at photo 2.
+  const double x = 500 + 0.4 * kFrame.width * k;
+  return scene().render({{x, 700}, k >= 2 ? CV_PI : 0.0}, kFrame, 1.0, 70 + k);
+}
+
+TEST(TrackerNode, DescriptorModeTracksPhotosTensOfSecondsApart) {
+  Harness h(survey_config("descriptor"));
+  const CameraModel camera = CameraModel::from_config(default_config());
+  const int64_t gap_us = 45000000;  // 45 s
+  for (int k = 0; k < 4; ++k) h.send(make_image_msg(survey_photo(k), kStartUs + k * gap_us, k));
+  ASSERT_EQ(h.tracks.size(), 4u);
+  EXPECT_EQ(h.tracks[0].flags, tracks_t::FLAG_FIRST_FRAME);
+  EXPECT_GT(h.counter("descriptor_frames"), 2.5);
+  EXPECT_EQ(h.counter("restarts"), 0);
+  for (size_t k = 1; k < 4; ++k) {
+    const tracks_t& t = h.tracks[k];
+    EXPECT_EQ(t.flags, tracks_t::FLAG_FRAME_GAP) << "photo " << k;
+    EXPECT_EQ(t.prev_utime, kStartUs + static_cast<int64_t>(k - 1) * gap_us);
+    EXPECT_GT(t.num_tracks, 100) << "photo " << k;
+    // Pixels follow the known motion; normalized = the camera's undistortion.
+    const ViewPose from{{500 + 0.4 * kFrame.width * static_cast<double>(k - 1), 700}, k - 1 >= 2 ? CV_PI : 0.0};
+    const ViewPose to{{500 + 0.4 * kFrame.width * static_cast<double>(k), 700}, k >= 2 ? CV_PI : 0.0};
+    std::vector<cv::Point2f> curr_px;
+    for (int i = 0; i < t.num_tracks; ++i) {
+      const cv::Point2d expected = SyntheticScene::map_point({t.prev_px[i][0], t.prev_px[i][1]}, from, to, kFrame);
+      EXPECT_LT(std::hypot(expected.x - t.curr_px[i][0], expected.y - t.curr_px[i][1]), 9.0);
+      curr_px.emplace_back(t.curr_px[i][0], t.curr_px[i][1]);
+      if (i > 0) {
+        EXPECT_GT(t.track_id[i], t.track_id[i - 1]);
+      }
+    }
+    const auto curr_norm = camera.undistort(curr_px);
+    for (int i = 0; i < t.num_tracks; ++i) EXPECT_DOUBLE_EQ(t.curr_norm[i][0], curr_norm[i].x);
+  }
+  // Keypoints matched again keep their id; their age counts the photos.
+  int chained = 0;
+  for (int i = 0; i < h.tracks[2].num_tracks; ++i) chained += h.tracks[2].age[i] == 3;
+  EXPECT_GT(chained, 20);
+
+  // The same photos again: the same bytes.
+  Harness again(survey_config("descriptor"));
+  for (int k = 0; k < 4; ++k) again.send(make_image_msg(survey_photo(k), kStartUs + k * gap_us, k));
+  EXPECT_EQ(h.raw, again.raw);
+}
+
+TEST(TrackerNode, AutoModeUsesDescriptorsForLongStepsOrWhenKltLosesTrack) {
+  Harness h(survey_config("auto"));
+  // Steady 14 Hz frames: KLT.
+  for (int k = 0; k < 3; ++k) h.send(make_image_msg(frame(k), kStartUs + k * kPeriodUs, k));
+  EXPECT_EQ(h.counter("descriptor_frames"), 0);
+  EXPECT_GT(h.tracks[2].num_tracks, 380);
+  // 5 s later (beyond auto_max_interval_s): descriptors.
+  const int64_t later = kStartUs + 2 * kPeriodUs + 5000000;
+  h.send(make_image_msg(frame(40), later, 3));
+  EXPECT_EQ(h.counter("descriptor_frames"), 1);
+  EXPECT_GT(h.tracks[3].num_tracks, 100);
+  // Back to 14 Hz: KLT again, from the frame the descriptors matched into,
+  // with ids above every id used so far.
+  int64_t max_id = 0;
+  for (const tracks_t& t : h.tracks)
+    for (int64_t id : t.track_id) max_id = std::max(max_id, id);
+  h.send(make_image_msg(frame(41), later + kPeriodUs, 4));
+  EXPECT_EQ(h.counter("descriptor_frames"), 1);
+  EXPECT_GT(h.tracks[4].num_tracks, 380);
+  for (int64_t id : h.tracks[4].track_id) EXPECT_GT(id, max_id);
+  // One period later but turned half round: KLT keeps too few tracks, the
+  // same pair is matched with descriptors.
+  const cv::Mat turned = scene().render({{700 + 3.0 * 42, 700 - 2.0 * 42}, CV_PI}, kFrame, 1.0, 99);
+  h.send(make_image_msg(turned, later + 2 * kPeriodUs, 5));
+  EXPECT_EQ(h.counter("descriptor_frames"), 2);
+  EXPECT_GT(h.tracks[5].num_tracks, 100);
+  EXPECT_EQ(h.tracks[5].prev_utime, later + kPeriodUs);
+}
+
+TEST(TrackerNode, KltModeHasNoDescriptorCounters) {
+  Harness h;
+  h.send(make_image_msg(frame(0), kStartUs, 0));
+  for (const auto& [key, value] : h.status().counters) EXPECT_EQ(key.find("descriptor"), std::string::npos) << key;
 }
 
 TEST(TrackerNode, BadConfigFailsAtStartNamingTheKey) {

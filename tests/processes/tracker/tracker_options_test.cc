@@ -55,5 +55,32 @@ TEST(TrackerOptions, BadValuesNameTheKeyAndTheRange) {
   EXPECT_NE(type.find("wrong type"), std::string::npos) << type;
 }
 
+TEST(TrackerOptions, ModeAndDescriptorKeysAreCheckedByName) {
+  const TrackerOptions o = TrackerOptions::from_config(Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml"));
+  EXPECT_EQ(o.mode, TrackerMode::kKlt) << "KLT stays the default";
+  EXPECT_EQ(o.descriptor.type, "sift");
+  EXPECT_EQ(TrackerOptions::from_config(Config::parse("tracker: {mode: auto}", "t.yaml")).mode, TrackerMode::kAuto);
+  const TrackerOptions d = TrackerOptions::from_config(
+      Config::parse("tracker: {mode: descriptor, descriptor: {type: akaze, ratio: 0.7, geometry: fundamental}}", "t.yaml"));
+  EXPECT_EQ(d.mode, TrackerMode::kDescriptor);
+  EXPECT_EQ(d.descriptor.type, "akaze");
+  EXPECT_DOUBLE_EQ(d.descriptor.ratio, 0.7);
+  EXPECT_EQ(d.descriptor.geometry, "fundamental");
+
+  const std::string mode = error_of("tracker: {mode: sometimes}");
+  EXPECT_NE(mode.find("tracker.mode"), std::string::npos) << mode;
+  EXPECT_NE(mode.find("klt | descriptor | auto"), std::string::npos) << mode;
+  const std::string type = error_of("tracker: {descriptor: {type: surf}}");
+  EXPECT_NE(type.find("tracker.descriptor.type"), std::string::npos) << type;
+  EXPECT_NE(type.find("orb | akaze | sift"), std::string::npos) << type;
+  const std::string ratio = error_of("tracker: {descriptor: {ratio: 1.5}}");
+  EXPECT_NE(ratio.find("tracker.descriptor.ratio"), std::string::npos) << ratio;
+  EXPECT_NE(ratio.find("[0.1, 1]"), std::string::npos) << ratio;
+  EXPECT_NE(error_of("tracker: {descriptor: {min_matches: 4}}").find("tracker.descriptor.min_matches"), std::string::npos);
+  EXPECT_NE(error_of("tracker: {descriptor: {geometry: affine}}").find("tracker.descriptor.geometry"), std::string::npos);
+  EXPECT_NE(error_of("tracker: {auto_max_interval_s: -1}").find("tracker.auto_max_interval_s"), std::string::npos);
+  EXPECT_NE(error_of("tracker: {descriptor: {cross_check: maybe}}").find("tracker.descriptor.cross_check"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace nadir
