@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "common/geometry.h"
 #include "processes/vo_solver/plane_model.h"
 #include "processes/vo_solver/solver_support.h"
 
@@ -198,18 +199,23 @@ void reprojection_errors(const PaperProblem& problem, const Params& p, double dz
   }
 }
 
-// Linear method (eq. 13): tilt 0, yaw linearized; SVD least squares on m x 3.
-bool linear_initialization(const PaperProblem& problem, Params* params) {
+// Linear method (eq. 13): tilt 0, yaw linearized about `dyaw_start` (the INS
+// heading change; DERIVATION.md section 4a): the curr rays are pre-rotated by
+// it, so only the small difference to it is linearized and any turn between
+// the frames, up to +-180 deg, starts near the solution. SVD least squares on m x 3.
+bool linear_initialization(const PaperProblem& problem, double dyaw_start, Params* params) {
   const int m = static_cast<int>(problem.features.size());
   const double d = problem.plane.range_m * problem.plane.beam.z();
+  const double c = std::cos(dyaw_start), s = std::sin(dyaw_start);
   Eigen::MatrixXd a(m, 3);
   Eigen::VectorXd b(m);
   for (int i = 0; i < m; ++i) {
     const LevelFeature& f = problem.features[i];
+    const double vx = c * f.v.x() - s * f.v.y(), vy = s * f.v.x() + c * f.v.y();
     a(i, 0) = -f.u.y();
     a(i, 1) = f.u.x();
-    a(i, 2) = d * (f.u.x() * f.v.x() + f.u.y() * f.v.y());
-    b(i) = -d * (f.u.x() * f.v.y() - f.u.y() * f.v.x());
+    a(i, 2) = d * (f.u.x() * vx + f.u.y() * vy);
+    b(i) = -d * (f.u.x() * vy - f.u.y() * vx);
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const auto& sv = svd.singularValues();
@@ -217,6 +223,7 @@ bool linear_initialization(const PaperProblem& problem, Params* params) {
   const Eigen::Vector3d x = svd.solve(b);
   params->setZero();
   params->head<3>() = x;
+  (*params)(2) += dyaw_start;
   return x.allFinite();
 }
 
@@ -336,7 +343,9 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     params = warm->params;
     if (estimate_tilt) problem.plane.relevel = warm->relevel;
     for (int i = 0; i < m; ++i) w[i] = (*warm->weights)[problem.index[i]];
-  } else if (!linear_initialization(problem, &params)) {
+  } else if (!linear_initialization(problem,
+                                    options.dyaw_start_from_ins ? angle_difference(pair.curr_yaw, pair.prev_yaw) : 0.0,
+                                    &params)) {
     est.quality |= kNotConverged;
     return fit;
   }
@@ -391,7 +400,8 @@ Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOp
   const double fitted_dz = estimate_dz(problem, params, w, &dz_variance);
   for (int i = 0; i < m; ++i) est.weights[problem.index[i]] = w[i];
   est.translation = Eigen::Vector3d(params(0), params(1), published_dz ? *published_dz : fitted_dz);
-  est.dyaw = params(2);
+  // The fit's own heading change (started at the INS one), wrapped to (-pi, pi].
+  est.dyaw = wrap_angle(params(2));
   const Eigen::Vector3d normal = ground_normal(problem.plane, 0, 0);
   tilt_from_normal(normal, &est.ground_roll, &est.ground_pitch);
   est.altitude_m = prev_vertical_height(normal, problem.plane.range_m * normal.dot(problem.plane.beam), est.dyaw,

@@ -40,6 +40,10 @@ struct SolverOptions {
   // mean of the forward and the time-reversed pair, which cancels the
   // second-order dz bias of INS levelling noise (DERIVATION.md section 7a).
   bool symmetric_dz = true;
+  // paper / level_ground: the linear start (and so the fit) begins at the INS
+  // heading change curr_yaw - prev_yaw instead of 0, so that any turn between
+  // frames up to +-180 deg is solved; the published dyaw is the fit's own.
+  bool dyaw_start_from_ins = true;
   // Throws std::invalid_argument naming the field and the allowed range.
   void Check() const;
 };
@@ -50,7 +54,8 @@ struct FramePair {
   std::vector<Eigen::Vector2d> prev_norm;  // undistorted normalized camera coordinates
   std::vector<Eigen::Vector2d> curr_norm;
   Eigen::Matrix3d body_from_camera = Eigen::Matrix3d::Identity();
-  double prev_roll = 0, prev_pitch = 0, prev_yaw = 0;  // INS, rad (yaw used only by `flow`)
+  // INS, rad. Yaw: the start of paper / level_ground's heading change, and `flow`'s heading change.
+  double prev_roll = 0, prev_pitch = 0, prev_yaw = 0;
   double curr_roll = 0, curr_pitch = 0, curr_yaw = 0;
   double prev_range_m = 0, curr_range_m = 0;  // altimeter slant ranges along the beam
   Eigen::Vector3d prev_beam_body = Eigen::Vector3d::UnitZ();

@@ -54,6 +54,11 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
     throw c.error("dz_mode", "= '" + dz_mode + "' must be symmetric or forward");
   }
   s.symmetric_dz = dz_mode == "symmetric";
+  const std::string dyaw_start = c.get<std::string>("dyaw_start", "ins");
+  if (dyaw_start != "ins" && dyaw_start != "zero") {
+    throw c.error("dyaw_start", "= '" + dyaw_start + "' must be ins or zero");
+  }
+  s.dyaw_start_from_ins = dyaw_start == "ins";
 
   const Config y = c.section_or_empty("sync");
   auto& t = o.sync;

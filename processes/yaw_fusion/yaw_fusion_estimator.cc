@@ -298,8 +298,11 @@ bool YawFusionEstimator::delta_values_valid(const vo_delta_t& delta, std::string
     *why = "non-finite dx/dy/dz/dyaw";
     return false;
   }
-  if (std::abs(delta.dyaw) >= M_PI_2) {
-    *why = "dyaw beyond +-90 deg between frames";
+  // Any heading change between frames is possible (a 180 deg turn between the
+  // photos of a survey); the solver publishes it wrapped to [-180, 180] deg.
+  // The INS rate limits of input_checks judge whether it is plausible.
+  if (std::abs(delta.dyaw) > M_PI + 1e-9) {
+    *why = "dyaw outside [-180, 180] deg (not wrapped)";
     return false;
   }
   Eigen::Matrix4d cov;
