@@ -40,6 +40,7 @@ void require(bool ok, const std::string& field, const std::string& range) {
 
 void SolverOptions::Check() const {
   require(focal_px > 1 && focal_px < 1e5, "focal_px", "in (1, 1e5)");
+  require(threshold_focal_px > 1 && threshold_focal_px < 1e5, "threshold_focal_px", "in (1, 1e5)");
   require(min_features >= 5 && min_features <= 10000, "min_features", "in [5, 10000]");
   require(max_robust_iterations >= 1 && max_robust_iterations <= 100, "max_robust_iterations", "in [1, 100]");
   require(max_lm_iterations >= 1 && max_lm_iterations <= 100, "max_lm_iterations", "in [1, 100]");
@@ -53,6 +54,8 @@ void SolverOptions::Check() const {
   require(homography_ransac_px > 0 && homography_ransac_px <= 100, "homography_ransac_px", "in (0, 100]");
   layers.Check();
 }
+
+double SolverOptions::pixel_scale() const { return std::max(1.0, focal_px / threshold_focal_px); }
 
 namespace {
 
@@ -350,13 +353,15 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     return fit;
   }
   double dz = estimate_dz(problem, params, w, nullptr);
+  const double min_threshold_px = options.min_threshold_px * options.pixel_scale();
+  const double max_threshold_px = options.max_threshold_px * options.pixel_scale();
   for (int outer = 0; outer < options.max_robust_iterations && !fit.degenerate; ++outer) {
     // Line 8: weights from the image reprojection errors (Tukey biweight,
     // zero beyond a threshold that shrinks with the robust spread of the IREs).
     reprojection_errors(problem, params, dz, options.focal_px, &ire);
-    double threshold = std::max(options.min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
+    double threshold = std::max(min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
     const bool capped = outer > 0;
-    if (capped) threshold = std::min(threshold, options.max_threshold_px);
+    if (capped) threshold = std::min(threshold, max_threshold_px);
     int used = 0;
     for (int i = 0; i < m; ++i) {
       const double e = ire[i] / threshold;
@@ -371,7 +376,7 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     const double change = std::max({(params.head<2>() - before.head<2>()).cwiseAbs().maxCoeff() / problem.height,
                                     std::abs(params(2) - before(2)),
                                     (ground_normal(problem.plane, 0, 0) - normal_before).cwiseAbs().maxCoeff()});
-    if (change < options.convergence_tolerance && threshold <= options.max_threshold_px) {
+    if (change < options.convergence_tolerance && threshold <= max_threshold_px) {
       fit.converged = true;
       break;
     }

@@ -22,6 +22,11 @@ std::string variant_name(Variant variant);
 struct SolverOptions {
   Variant variant = Variant::kPaper;
   double focal_px = 398.79;            // for image reprojection errors in pixels
+  // The *_px thresholds below are pixels of a camera with this focal length;
+  // a camera with a longer focal length (more pixels per radian: a survey
+  // camera's full-resolution photos) gets them scaled by focal_px / this, so
+  // the same attitude and model errors (angles) stay within them. Never scaled down.
+  double threshold_focal_px = 398.79;
   int min_features = 8;                // below this (before or after the robust fit): flagged
   int max_robust_iterations = 20;      // outer loop of Algorithm 1 (lines 7-20)
   int max_lm_iterations = 4;           // inner loop (lines 9-16), per reweighting
@@ -46,6 +51,8 @@ struct SolverOptions {
   bool dyaw_start_from_ins = true;
   // Throws std::invalid_argument naming the field and the allowed range.
   void Check() const;
+  // max(1, focal_px / threshold_focal_px): the factor on every *_px threshold.
+  double pixel_scale() const;
 };
 
 // One pair of frames, prev (k-1) and curr (k), with everything measured at

@@ -35,6 +35,7 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
     throw c.error("variant", "= '" + variant + "' is not one of paper, level_ground, homography, flow");
   }
   auto& s = o.solver;
+  s.threshold_focal_px = c.get_in_range("threshold_focal_px", s.threshold_focal_px, 1.0, 1e5);
   s.min_features = c.get_in_range("min_features", s.min_features, 5, 10000);
   s.max_robust_iterations = c.get_in_range("max_robust_iterations", s.max_robust_iterations, 1, 100);
   s.max_lm_iterations = c.get_in_range("max_lm_iterations", s.max_lm_iterations, 1, 100);
