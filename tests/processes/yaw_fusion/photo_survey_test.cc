@@ -10,7 +10,9 @@
 #include <cmath>
 #include <vector>
 
+#include "common/channels.h"
 #include "common/geometry.h"
+#include "common/input_checks.h"
 #include "processes/yaw_fusion/yaw_fusion_estimator.h"
 
 namespace nadir {
@@ -87,6 +89,33 @@ TEST(YawFusionPhotoSurvey, HalfTurnsBetweenPhotosAreFusedAndRegistered) {
     ++k;
   }
   EXPECT_EQ(k, photos);
+}
+
+// The default input_checks limits are per-second rates: a half turn between
+// photos 1 s or more apart passes them (INS yaw step and VO_DELTA dyaw), so
+// no fixed limit stands in the way of a photo stream at up to 1 Hz. The time
+// limits (max_ahead_s) are the importer's to raise for its photo interval.
+TEST(YawFusionPhotoSurvey, InputChecksAdmitAHalfTurnBetweenPhotos) {
+  InputCheckOptions checks;
+  checks.max_ahead_s = checks.max_behind_s = 30.0;
+  InputGate gate(checks);
+  const int64_t period = 1000000;
+  for (int k = 0; k < 4; ++k) {
+    const int64_t t = kStart + k * period;
+    for (int64_t dt : {-1000, 1000}) {
+      ins_t ins{};
+      ins.utime = t + dt;
+      ins.yaw = wrap_angle(k * M_PI);
+      EXPECT_TRUE(gate.admit(channels::kIns, ins)) << "photo " << k;
+    }
+    vo_delta_t d{};
+    d.utime = t;
+    d.prev_utime = k == 0 ? 0 : t - period;
+    d.dx = 15.0;
+    d.dyaw = k == 0 ? 0.0 : M_PI;
+    EXPECT_TRUE(gate.admit(channels::kVoDelta, d)) << "photo " << k;
+  }
+  EXPECT_EQ(gate.rejected(), 0);
 }
 
 }  // namespace
