@@ -100,15 +100,17 @@ TEST(LargeTurn, LevelGroundFlowAndHomographyVariants) {
 }
 
 TEST(LargeTurn, TheVoHeadingIsItsOwnNotTheInsCopied) {
-  // The INS heading change is 3 deg off the truth (a real compass/AHRS error):
+  // The INS heading change is 3, 10, 20 deg off the truth (a real compass/AHRS error):
   // paper and level_ground still recover the true heading change from the
   // images; only flow, which takes its heading from the INS by design, carries it.
   for (double turn : {180.0, -135.0, 90.0}) {
-    SCOPED_TRACE("turn " + std::to_string(turn));
-    Scene scene = make_scene(survey_turn(turn, false));
-    scene.pair.curr_yaw = wrap_angle(scene.pair.curr_yaw + deg_to_rad(3.0));
-    const Estimate est = solve(scene.pair, SolverOptions{});
-    expect_solved(scene, est, 1e-6);
+    for (double ins_error_deg : {3.0, -10.0, 20.0}) {
+      SCOPED_TRACE("turn " + std::to_string(turn) + " INS error " + std::to_string(ins_error_deg));
+      Scene scene = make_scene(survey_turn(turn, false));
+      scene.pair.curr_yaw = wrap_angle(scene.pair.curr_yaw + deg_to_rad(ins_error_deg));
+      const Estimate est = solve(scene.pair, SolverOptions{});
+      expect_solved(scene, est, 1e-6);
+    }
   }
 }
 
