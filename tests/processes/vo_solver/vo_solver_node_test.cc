@@ -70,6 +70,31 @@ struct Sequence {
   std::map<int64_t, Eigen::Vector3d> truth;  // translation per curr frame utime
 };
 
+// TRACKS of frame k at t (612x512) whose previous frame was at `prev` (none for k = 0).
+tracks_t tracks_header(int k, int64_t t, int64_t prev) {
+  tracks_t m{};
+  m.utime = t;
+  m.prev_utime = k == 0 ? 0 : prev;
+  m.frame_counter = k;
+  m.width = 612;
+  m.height = 512;
+  m.flags = k == 0 ? tracks_t::FLAG_FIRST_FRAME : 0;
+  return m;
+}
+
+// The scene's matches as TRACKS (normalized coordinates only).
+void add_tracks(const vo::testing::Scene& scene, tracks_t* m) {
+  m->num_tracks = static_cast<int32_t>(scene.pair.prev_norm.size());
+  for (int i = 0; i < m->num_tracks; ++i) {
+    m->track_id.push_back(i);
+    m->age.push_back(1);
+    m->prev_px.push_back({0.f, 0.f});
+    m->curr_px.push_back({0.f, 0.f});
+    m->prev_norm.push_back({scene.pair.prev_norm[i].x(), scene.pair.prev_norm[i].y()});
+    m->curr_norm.push_back({scene.pair.curr_norm[i].x(), scene.pair.curr_norm[i].y()});
+  }
+}
+
 // `frames` frames over level ground at 200 m, INS at 100 Hz, altimeter at
 // 20 Hz until `altimeter_until` (sensor time).
 Sequence make_sequence(int frames, int64_t altimeter_until) {
@@ -95,13 +120,7 @@ Sequence make_sequence(int frames, int64_t altimeter_until) {
   const Eigen::Vector3d velocity_world(20.0, 5.0, 0.0);
   for (int k = 0; k < frames; ++k) {
     const int64_t t = kStart + k * kFramePeriod, tp = t - kFramePeriod;
-    tracks_t m{};
-    m.utime = t;
-    m.prev_utime = k == 0 ? 0 : tp;
-    m.frame_counter = k;
-    m.width = 612;
-    m.height = 512;
-    m.flags = k == 0 ? tracks_t::FLAG_FIRST_FRAME : 0;
+    tracks_t m = tracks_header(k, t, tp);
     if (k > 0) {
       vo::testing::SceneSpec s;
       s.height_m = 200.0;
@@ -118,15 +137,7 @@ Sequence make_sequence(int frames, int64_t altimeter_until) {
       s.seed = static_cast<uint32_t>(k);
       const vo::testing::Scene scene = vo::testing::make_scene(s);
       seq.truth[t] = scene.translation;
-      m.num_tracks = static_cast<int32_t>(scene.pair.prev_norm.size());
-      for (int i = 0; i < m.num_tracks; ++i) {
-        m.track_id.push_back(i);
-        m.age.push_back(1);
-        m.prev_px.push_back({0.f, 0.f});
-        m.curr_px.push_back({0.f, 0.f});
-        m.prev_norm.push_back({scene.pair.prev_norm[i].x(), scene.pair.prev_norm[i].y()});
-        m.curr_norm.push_back({scene.pair.curr_norm[i].x(), scene.pair.curr_norm[i].y()});
-      }
+      add_tracks(scene, &m);
     }
     seq.events.push_back(encode(t + 40000, channels::kTracks, m));  // tracker latency
   }
@@ -329,6 +340,29 @@ vo_solver: {variant: ransac}
 
 void lockstep_replay_equals_live_run(const std::string& yaml);
 
+// The node on the lockstep ReplayBus (nadir_replay's), the events in log
+// (sensor time) order; the encoded VO_DELTA by utime.
+std::map<int64_t, std::vector<uint8_t>> lockstep_replay(const Sequence& seq, const std::string& yaml) {
+  ReplayBus bus(nullptr);
+  const Config config = Config::parse(yaml, "node test");
+  std::unique_ptr<Node> node = make_vo_solver_node(config, bus);
+  std::map<int64_t, std::vector<uint8_t>> replayed;
+  bus.subscribe_raw(channels::kVoDelta, [&](const std::string&, const uint8_t* data, size_t size) {
+    int64_t utime = 0;
+    EXPECT_TRUE(encoded_utime(data, size, &utime));
+    replayed[utime] = std::vector<uint8_t>(data, data + size);
+  });
+  std::vector<Event> log_order = seq.events;
+  std::stable_sort(log_order.begin(), log_order.end(), [](const Event& a, const Event& b) {
+    int64_t ua = 0, ub = 0;
+    encoded_utime(a.bytes.data(), a.bytes.size(), &ua);
+    encoded_utime(b.bytes.data(), b.bytes.size(), &ub);
+    return ua < ub;
+  });
+  for (const Event& e : log_order) bus.deliver(e.channel, e.bytes.data(), e.bytes.size());
+  return replayed;
+}
+
 TEST(VoSolverNode, LockstepReplayEqualsLiveRun) {
   // The replay bus delivers in log (sensor) order; the live run got the
   // channels interleaved by transport delays. Same VO_DELTA bytes.
@@ -341,23 +375,7 @@ TEST(VoSolverNode, LockstepReplayEqualsLiveRun) {
 void lockstep_replay_equals_live_run(const std::string& yaml) {
   const Sequence seq = make_sequence(30, INT64_MAX);
   const RunResult live = run(interleaved(seq.events, 99), yaml);
-  ReplayBus bus(nullptr);
-  const Config config = Config::parse(yaml, "node test");
-  std::unique_ptr<Node> node = make_vo_solver_node(config, bus);
-  std::map<int64_t, std::vector<uint8_t>> replayed;
-  bus.subscribe_raw(channels::kVoDelta, [&](const std::string&, const uint8_t* data, size_t size) {
-    int64_t utime = 0;
-    ASSERT_TRUE(encoded_utime(data, size, &utime));
-    replayed[utime] = std::vector<uint8_t>(data, data + size);
-  });
-  std::vector<Event> log_order = seq.events;
-  std::stable_sort(log_order.begin(), log_order.end(), [](const Event& a, const Event& b) {
-    int64_t ua = 0, ub = 0;
-    encoded_utime(a.bytes.data(), a.bytes.size(), &ua);
-    encoded_utime(b.bytes.data(), b.bytes.size(), &ub);
-    return ua < ub;
-  });
-  for (const Event& e : log_order) bus.deliver(e.channel, e.bytes.data(), e.bytes.size());
+  const std::map<int64_t, std::vector<uint8_t>> replayed = lockstep_replay(seq, yaml);
   ASSERT_EQ(replayed.size(), 30u);
   EXPECT_EQ(replayed, live.encoded);
 }
@@ -468,13 +486,7 @@ Sequence make_survey(int photos) {
     a.signal_quality = 1.0f;
     a.validity = altimeter_t::VALID_OK;
     seq.events.push_back(encode(a.utime + 100, channels::kAltimeter, a));
-    tracks_t m{};
-    m.utime = t;
-    m.prev_utime = k == 0 ? 0 : t - kPhotoPeriod;
-    m.frame_counter = k;
-    m.width = 612;
-    m.height = 512;
-    m.flags = k == 0 ? tracks_t::FLAG_FIRST_FRAME : 0;
+    tracks_t m = tracks_header(k, t, t - kPhotoPeriod);
     if (k > 0) {
       vo::testing::SceneSpec s;
       s.height_m = 60.0;
@@ -490,15 +502,7 @@ Sequence make_survey(int photos) {
       s.seed = static_cast<uint32_t>(k);
       const vo::testing::Scene scene = vo::testing::make_scene(s);
       seq.truth[t] = scene.translation;
-      m.num_tracks = static_cast<int32_t>(scene.pair.prev_norm.size());
-      for (int i = 0; i < m.num_tracks; ++i) {
-        m.track_id.push_back(i);
-        m.age.push_back(1);
-        m.prev_px.push_back({0.f, 0.f});
-        m.curr_px.push_back({0.f, 0.f});
-        m.prev_norm.push_back({scene.pair.prev_norm[i].x(), scene.pair.prev_norm[i].y()});
-        m.curr_norm.push_back({scene.pair.curr_norm[i].x(), scene.pair.curr_norm[i].y()});
-      }
+      add_tracks(scene, &m);
     }
     seq.events.push_back(encode(t + 300000, channels::kTracks, m));  // descriptor matching takes a while
   }
@@ -525,22 +529,7 @@ TEST(VoSolverNode, PhotoSurveyWithHalfTurnsBetweenPhotos) {
   EXPECT_EQ(live.status.dropped, 0);
 
   // The lockstep replay bus (nadir_replay's) gives the same bytes.
-  ReplayBus bus(nullptr);
-  std::unique_ptr<Node> node = make_vo_solver_node(Config::parse(kSurveyConfig, "survey test"), bus);
-  std::map<int64_t, std::vector<uint8_t>> replayed;
-  bus.subscribe_raw(channels::kVoDelta, [&](const std::string&, const uint8_t* data, size_t size) {
-    int64_t utime = 0;
-    ASSERT_TRUE(encoded_utime(data, size, &utime));
-    replayed[utime] = std::vector<uint8_t>(data, data + size);
-  });
-  std::vector<Event> log_order = seq.events;
-  std::stable_sort(log_order.begin(), log_order.end(), [](const Event& a, const Event& b) {
-    int64_t ua = 0, ub = 0;
-    encoded_utime(a.bytes.data(), a.bytes.size(), &ua);
-    encoded_utime(b.bytes.data(), b.bytes.size(), &ub);
-    return ua < ub;
-  });
-  for (const Event& e : log_order) bus.deliver(e.channel, e.bytes.data(), e.bytes.size());
+  const std::map<int64_t, std::vector<uint8_t>> replayed = lockstep_replay(seq, kSurveyConfig);
   EXPECT_EQ(replayed, live.encoded);
 }
 
