@@ -80,7 +80,7 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
     throw y.error("altimeter_mode", "= '" + altimeter_mode + "' must be latest or interpolate");
   }
   t.altimeter_interpolate = altimeter_mode == "interpolate";
-  t.max_frame_interval_us = ms_to_us(y.get_in_range("max_frame_interval_ms", 250.0, 0.001, 60000.0));
+  t.max_frame_interval_us = ms_to_us(y.get_in_range("max_frame_interval_ms", 250.0, 0.001, 3600000.0));
   t.max_pending_frames = y.get_in_range("max_pending_frames", t.max_pending_frames, 1, 10000);
   t.max_ins_samples = y.get_in_range("max_ins_samples", t.max_ins_samples, 2, 1000000);
   t.max_altimeter_samples = y.get_in_range("max_altimeter_samples", t.max_altimeter_samples, 2, 1000000);

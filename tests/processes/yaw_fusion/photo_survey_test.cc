@@ -1,9 +1,11 @@
 // Yaw fusion on a photo survey: one photo every 7 s, INS samples at the
-// photo's attitude 1 ms before and after it and the altimeter 1 ms before it
+// photo's attitude 1 ms before and after it (70 s between photos 5 and 6) and
+// the altimeter 1 ms before it
 // (as nadir_import publishes them), heading changes of 180 and 90 deg between
 // photos. The VO dyaw predicts across the wrap, the INS yaw steps pass the
-// gate, and each translation is registered with the heading of its previous
-// photo. Options as an importer sets them: the frame rate and the delta interval.
+// gate, each translation is registered with the heading of its previous
+// photo, and a delta over a pause longer than the camera period replaces the
+// gap poses dead-reckoned meanwhile. Options as an importer sets them: the frame rate and the delta interval.
 
 #include <gtest/gtest.h>
 
@@ -20,6 +22,8 @@ namespace {
 
 constexpr int64_t kStart = 1700000000000000;
 constexpr int64_t kPeriod = 7000000;
+// Photo k's time: every 7 s, with a 70 s pause (a missed stretch) before photo 6.
+int64_t photo_time(int k) { return kStart + k * kPeriod + (k >= 6 ? 63000000 : 0); }
 
 double heading(int k) {
   const double turns[] = {0, 0, M_PI, M_PI, M_PI, M_PI_2, M_PI_2, -M_PI_2, -M_PI_2, -M_PI_2};
@@ -29,8 +33,7 @@ double heading(int k) {
 TEST(YawFusionPhotoSurvey, HalfTurnsBetweenPhotosAreFusedAndRegistered) {
   YawFusionOptions options;
   options.frame_rate_hz = 1.0 / 7.0;
-  options.max_delta_interval_s = 20.0;
-  options.gap_max_duration_s = 60.0;
+  options.max_delta_interval_s = 80.0;
   YawFusionEstimator estimator(options);
   const int photos = 10;
   const Eigen::Vector3d step(13.0, -2.0, 0.5);  // in the level frame of the previous photo
@@ -38,7 +41,7 @@ TEST(YawFusionPhotoSurvey, HalfTurnsBetweenPhotosAreFusedAndRegistered) {
   std::vector<pose_t> poses;
   auto append = [&](std::vector<pose_t> more) { poses.insert(poses.end(), more.begin(), more.end()); };
   for (int k = 0; k < photos; ++k) {
-    const int64_t t = kStart + k * kPeriod;
+    const int64_t t = photo_time(k);
     altimeter_t a{};
     a.utime = t - 1000;
     a.range_m = 60.0 - truth.back().z();
@@ -57,7 +60,7 @@ TEST(YawFusionPhotoSurvey, HalfTurnsBetweenPhotosAreFusedAndRegistered) {
     truth.push_back(truth.back() + rotation_from_rpy(0, 0, heading(k - 1)) * step);
     vo_delta_t d{};
     d.utime = t;
-    d.prev_utime = t - kPeriod;
+    d.prev_utime = photo_time(k - 1);
     d.dx = step.x();
     d.dy = step.y();
     d.dz = step.z();
@@ -70,7 +73,7 @@ TEST(YawFusionPhotoSurvey, HalfTurnsBetweenPhotosAreFusedAndRegistered) {
   }
   // The last photo's delta waits for INS after it: later sensor time releases it.
   ins_t late{};
-  late.utime = kStart + photos * kPeriod;
+  late.utime = photo_time(photos);
   late.yaw = heading(photos - 1);
   append(estimator.add_ins(late));
 
@@ -79,9 +82,13 @@ TEST(YawFusionPhotoSurvey, HalfTurnsBetweenPhotosAreFusedAndRegistered) {
   EXPECT_EQ(c.ins_yaw_rejected, 0) << c.last_problem;
   EXPECT_EQ(c.vo_deltas_integrated, photos - 1);
   EXPECT_EQ(c.time_jumps_dropped, 0);
+  // The 70 s pause: gap poses were dead-reckoned before photo 6's delta came
+  // (its INS and altimeter come first); the delta replaced them.
+  EXPECT_GT(c.gap_poses, 0);
+  EXPECT_EQ(c.gap_poses_superseded, 1);
   int k = 0;
   for (const pose_t& p : poses) {
-    if (p.utime != kStart + k * kPeriod) continue;  // gap poses between photos, if any
+    if (p.utime != photo_time(k)) continue;  // gap poses between photos, if any
     SCOPED_TRACE("photo " + std::to_string(k));
     EXPECT_EQ(p.flags & pose_t::FLAG_INS_YAW_REJECTED, 0);
     EXPECT_NEAR(angle_difference(p.yaw, heading(k)), 0.0, 1e-9);
