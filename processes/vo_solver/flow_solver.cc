@@ -55,7 +55,7 @@ Estimate solve_flow(const FramePair& pair, const SolverOptions& options) {
   const Eigen::Vector2d median(median_of(xs), median_of(ys));
   for (const auto& t : motion) deviation.push_back((t - median).norm());
   const double metres_per_px = prev_height / options.focal_px;
-  const double threshold = std::max(options.min_threshold_px * metres_per_px,
+  const double threshold = std::max(options.min_threshold_px * options.pixel_scale() * metres_per_px,
                                     options.threshold_mad_scale * 1.4826 * median_of(deviation));
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   int used = 0;

@@ -24,7 +24,7 @@ void SyncOptions::Check() const {
           "in (0, 60 s]");
   require(altimeter_wait_us >= 0 && altimeter_wait_us <= 10000000, "altimeter_wait_us", "in [0, 10 s]");
   require(settle_us >= 0 && settle_us <= 10000000, "settle_us", "in [0, 10 s]");
-  require(max_frame_interval_us > 0 && max_frame_interval_us <= 60000000, "max_frame_interval_us", "in (0, 60 s]");
+  require(max_frame_interval_us > 0 && max_frame_interval_us <= 3600000000LL, "max_frame_interval_us", "in (0, 3600 s]");
   require(max_pending_frames >= 1 && max_pending_frames <= 10000, "max_pending_frames", "in [1, 10000]");
   require(max_ins_samples >= 2 && max_ins_samples <= 1000000, "max_ins_samples", "in [2, 1e6]");
   require(max_altimeter_samples >= 2 && max_altimeter_samples <= 1000000, "max_altimeter_samples", "in [2, 1e6]");

@@ -45,7 +45,7 @@ Estimate solve_homography(const FramePair& pair, const SolverOptions& options) {
   }
   // Maps curr -> prev: X_prev = R X_curr + t with the plane n . X_curr = d in camera curr.
   std::vector<unsigned char> mask;
-  const cv::Mat h = cv::findHomography(curr, prev, cv::RANSAC, options.homography_ransac_px / options.focal_px, mask,
+  const cv::Mat h = cv::findHomography(curr, prev, cv::RANSAC, options.homography_ransac_px * options.pixel_scale() / options.focal_px, mask,
                                        2000, 0.999);
   if (h.empty()) {
     est.quality |= kNotConverged;

@@ -102,7 +102,7 @@ void score_estimate(const FramePair& pair, const SolverOptions& options, int min
   est->outliers = n - est->inliers;
   est->residual_rms_px = est->inliers > 0 ? std::sqrt(sum_sq / est->inliers) : 0.0;
   if (est->inliers < min_inliers) est->quality |= kTooFewFeatures;
-  if (!(est->residual_rms_px <= options.max_residual_rms_px) || est->inliers < options.min_inlier_fraction * n) {
+  if (!(est->residual_rms_px <= options.max_residual_rms_px * options.pixel_scale()) || est->inliers < options.min_inlier_fraction * n) {
     est->quality |= kHighResidual;
   }
 }

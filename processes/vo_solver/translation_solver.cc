@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "common/geometry.h"
 #include "processes/vo_solver/plane_model.h"
 #include "processes/vo_solver/solver_support.h"
 
@@ -39,6 +40,7 @@ void require(bool ok, const std::string& field, const std::string& range) {
 
 void SolverOptions::Check() const {
   require(focal_px > 1 && focal_px < 1e5, "focal_px", "in (1, 1e5)");
+  require(threshold_focal_px > 1 && threshold_focal_px < 1e5, "threshold_focal_px", "in (1, 1e5)");
   require(min_features >= 5 && min_features <= 10000, "min_features", "in [5, 10000]");
   require(max_robust_iterations >= 1 && max_robust_iterations <= 100, "max_robust_iterations", "in [1, 100]");
   require(max_lm_iterations >= 1 && max_lm_iterations <= 100, "max_lm_iterations", "in [1, 100]");
@@ -52,6 +54,8 @@ void SolverOptions::Check() const {
   require(homography_ransac_px > 0 && homography_ransac_px <= 100, "homography_ransac_px", "in (0, 100]");
   layers.Check();
 }
+
+double SolverOptions::pixel_scale() const { return std::max(1.0, focal_px / threshold_focal_px); }
 
 namespace {
 
@@ -198,18 +202,23 @@ void reprojection_errors(const PaperProblem& problem, const Params& p, double dz
   }
 }
 
-// Linear method (eq. 13): tilt 0, yaw linearized; SVD least squares on m x 3.
-bool linear_initialization(const PaperProblem& problem, Params* params) {
+// Linear method (eq. 13): tilt 0, yaw linearized about `dyaw_start` (the INS
+// heading change; DERIVATION.md section 4a): the curr rays are pre-rotated by
+// it, so only the small difference to it is linearized and any turn between
+// the frames, up to +-180 deg, starts near the solution. SVD least squares on m x 3.
+bool linear_initialization(const PaperProblem& problem, double dyaw_start, Params* params) {
   const int m = static_cast<int>(problem.features.size());
   const double d = problem.plane.range_m * problem.plane.beam.z();
+  const double c = std::cos(dyaw_start), s = std::sin(dyaw_start);
   Eigen::MatrixXd a(m, 3);
   Eigen::VectorXd b(m);
   for (int i = 0; i < m; ++i) {
     const LevelFeature& f = problem.features[i];
+    const double vx = c * f.v.x() - s * f.v.y(), vy = s * f.v.x() + c * f.v.y();
     a(i, 0) = -f.u.y();
     a(i, 1) = f.u.x();
-    a(i, 2) = d * (f.u.x() * f.v.x() + f.u.y() * f.v.y());
-    b(i) = -d * (f.u.x() * f.v.y() - f.u.y() * f.v.x());
+    a(i, 2) = d * (f.u.x() * vx + f.u.y() * vy);
+    b(i) = -d * (f.u.x() * vy - f.u.y() * vx);
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const auto& sv = svd.singularValues();
@@ -217,6 +226,7 @@ bool linear_initialization(const PaperProblem& problem, Params* params) {
   const Eigen::Vector3d x = svd.solve(b);
   params->setZero();
   params->head<3>() = x;
+  (*params)(2) += dyaw_start;
   return x.allFinite();
 }
 
@@ -336,18 +346,22 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     params = warm->params;
     if (estimate_tilt) problem.plane.relevel = warm->relevel;
     for (int i = 0; i < m; ++i) w[i] = (*warm->weights)[problem.index[i]];
-  } else if (!linear_initialization(problem, &params)) {
+  } else if (!linear_initialization(problem,
+                                    options.dyaw_start_from_ins ? angle_difference(pair.curr_yaw, pair.prev_yaw) : 0.0,
+                                    &params)) {
     est.quality |= kNotConverged;
     return fit;
   }
   double dz = estimate_dz(problem, params, w, nullptr);
+  const double min_threshold_px = options.min_threshold_px * options.pixel_scale();
+  const double max_threshold_px = options.max_threshold_px * options.pixel_scale();
   for (int outer = 0; outer < options.max_robust_iterations && !fit.degenerate; ++outer) {
     // Line 8: weights from the image reprojection errors (Tukey biweight,
     // zero beyond a threshold that shrinks with the robust spread of the IREs).
     reprojection_errors(problem, params, dz, options.focal_px, &ire);
-    double threshold = std::max(options.min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
+    double threshold = std::max(min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
     const bool capped = outer > 0;
-    if (capped) threshold = std::min(threshold, options.max_threshold_px);
+    if (capped) threshold = std::min(threshold, max_threshold_px);
     int used = 0;
     for (int i = 0; i < m; ++i) {
       const double e = ire[i] / threshold;
@@ -362,7 +376,7 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     const double change = std::max({(params.head<2>() - before.head<2>()).cwiseAbs().maxCoeff() / problem.height,
                                     std::abs(params(2) - before(2)),
                                     (ground_normal(problem.plane, 0, 0) - normal_before).cwiseAbs().maxCoeff()});
-    if (change < options.convergence_tolerance && threshold <= options.max_threshold_px) {
+    if (change < options.convergence_tolerance && threshold <= max_threshold_px) {
       fit.converged = true;
       break;
     }
@@ -391,7 +405,8 @@ Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOp
   const double fitted_dz = estimate_dz(problem, params, w, &dz_variance);
   for (int i = 0; i < m; ++i) est.weights[problem.index[i]] = w[i];
   est.translation = Eigen::Vector3d(params(0), params(1), published_dz ? *published_dz : fitted_dz);
-  est.dyaw = params(2);
+  // The fit's own heading change (started at the INS one), wrapped to (-pi, pi].
+  est.dyaw = wrap_angle(params(2));
   const Eigen::Vector3d normal = ground_normal(problem.plane, 0, 0);
   tilt_from_normal(normal, &est.ground_roll, &est.ground_pitch);
   est.altitude_m = prev_vertical_height(normal, problem.plane.range_m * normal.dot(problem.plane.beam), est.dyaw,

@@ -22,6 +22,11 @@ std::string variant_name(Variant variant);
 struct SolverOptions {
   Variant variant = Variant::kPaper;
   double focal_px = 398.79;            // for image reprojection errors in pixels
+  // The *_px thresholds below are pixels of a camera with this focal length;
+  // a camera with a longer focal length (more pixels per radian: a survey
+  // camera's full-resolution photos) gets them scaled by focal_px / this, so
+  // the same attitude and model errors (angles) stay within them. Never scaled down.
+  double threshold_focal_px = 398.79;
   int min_features = 8;                // below this (before or after the robust fit): flagged
   int max_robust_iterations = 20;      // outer loop of Algorithm 1 (lines 7-20)
   int max_lm_iterations = 4;           // inner loop (lines 9-16), per reweighting
@@ -40,8 +45,14 @@ struct SolverOptions {
   // mean of the forward and the time-reversed pair, which cancels the
   // second-order dz bias of INS levelling noise (DERIVATION.md section 7a).
   bool symmetric_dz = true;
+  // paper / level_ground: the linear start (and so the fit) begins at the INS
+  // heading change curr_yaw - prev_yaw instead of 0, so that any turn between
+  // frames up to +-180 deg is solved; the published dyaw is the fit's own.
+  bool dyaw_start_from_ins = true;
   // Throws std::invalid_argument naming the field and the allowed range.
   void Check() const;
+  // max(1, focal_px / threshold_focal_px): the factor on every *_px threshold.
+  double pixel_scale() const;
 };
 
 // One pair of frames, prev (k-1) and curr (k), with everything measured at
@@ -50,7 +61,8 @@ struct FramePair {
   std::vector<Eigen::Vector2d> prev_norm;  // undistorted normalized camera coordinates
   std::vector<Eigen::Vector2d> curr_norm;
   Eigen::Matrix3d body_from_camera = Eigen::Matrix3d::Identity();
-  double prev_roll = 0, prev_pitch = 0, prev_yaw = 0;  // INS, rad (yaw used only by `flow`)
+  // INS, rad. Yaw: the start of paper / level_ground's heading change, and `flow`'s heading change.
+  double prev_roll = 0, prev_pitch = 0, prev_yaw = 0;
   double curr_roll = 0, curr_pitch = 0, curr_yaw = 0;
   double prev_range_m = 0, curr_range_m = 0;  // altimeter slant ranges along the beam
   Eigen::Vector3d prev_beam_body = Eigen::Vector3d::UnitZ();

@@ -35,6 +35,7 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
     throw c.error("variant", "= '" + variant + "' is not one of paper, level_ground, homography, flow");
   }
   auto& s = o.solver;
+  s.threshold_focal_px = c.get_in_range("threshold_focal_px", s.threshold_focal_px, 1.0, 1e5);
   s.min_features = c.get_in_range("min_features", s.min_features, 5, 10000);
   s.max_robust_iterations = c.get_in_range("max_robust_iterations", s.max_robust_iterations, 1, 100);
   s.max_lm_iterations = c.get_in_range("max_lm_iterations", s.max_lm_iterations, 1, 100);
@@ -54,6 +55,11 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
     throw c.error("dz_mode", "= '" + dz_mode + "' must be symmetric or forward");
   }
   s.symmetric_dz = dz_mode == "symmetric";
+  const std::string dyaw_start = c.get<std::string>("dyaw_start", "ins");
+  if (dyaw_start != "ins" && dyaw_start != "zero") {
+    throw c.error("dyaw_start", "= '" + dyaw_start + "' must be ins or zero");
+  }
+  s.dyaw_start_from_ins = dyaw_start == "ins";
 
   const Config y = c.section_or_empty("sync");
   auto& t = o.sync;
@@ -74,7 +80,7 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
     throw y.error("altimeter_mode", "= '" + altimeter_mode + "' must be latest or interpolate");
   }
   t.altimeter_interpolate = altimeter_mode == "interpolate";
-  t.max_frame_interval_us = ms_to_us(y.get_in_range("max_frame_interval_ms", 250.0, 0.001, 60000.0));
+  t.max_frame_interval_us = ms_to_us(y.get_in_range("max_frame_interval_ms", 250.0, 0.001, 3600000.0));
   t.max_pending_frames = y.get_in_range("max_pending_frames", t.max_pending_frames, 1, 10000);
   t.max_ins_samples = y.get_in_range("max_ins_samples", t.max_ins_samples, 2, 1000000);
   t.max_altimeter_samples = y.get_in_range("max_altimeter_samples", t.max_altimeter_samples, 2, 1000000);

@@ -185,6 +185,11 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
   while (true) {
     if (!pending_.empty()) {
       const vo_delta_t& next = pending_.begin()->second;
+      if (started_ && supersedes_gap_poses(next)) {
+        filter_ = good_filter_;
+        last_frame_utime_ = last_good_utime_;
+        ++counters_.gap_poses_superseded;
+      }
       if (started_ && (next.utime <= last_frame_utime_ || next.prev_utime < last_frame_utime_ - tolerance)) {
         ++counters_.vo_deltas_late;
         note_problem(utime_label("VO_DELTA", next.utime) + "overlaps poses already published, dropped");
@@ -230,6 +235,16 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
     ins_.forget_before(sensor_now_ - kPreStartInsKeepUs);
     altimeter_.forget_before(sensor_now_ - kPreStartInsKeepUs);
   }
+}
+
+bool YawFusionEstimator::supersedes_gap_poses(const vo_delta_t& delta) const {
+  const int64_t tolerance = static_cast<int64_t>(options_.frame_time_tolerance_s * 1e6);
+  // At the camera rate a delta over a gap long enough for gap poses (ins_wait_s)
+  // carries QUALITY_FRAME_GAP from the solver (max_frame_interval_ms): those
+  // keep being dropped, the 14 Hz behaviour is unchanged.
+  return last_good_utime_ < last_frame_utime_ && delta.utime > last_frame_utime_ &&
+         std::abs(delta.prev_utime - last_good_utime_) <= tolerance &&
+         (delta.quality & vo_delta_t::QUALITY_FRAME_GAP) == 0;
 }
 
 bool YawFusionEstimator::resume(int64_t t0) {
@@ -290,6 +305,7 @@ void YawFusionEstimator::start(const vo_delta_t& first, std::vector<pose_t>* out
   last_frame_utime_ = t0;
   last_good_utime_ = t0;
   flags |= update_height(t0, std::numeric_limits<double>::quiet_NaN());
+  good_filter_ = filter_;
   out->push_back(make_pose(t0, flags));
 }
 
@@ -298,8 +314,11 @@ bool YawFusionEstimator::delta_values_valid(const vo_delta_t& delta, std::string
     *why = "non-finite dx/dy/dz/dyaw";
     return false;
   }
-  if (std::abs(delta.dyaw) >= M_PI_2) {
-    *why = "dyaw beyond +-90 deg between frames";
+  // Any heading change between frames is possible (a 180 deg turn between the
+  // photos of a survey); the solver publishes it wrapped to [-180, 180] deg.
+  // The INS rate limits of input_checks judge whether it is plausible.
+  if (std::abs(delta.dyaw) > M_PI + 1e-9) {
+    *why = "dyaw outside [-180, 180] deg (not wrapped)";
     return false;
   }
   Eigen::Matrix4d cov;
@@ -386,6 +405,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     fallback = height_agl_ - world.z();
   }
   flags |= update_height(delta.utime, fallback);
+  good_filter_ = filter_;
   out->push_back(make_pose(delta.utime, flags));
 }
 

@@ -66,6 +66,7 @@ struct YawFusionCounters {
   int64_t gap_bridges = 0;                 // gaps closed by a delta starting after the last pose
   int64_t gap_poses = 0;                   // poses without VO: at the camera rate in a gap, and at
                                            // the first frame of the delta that closes it
+  int64_t gap_poses_superseded = 0;        // gaps whose dead-reckoned poses a late continuous delta replaced
   int64_t time_jumps_dropped = 0;
   int64_t resumed = 0;                     // 1 when the run continued from a checkpoint          // messages far ahead of all sensor time (see max_time_jump_s)
   int64_t poses = 0;
@@ -122,6 +123,11 @@ class YawFusionEstimator {
   // False for a utime far ahead of all sensor time seen, unless the previous
   // such message on the same channel (its candidate) agrees with it.
   bool plausible_time(int64_t utime, int64_t* candidate, const char* channel);
+  // A delta from the last integrated frame, continuous (no frame gap), that
+  // arrives after gap poses were dead-reckoned over its span: the next photo of
+  // a survey later than the camera period. It replaces them (the filter goes
+  // back to the last integrated frame) instead of being dropped as late.
+  bool supersedes_gap_poses(const vo_delta_t& delta) const;
 
   YawFusionOptions options_;
   PoseFilter filter_;
@@ -135,6 +141,7 @@ class YawFusionEstimator {
   bool started_ = false;
   int64_t last_frame_utime_ = 0;   // time of the last published pose (frame or gap)
   int64_t last_good_utime_ = 0;    // time of the last integrated delta (or the origin)
+  PoseFilter good_filter_;         // the filter as published at last_good_utime_
   Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();  // world, over the velocity window
   std::deque<std::pair<int64_t, Eigen::Vector3d>> recent_positions_;  // for the velocity window
   Eigen::Vector3d velocity_out_ = Eigen::Vector3d::Zero();   // published velocity

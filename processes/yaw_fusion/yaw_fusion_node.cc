@@ -78,6 +78,7 @@ class YawFusionNode : public Node {
         {"time_jumps_dropped", static_cast<double>(c.time_jumps_dropped)},
         {"gap_bridges", static_cast<double>(c.gap_bridges)},
         {"gap_poses", static_cast<double>(c.gap_poses)},
+        {"gap_poses_superseded", static_cast<double>(c.gap_poses_superseded)},
         {"yaw_stddev_deg", f.initialised() ? rad_to_deg(std::sqrt(f.yaw_variance())) : 0.0},
         {"position_stddev_h_m",
          f.initialised() ? std::sqrt(f.position_covariance()(0, 0) + f.position_covariance()(1, 1)) : 0.0},

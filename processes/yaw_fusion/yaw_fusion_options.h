@@ -2,6 +2,7 @@
 // Options of the yaw fusion process (config section `yaw_fusion:`), each
 // documented where it is read. Check() throws ConfigError naming the key.
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 
@@ -70,7 +71,11 @@ struct YawFusionOptions {
 
   int64_t ins_wait_us() const { return static_cast<int64_t>(ins_wait_s * 1e6); }
   int64_t altimeter_wait_us() const { return static_cast<int64_t>(altimeter_wait_s * 1e6); }
-  int64_t max_time_jump_us() const { return static_cast<int64_t>(max_time_jump_s * 1e6); }
+  // At least max_delta_interval_s: a frame that long after the last one (a
+  // photo survey's next photo) is a plausible step of sensor time, not a jump.
+  int64_t max_time_jump_us() const {
+    return static_cast<int64_t>(std::max(max_time_jump_s, max_delta_interval_s) * 1e6);
+  }
   int64_t frame_period_us() const { return static_cast<int64_t>(1e6 / frame_rate_hz); }
 };
 

@@ -15,7 +15,8 @@ namespace {
 using nadir::deg_to_rad;
 using namespace nadir::vo;
 
-std::vector<FramePair> make_pairs(double noise_px, double outliers) {
+// `turn_deg`: heading change between the frames (a photo survey's half turn: 180).
+std::vector<FramePair> make_pairs(double noise_px, double outliers, double turn_deg = 1.0) {
   std::vector<FramePair> pairs;
   for (uint32_t seed = 1; seed <= 16; ++seed) {
     testing::SceneSpec s;
@@ -27,7 +28,7 @@ std::vector<FramePair> make_pairs(double noise_px, double outliers) {
     s.prev_yaw = deg_to_rad(30.0);
     s.curr_roll = deg_to_rad(5.0);
     s.curr_pitch = deg_to_rad(-2.5);
-    s.curr_yaw = deg_to_rad(31.0);
+    s.curr_yaw = deg_to_rad(30.0 + turn_deg);
     s.translation = Eigen::Vector3d(2.1, -0.3, -0.2);
     s.num_features = 450;
     s.noise_px = noise_px;
@@ -38,8 +39,9 @@ std::vector<FramePair> make_pairs(double noise_px, double outliers) {
   return pairs;
 }
 
-void run(benchmark::State& state, Variant variant, double noise_px, double outliers, bool symmetric_dz = true) {
-  const std::vector<FramePair> pairs = make_pairs(noise_px, outliers);
+void run(benchmark::State& state, Variant variant, double noise_px, double outliers, bool symmetric_dz = true,
+         double turn_deg = 1.0) {
+  const std::vector<FramePair> pairs = make_pairs(noise_px, outliers, turn_deg);
   SolverOptions options;
   options.variant = variant;
   options.symmetric_dz = symmetric_dz;
@@ -58,6 +60,8 @@ void BM_Paper_NoiseFree(benchmark::State& s) { run(s, Variant::kPaper, 0.0, 0.0)
 void BM_Paper_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kPaper, 0.5, 0.3); }
 // Without the time-reversed solve of the symmetric dz: what it costs.
 void BM_Paper_Noise05px_Outliers30_ForwardDz(benchmark::State& s) { run(s, Variant::kPaper, 0.5, 0.3, false); }
+// A half turn between the frames, started at the INS heading change.
+void BM_Paper_Noise05px_Outliers30_HalfTurn(benchmark::State& s) { run(s, Variant::kPaper, 0.5, 0.3, true, 180.0); }
 void BM_LevelGround_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kLevelGround, 0.5, 0.3); }
 void BM_Homography_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kHomography, 0.5, 0.3); }
 void BM_Flow_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kFlow, 0.5, 0.3); }
@@ -65,6 +69,7 @@ void BM_Flow_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kFlow, 
 BENCHMARK(BM_Paper_NoiseFree)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Paper_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Paper_Noise05px_Outliers30_ForwardDz)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Paper_Noise05px_Outliers30_HalfTurn)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_LevelGround_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Homography_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Flow_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);

@@ -70,6 +70,31 @@ struct Sequence {
   std::map<int64_t, Eigen::Vector3d> truth;  // translation per curr frame utime
 };
 
+// TRACKS of frame k at t (612x512) whose previous frame was at `prev` (none for k = 0).
+tracks_t tracks_header(int k, int64_t t, int64_t prev) {
+  tracks_t m{};
+  m.utime = t;
+  m.prev_utime = k == 0 ? 0 : prev;
+  m.frame_counter = k;
+  m.width = 612;
+  m.height = 512;
+  m.flags = k == 0 ? tracks_t::FLAG_FIRST_FRAME : 0;
+  return m;
+}
+
+// The scene's matches as TRACKS (normalized coordinates only).
+void add_tracks(const vo::testing::Scene& scene, tracks_t* m) {
+  m->num_tracks = static_cast<int32_t>(scene.pair.prev_norm.size());
+  for (int i = 0; i < m->num_tracks; ++i) {
+    m->track_id.push_back(i);
+    m->age.push_back(1);
+    m->prev_px.push_back({0.f, 0.f});
+    m->curr_px.push_back({0.f, 0.f});
+    m->prev_norm.push_back({scene.pair.prev_norm[i].x(), scene.pair.prev_norm[i].y()});
+    m->curr_norm.push_back({scene.pair.curr_norm[i].x(), scene.pair.curr_norm[i].y()});
+  }
+}
+
 // `frames` frames over level ground at 200 m, INS at 100 Hz, altimeter at
 // 20 Hz until `altimeter_until` (sensor time).
 Sequence make_sequence(int frames, int64_t altimeter_until) {
@@ -95,13 +120,7 @@ Sequence make_sequence(int frames, int64_t altimeter_until) {
   const Eigen::Vector3d velocity_world(20.0, 5.0, 0.0);
   for (int k = 0; k < frames; ++k) {
     const int64_t t = kStart + k * kFramePeriod, tp = t - kFramePeriod;
-    tracks_t m{};
-    m.utime = t;
-    m.prev_utime = k == 0 ? 0 : tp;
-    m.frame_counter = k;
-    m.width = 612;
-    m.height = 512;
-    m.flags = k == 0 ? tracks_t::FLAG_FIRST_FRAME : 0;
+    tracks_t m = tracks_header(k, t, tp);
     if (k > 0) {
       vo::testing::SceneSpec s;
       s.height_m = 200.0;
@@ -118,15 +137,7 @@ Sequence make_sequence(int frames, int64_t altimeter_until) {
       s.seed = static_cast<uint32_t>(k);
       const vo::testing::Scene scene = vo::testing::make_scene(s);
       seq.truth[t] = scene.translation;
-      m.num_tracks = static_cast<int32_t>(scene.pair.prev_norm.size());
-      for (int i = 0; i < m.num_tracks; ++i) {
-        m.track_id.push_back(i);
-        m.age.push_back(1);
-        m.prev_px.push_back({0.f, 0.f});
-        m.curr_px.push_back({0.f, 0.f});
-        m.prev_norm.push_back({scene.pair.prev_norm[i].x(), scene.pair.prev_norm[i].y()});
-        m.curr_norm.push_back({scene.pair.curr_norm[i].x(), scene.pair.curr_norm[i].y()});
-      }
+      add_tracks(scene, &m);
     }
     seq.events.push_back(encode(t + 40000, channels::kTracks, m));  // tracker latency
   }
@@ -329,6 +340,29 @@ vo_solver: {variant: ransac}
 
 void lockstep_replay_equals_live_run(const std::string& yaml);
 
+// The node on the lockstep ReplayBus (nadir_replay's), the events in log
+// (sensor time) order; the encoded VO_DELTA by utime.
+std::map<int64_t, std::vector<uint8_t>> lockstep_replay(const Sequence& seq, const std::string& yaml) {
+  ReplayBus bus(nullptr);
+  const Config config = Config::parse(yaml, "node test");
+  std::unique_ptr<Node> node = make_vo_solver_node(config, bus);
+  std::map<int64_t, std::vector<uint8_t>> replayed;
+  bus.subscribe_raw(channels::kVoDelta, [&](const std::string&, const uint8_t* data, size_t size) {
+    int64_t utime = 0;
+    EXPECT_TRUE(encoded_utime(data, size, &utime));
+    replayed[utime] = std::vector<uint8_t>(data, data + size);
+  });
+  std::vector<Event> log_order = seq.events;
+  std::stable_sort(log_order.begin(), log_order.end(), [](const Event& a, const Event& b) {
+    int64_t ua = 0, ub = 0;
+    encoded_utime(a.bytes.data(), a.bytes.size(), &ua);
+    encoded_utime(b.bytes.data(), b.bytes.size(), &ub);
+    return ua < ub;
+  });
+  for (const Event& e : log_order) bus.deliver(e.channel, e.bytes.data(), e.bytes.size());
+  return replayed;
+}
+
 TEST(VoSolverNode, LockstepReplayEqualsLiveRun) {
   // The replay bus delivers in log (sensor) order; the live run got the
   // channels interleaved by transport delays. Same VO_DELTA bytes.
@@ -341,23 +375,7 @@ TEST(VoSolverNode, LockstepReplayEqualsLiveRun) {
 void lockstep_replay_equals_live_run(const std::string& yaml) {
   const Sequence seq = make_sequence(30, INT64_MAX);
   const RunResult live = run(interleaved(seq.events, 99), yaml);
-  ReplayBus bus(nullptr);
-  const Config config = Config::parse(yaml, "node test");
-  std::unique_ptr<Node> node = make_vo_solver_node(config, bus);
-  std::map<int64_t, std::vector<uint8_t>> replayed;
-  bus.subscribe_raw(channels::kVoDelta, [&](const std::string&, const uint8_t* data, size_t size) {
-    int64_t utime = 0;
-    ASSERT_TRUE(encoded_utime(data, size, &utime));
-    replayed[utime] = std::vector<uint8_t>(data, data + size);
-  });
-  std::vector<Event> log_order = seq.events;
-  std::stable_sort(log_order.begin(), log_order.end(), [](const Event& a, const Event& b) {
-    int64_t ua = 0, ub = 0;
-    encoded_utime(a.bytes.data(), a.bytes.size(), &ua);
-    encoded_utime(b.bytes.data(), b.bytes.size(), &ub);
-    return ua < ub;
-  });
-  for (const Event& e : log_order) bus.deliver(e.channel, e.bytes.data(), e.bytes.size());
+  const std::map<int64_t, std::vector<uint8_t>> replayed = lockstep_replay(seq, yaml);
   ASSERT_EQ(replayed.size(), 30u);
   EXPECT_EQ(replayed, live.encoded);
 }
@@ -421,6 +439,98 @@ TEST(VoSolverNode, NoAltimeterAndFrameGapAreFlagged) {
     EXPECT_EQ(d.quality, utime == gap_frame ? vo_delta_t::QUALITY_FRAME_GAP : 0) << utime;
     EXPECT_NEAR(d.dx, seq.truth.at(utime).x(), 0.1);
   }
+}
+
+}  // namespace
+}  // namespace nadir
+
+namespace nadir {
+namespace {
+
+// A photo survey through the node: one photo every 5 s, INS samples at the
+// photo's attitude 1 ms before and after it, the altimeter 1 ms before it (as
+// nadir_import publishes them), a half turn between photos 3 and 4 and a
+// quarter turn between 6 and 7. The config carries what an importer sets for
+// such a stream (frame interval, input_checks time limits).
+const char* kSurveyConfig = R"(
+camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5, mount_rpy_deg: [0, 0, 0]}
+altimeter: {beam_body: [0, 0, 1]}
+input_checks: {max_ahead_s: 30, max_behind_s: 30}
+vo_solver:
+  variant: paper
+  sync: {max_frame_interval_ms: 20000}
+)";
+
+constexpr int64_t kPhotoPeriod = 5000000;
+
+double survey_yaw(int k) { return wrap_angle(deg_to_rad(30.0) + (k >= 4 ? M_PI : 0.0) + (k >= 7 ? -M_PI_2 : 0.0)); }
+double survey_roll(int k) { return deg_to_rad(2.0 * std::sin(k)); }
+double survey_pitch(int k) { return deg_to_rad(-1.5 * std::cos(0.7 * k)); }
+
+Sequence make_survey(int photos) {
+  Sequence seq;
+  for (int k = 0; k < photos; ++k) {
+    const int64_t t = kStart + k * kPhotoPeriod;
+    for (int64_t dt : {-1000, 1000}) {
+      ins_t m{};
+      m.utime = t + dt;
+      m.roll = survey_roll(k);
+      m.pitch = survey_pitch(k);
+      m.yaw = survey_yaw(k);
+      seq.events.push_back(encode(m.utime + 100, channels::kIns, m));
+    }
+    altimeter_t a{};
+    a.utime = t - 1000;
+    a.range_m = 60.0 / (std::cos(survey_roll(k)) * std::cos(survey_pitch(k)));
+    a.beam_body[2] = 1.0;
+    a.signal_quality = 1.0f;
+    a.validity = altimeter_t::VALID_OK;
+    seq.events.push_back(encode(a.utime + 100, channels::kAltimeter, a));
+    tracks_t m = tracks_header(k, t, t - kPhotoPeriod);
+    if (k > 0) {
+      vo::testing::SceneSpec s;
+      s.height_m = 60.0;
+      s.prev_roll = survey_roll(k - 1);
+      s.prev_pitch = survey_pitch(k - 1);
+      s.prev_yaw = survey_yaw(k - 1);
+      s.curr_roll = survey_roll(k);
+      s.curr_pitch = survey_pitch(k);
+      s.curr_yaw = survey_yaw(k);
+      // 12 m along the previous heading, 3 m to its right.
+      s.translation = Eigen::Vector3d(12.0, 3.0, 0.0);
+      s.num_features = 80;
+      s.seed = static_cast<uint32_t>(k);
+      const vo::testing::Scene scene = vo::testing::make_scene(s);
+      seq.truth[t] = scene.translation;
+      add_tracks(scene, &m);
+    }
+    seq.events.push_back(encode(t + 300000, channels::kTracks, m));  // descriptor matching takes a while
+  }
+  return seq;
+}
+
+TEST(VoSolverNode, PhotoSurveyWithHalfTurnsBetweenPhotos) {
+  const int photos = 10;
+  const Sequence seq = make_survey(photos);
+  const RunResult live = run(in_arrival_order(seq.events), kSurveyConfig);
+  ASSERT_EQ(live.deltas.size(), static_cast<size_t>(photos));
+  for (const auto& [utime, d] : live.deltas) {
+    if (utime == kStart) continue;
+    const int k = static_cast<int>((utime - kStart) / kPhotoPeriod);
+    SCOPED_TRACE("photo " + std::to_string(k));
+    EXPECT_EQ(d.quality, 0);
+    const Eigen::Vector3d& t = seq.truth.at(utime);
+    EXPECT_NEAR(d.dx, t.x(), 1e-6 * t.norm());
+    EXPECT_NEAR(d.dy, t.y(), 1e-6 * t.norm());
+    EXPECT_NEAR(d.dz, t.z(), 1e-6 * t.norm());
+    EXPECT_NEAR(angle_difference(d.dyaw, angle_difference(survey_yaw(k), survey_yaw(k - 1))), 0.0, 1e-6);
+  }
+  EXPECT_NEAR(std::abs(live.deltas.at(kStart + 4 * kPhotoPeriod).dyaw), M_PI, 1e-6);
+  EXPECT_EQ(live.status.dropped, 0);
+
+  // The lockstep replay bus (nadir_replay's) gives the same bytes.
+  const std::map<int64_t, std::vector<uint8_t>> replayed = lockstep_replay(seq, kSurveyConfig);
+  EXPECT_EQ(replayed, live.encoded);
 }
 
 }  // namespace
