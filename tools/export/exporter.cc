@@ -213,7 +213,7 @@ VideoExportResult export_video(const SimLog& log, const std::string& video_path,
   VideoExportResult result;
   result.fps = log.camera().rate_hz / options.every;
   cv::VideoWriter video(video_path, cv::CAP_OPENCV_MJPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), result.fps,
-                        cv::Size(turned.width, turned.height), false);
+                        cv::Size(turned.width, turned.height), true);
   if (!video.isOpened()) throw std::runtime_error(video_path + ": cannot open an MJPG AVI for writing");
   std::ofstream srt(srt_path);
   if (!srt) throw std::runtime_error(srt_path + ": cannot write the SRT");
@@ -231,7 +231,11 @@ VideoExportResult export_video(const SimLog& log, const std::string& video_path,
   for (size_t i = 0; i < images.size(); i += static_cast<size_t>(options.every)) {
     progress.update(static_cast<double>(i));
     const SimImageRef& ref = images[i];
-    video.write(turn_to_dji(sim_frame(log, ref)));
+    // OpenCV 4.6's own MJPEG encoder writes broken single-channel frames:
+    // grey goes in as three equal channels.
+    cv::Mat frame;
+    cv::cvtColor(turn_to_dji(sim_frame(log, ref)), frame, cv::COLOR_GRAY2BGR);
+    video.write(frame);
     const PhotoMetadata m = frame_metadata(log, turned, ref.utime, options.attitude, 0.0);
     if (result.frames == 0) result.first_utime = ref.utime;
     const int64_t from_ms = (ref.utime - result.first_utime + 500) / 1000;
