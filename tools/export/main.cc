@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
   photos->add_flag("--json", json, "print a machine-readable summary on stdout");
 
   nadir::exporter::VideoExportOptions video;
-  std::string video_path, srt_path, csv_path;
+  std::string video_path, srt_path, csv_path, calibration_path;
   CLI::App* vid = app.add_subcommand(
       "video", "MJPG AVI + DJI-style SRT per frame (+ CSV: time_s since the first frame, body attitude, height above "
                "take-off, GPS)");
@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
   vid->add_option("--out", video_path, "video file (.avi, MJPG)")->required();
   vid->add_option("--srt", srt_path, "DJI-style subtitle file")->required();
   vid->add_option("--csv", csv_path, "generic telemetry CSV (optional)");
+  vid->add_option("--camera", calibration_path, "also write the frames' OpenCV calibration file (camera.yaml)");
   vid->add_option("--every", video.every, "every Nth camera frame (default 1)");
   vid->add_option("--attitude", attitude, "truth (default) or ins");
   vid->add_flag("--json", json, "print a machine-readable summary on stdout");
@@ -135,6 +136,9 @@ int main(int argc, char** argv) {
       video.attitude = nadir::exporter::parse_attitude_source(attitude);
       video.progress = nadir::stderr_is_terminal();
       const auto r = nadir::exporter::export_video(*log, video_path, srt_path, csv_path, video);
+      if (!calibration_path.empty()) {
+        nadir::exporter::write_calibration(nadir::exporter::turned_camera(log->camera()), calibration_path);
+      }
       if (json) {
         nadir::JsonWriter j;
         j.begin_object()
