@@ -3,6 +3,7 @@
 // back through libexiv2.
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
+#include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -243,6 +244,83 @@ TEST_F(ExportTest, NoPhotoInTheTurnAndTheTurnPairOverlaps) {
     }
   }
   EXPECT_EQ(turn_pairs, 1);
+}
+
+// North, east (m) of `b` from `a` on the WGS84 ellipsoid (local radii at a).
+Eigen::Vector2d gps_offset(const PhotoMetadata& a, const PhotoMetadata& b) {
+  const double lat = deg_to_rad(a.latitude_deg), e2 = 6.69437999014e-3, r = 6378137.0;
+  const double w = 1.0 - e2 * std::sin(lat) * std::sin(lat);
+  const double r_n = r / std::sqrt(w), r_m = r * (1.0 - e2) / (w * std::sqrt(w));
+  return {deg_to_rad(b.latitude_deg - a.latitude_deg) * (r_m + a.altitude_m),
+          deg_to_rad(b.longitude_deg - a.longitude_deg) * (r_n + a.altitude_m) * std::cos(lat)};
+}
+
+// The photos alone (JPEG pixels, camera.yaml, GPS, gimbal angles, relative
+// altitude) explain the image motion between consecutive photos, on the
+// lines and across the 180 deg turn: ORB matches (homography-consistent)
+// land where the metadata put their ground points, to a few pixels.
+TEST_F(ExportTest, MetadataExplainsTheImageMotionBetweenPhotos) {
+  const std::string out = dir_->file("photos_motion");
+  const PhotoExportResult result = export_photos(*log_, out, PhotoExportOptions());
+  cv::FileStorage file(result.camera_file, cv::FileStorage::READ);
+  cv::Mat k, d;
+  file["camera_matrix"] >> k;
+  file["distortion_coefficients"] >> d;
+  const cv::Ptr<cv::ORB> orb = cv::ORB::create(1500);
+  const cv::BFMatcher matcher(cv::NORM_HAMMING, true);
+  bool saw_turn = false;
+  for (size_t i = 1; i < result.photos.size(); ++i) {
+    SCOPED_TRACE(result.photos[i].file);
+    const PhotoMetadata a = read_photo_metadata(out + "/" + result.photos[i - 1].file);
+    const PhotoMetadata b = read_photo_metadata(out + "/" + result.photos[i].file);
+    std::vector<cv::KeyPoint> ka, kb;
+    cv::Mat da, db;
+    orb->detectAndCompute(cv::imread(out + "/" + result.photos[i - 1].file, cv::IMREAD_GRAYSCALE), cv::noArray(), ka, da);
+    orb->detectAndCompute(cv::imread(out + "/" + result.photos[i].file, cv::IMREAD_GRAYSCALE), cv::noArray(), kb, db);
+    std::vector<cv::DMatch> matches;
+    matcher.match(da, db, matches);
+    std::vector<cv::Point2f> pa, pb;
+    for (const cv::DMatch& m : matches) {
+      pa.push_back(ka[static_cast<size_t>(m.queryIdx)].pt);
+      pb.push_back(kb[static_cast<size_t>(m.trainIdx)].pt);
+    }
+    ASSERT_GE(pa.size(), 8u);
+    std::vector<uchar> inlier;
+    cv::findHomography(pa, pb, cv::RANSAC, 4.0, inlier);
+    // A's ground points: rays from A's pose to the ground plane below A
+    // (height above ground = relative altitude - terrain at the take-off datum, from the truth).
+    const ground_truth_t& truth_a = log_->truth_for_frame(result.photos[i - 1].utime);
+    const double ground_z = -truth_a.terrain_height_m;
+    const Eigen::Matrix3d ra = camera_attitude_from_gimbal(a.gimbal), rb = camera_attitude_from_gimbal(b.gimbal);
+    const Eigen::Vector3d pos_a(0, 0, -a.relative_altitude_m);
+    const Eigen::Vector2d ne = gps_offset(a, b);
+    const Eigen::Vector3d pos_b(ne.x(), ne.y(), -b.relative_altitude_m);
+    std::vector<cv::Point2f> used_a, used_b;
+    for (size_t j = 0; j < pa.size(); ++j) {
+      if (inlier[j]) {
+        used_a.push_back(pa[j]);
+        used_b.push_back(pb[j]);
+      }
+    }
+    ASSERT_GE(used_a.size(), 30u);
+    std::vector<cv::Point2f> rays;
+    cv::undistortPoints(used_a, rays, k, d);
+    std::vector<cv::Point3d> in_b;
+    for (const cv::Point2f& n : rays) {
+      const Eigen::Vector3d ray = ra * Eigen::Vector3d(n.x, n.y, 1.0);
+      const Eigen::Vector3d ground = pos_a + ray * ((ground_z - pos_a.z()) / ray.z());
+      const Eigen::Vector3d c = rb.transpose() * (ground - pos_b);
+      in_b.emplace_back(c.x(), c.y(), c.z());
+    }
+    std::vector<cv::Point2d> predicted;
+    cv::projectPoints(in_b, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k, d, predicted);
+    std::vector<double> errors;
+    for (size_t j = 0; j < predicted.size(); ++j) errors.push_back(cv::norm(predicted[j] - cv::Point2d(used_b[j])));
+    std::nth_element(errors.begin(), errors.begin() + static_cast<long>(errors.size() / 2), errors.end());
+    EXPECT_LT(errors[errors.size() / 2], 3.0) << used_a.size() << " matches";
+    if (std::fabs(result.photos[i].heading_change_deg) > 170.0) saw_turn = true;
+  }
+  EXPECT_TRUE(saw_turn);
 }
 
 TEST(FootprintOverlap, SquaresShiftedByAQuarter) {
