@@ -23,43 +23,50 @@ max_error_pct="${NADIR_ROUNDTRIP_MAX_ERROR_PCT:-2.0}"
 nadir_sim --profile survey --seed "$seed" --out "$work/sim.lcmlog" >/dev/null 2>"$work/sim.txt" ||
   { cat "$work/sim.txt"; fail "nadir_sim failed"; }
 
-# VO_DELTA of the pair (PREV_UTIME, UTIME) +- 2 ms in a replay log: "quality inliers dyaw_deg",
+# VO_DELTA of the pair of frames K-1, K (0-based, in the order of the CAMERA_IMAGE messages of
+# the imported log $2) in the replay log $1: "quality inliers dyaw_deg" ("none 0 0" if absent),
 # read straight from the lcm-logger format (no LCM Python bindings on Debian).
 vo_delta_of_pair() {
   python3 - "$1" "$2" "$3" <<'PY'
 import math, struct, sys
-path, prev_utime, utime = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-data = open(path, "rb").read()
-pos, found = 0, None
-while pos + 28 <= len(data):
-    sync, _, _, clen, dlen = struct.unpack_from(">IqqII", data, pos)
-    if sync != 0xEDA1DA01:
-        sys.exit(f"{path}: byte {pos}: no sync word")
-    channel = data[pos + 28:pos + 28 + clen].decode()
-    body = data[pos + 28 + clen:pos + 28 + clen + dlen]
-    pos += 28 + clen + dlen
+
+def events(path):
+    data = open(path, "rb").read()
+    pos = 0
+    while pos + 28 <= len(data):
+        sync, _, _, clen, dlen = struct.unpack_from(">IqqII", data, pos)
+        if sync != 0xEDA1DA01:
+            sys.exit(f"{path}: byte {pos}: no sync word")
+        yield data[pos + 28:pos + 28 + clen].decode(), data[pos + 28 + clen:pos + 28 + clen + dlen]
+        pos += 28 + clen + dlen
+
+replay, imported, k = sys.argv[1], sys.argv[2], int(sys.argv[3])
+# image_t and vo_delta_t: an 8-byte fingerprint, then utime (int64).
+frames = [struct.unpack_from(">q", body, 8)[0] for channel, body in events(imported) if channel == "CAMERA_IMAGE"]
+if k >= len(frames):
+    sys.exit(f"{imported}: {len(frames)} frames, no frame {k}")
+found = None
+for channel, body in events(replay):
     if channel != "VO_DELTA":
         continue
-    # vo_delta_t: fingerprint, utime, prev_utime, dx dy dz dyaw ground_roll ground_pitch,
-    # covariance[6][6], altitude_m, inliers, outliers, residual_rms_px, iterations, quality
+    # vo_delta_t: utime, prev_utime, dx dy dz dyaw ground_roll ground_pitch, covariance[6][6],
+    # altitude_m, inliers, outliers, residual_rms_px, iterations, quality
     u, p = struct.unpack_from(">qq", body, 8)
-    dyaw = struct.unpack_from(">d", body, 48)[0]
-    inliers, = struct.unpack_from(">i", body, 368)
-    quality, = struct.unpack_from(">i", body, 388)
-    if abs(u - utime) <= 2000 and abs(p - prev_utime) <= 2000:
+    if u == frames[k] and p == frames[k - 1]:
+        dyaw, = struct.unpack_from(">d", body, 48)
+        inliers, = struct.unpack_from(">i", body, 368)
+        quality, = struct.unpack_from(">i", body, 388)
         found = (quality, inliers, math.degrees(dyaw))
-if found is None:
-    print("none 0 0")
-else:
-    print("%d %d %.2f" % found)
+print("none 0 0" if found is None else "%d %d %.2f" % found)
 PY
 }
 
-# Runs import (args after $1) -> replay -> eval for one export in $work/$1, checks the figures.
+# Runs nadir_import (the arguments after $1; it writes OUT.lcmlog + OUT.yaml for --out OUT) -> replay ->
+# eval for one export in $work/$1, and checks the figures.
 roundtrip() {
   local name="$1"; shift
   local dir="$work/$name"
-  nadir_import "$@" --out "$dir/import.lcmlog" >"$dir/import.txt" 2>&1 ||
+  nadir_import "$@" --out "$dir/import" --json >"$dir/import.json" 2>"$dir/import.txt" ||
     { cat "$dir/import.txt"; fail "($name) nadir_import failed"; }
   [ -s "$dir/import.yaml" ] || fail "($name) nadir_import wrote no $dir/import.yaml"
   nadir_replay --in "$dir/import.lcmlog" --out "$dir/replay.lcmlog" --nodes tracker,vo_solver,yaw_fusion \
@@ -82,28 +89,27 @@ PY
 mkdir -p "$work/photos"
 nadir_export photos --in "$work/sim.lcmlog" --out "$work/photos/survey" --json >"$work/photos/export.json" ||
   fail "nadir_export photos failed"
-read -r photos turn_prev turn_utime turn_dyaw turn_overlap < <(python3 - "$work/photos/export.json" <<'PY'
+read -r photos turn_index turn_dyaw turn_overlap < <(python3 - "$work/photos/export.json" <<'PY'
 import json, sys
-e = json.load(open(sys.argv[1]))
-p = e["photos"]
-turn = [(a, b) for a, b in zip(p, p[1:]) if abs(b["heading_change_deg"]) > 170]
-a, b = turn[0] if turn else ({"utime": 0}, {"utime": 0, "heading_change_deg": 0, "overlap_with_previous": 0})
-print(len(p), a["utime"], b["utime"], b["heading_change_deg"], b["overlap_with_previous"])
+p = json.load(open(sys.argv[1]))["photos"]
+turn = [k for k in range(1, len(p)) if abs(p[k]["heading_change_deg"]) > 170]
+k = turn[0] if turn else 0
+print(len(p), k, p[k]["heading_change_deg"], p[k]["overlap_with_previous"])
 PY
 )
-echo "(photos) $photos photos; pair across the turn: heading change $turn_dyaw deg, overlap $turn_overlap"
-[ "$turn_utime" != 0 ] || fail "(photos) no consecutive photos across a 180 deg turn"
-roundtrip photos photos --dir "$work/photos/survey" --camera "$work/photos/survey/camera.yaml"
-read -r quality inliers dyaw < <(vo_delta_of_pair "$work/photos/replay.lcmlog" "$turn_prev" "$turn_utime")
+echo "(photos) $photos photos; pair $turn_index across the turn: heading change $turn_dyaw deg, overlap $turn_overlap"
+[ "$turn_index" != 0 ] || fail "(photos) no consecutive photos across a 180 deg turn"
+roundtrip photos --photos "$work/photos/survey" --camera "$work/photos/survey/camera.yaml"
+read -r quality inliers dyaw < <(vo_delta_of_pair "$work/photos/replay.lcmlog" "$work/photos/import.lcmlog" "$turn_index")
 echo "(photos) VO_DELTA across the turn: quality $quality, $inliers inliers, dyaw $dyaw deg"
 [ "$quality" = 0 ] && [ "$inliers" -gt 0 ] || fail "(photos) the pair across the turn is not solved"
 
 # Video + SRT (every 7th frame: 2 Hz), when the importer has a video mode.
-if nadir_import video --help >/dev/null 2>&1; then
+if nadir_import --help 2>&1 | grep -q -- '--srt'; then
   mkdir -p "$work/video"
   nadir_export video --in "$work/sim.lcmlog" --out "$work/video/flight.avi" --srt "$work/video/flight.SRT" \
     --camera "$work/video/camera.yaml" --every 7 >/dev/null || fail "nadir_export video failed"
-  roundtrip video video --video "$work/video/flight.avi" --srt "$work/video/flight.SRT" \
+  roundtrip video --video "$work/video/flight.avi" --srt "$work/video/flight.SRT" \
     --camera "$work/video/camera.yaml"
 else
   echo "(video) nadir_import has no video mode: skipped"
