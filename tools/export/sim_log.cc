@@ -38,13 +38,14 @@ size_t nearest(const std::vector<T>& v, int64_t utime) {
 std::unique_ptr<SimLog> SimLog::load(const std::string& path) {
   std::unique_ptr<SimLog> log(new SimLog(path));
   bool have_config = false;
+  std::string other_configs;  // names of CONFIGs from other processes (a replay's output passes the sim's on)
   LogEvent e;
   while (log->reader_.next(&e)) {
     if (e.channel == channels::kConfig && !have_config) {
       const config_t config = decode<config_t>(e, path);
       if (config.name != "sim") {
-        throw std::runtime_error(at(path, e.offset) + "CONFIG comes from '" + config.name +
-                                 "', not nadir_sim: export needs a simulator log");
+        other_configs += (other_configs.empty() ? "'" : ", '") + config.name + "'";
+        continue;
       }
       const Config root = Config::parse(config.yaml, path + " (CONFIG at byte " + std::to_string(e.offset) + ")");
       if (!root.has("camera")) {
@@ -65,9 +66,13 @@ std::unique_ptr<SimLog> SimLog::load(const std::string& path) {
       if (truth.kind == ground_truth_t::KIND_FRAME) log->frame_truth_.push_back(truth);
     }
   }
-  const std::string damage = log->reader_.corrupt_records() > 0 ? " (" + log->reader_.damage_report() + ")" : "";
+  std::string damage = log->reader_.corrupt_records() > 0 ? log->reader_.damage_report() : "";
+  while (!damage.empty() && damage.back() == '\n') damage.pop_back();
+  if (!damage.empty()) damage = " (" + damage + ")";
   if (!have_config) {
-    throw std::runtime_error(path + ": no CONFIG record from nadir_sim (not a simulator log?)" + damage);
+    const std::string others = other_configs.empty() ? "" : ", only from " + other_configs;
+    throw std::runtime_error(path + ": no CONFIG record from nadir_sim" + others +
+                             ": export needs a simulator log" + damage);
   }
   if (log->images_.empty()) throw std::runtime_error(path + ": no CAMERA_IMAGE in the log" + damage);
   if (log->ins_.size() < 2) throw std::runtime_error(path + ": fewer than two INS messages in the log" + damage);

@@ -471,7 +471,7 @@ TEST(ExportInput, ConfigWithoutCameraOrFromAnotherProcess) {
   expect_load_error(no_camera, "no camera");
   const std::string replay = dir.file("replay.lcmlog");
   write_config(replay, "replay", "name: replay\n");
-  expect_load_error(replay, "not nadir_sim");
+  expect_load_error(replay, "no CONFIG record from nadir_sim, only from 'replay'");
 }
 
 TEST(ExportOptions, CheckNamesTheOption) {
