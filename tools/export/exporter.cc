@@ -258,7 +258,13 @@ VideoExportResult export_video(const SimLog& log, const std::string& video_path,
                   m.gimbal.pitch_deg, m.gimbal.roll_deg, m.flight.yaw_deg, m.flight.pitch_deg, m.flight.roll_deg);
     srt << line;
     double range = 0.0;
-    if (log.range_before(ref.utime, max_range_age_us, &range)) {
+    if (options.range) {
+      // A telemetry stream either has ranges or has not: a frame without one is an error.
+      if (!log.range_near(ref.utime, max_range_age_us, &range)) {
+        throw std::runtime_error(log.path() + ": no valid altimeter range within " +
+                                 std::to_string(options.max_range_age_s) + " s of the frame at utime " +
+                                 std::to_string(ref.utime) + " (use --no-range)");
+      }
       std::snprintf(line, sizeof(line), " [range: %.3f]", range);
       srt << line;
       ++result.frames_with_range;

@@ -35,7 +35,8 @@ struct PhotoExportOptions {
 struct VideoExportOptions {
   int every = 1;                   // every Nth camera frame becomes a video frame
   AttitudeSource attitude = AttitudeSource::kTruth;
-  double max_range_age_s = 0.2;    // SRT [range:] only from an altimeter return this recent
+  double max_range_age_s = 0.2;    // SRT [range:] from the nearest altimeter return this close in time
+  bool range = true;               // write [range:] (every frame has one, or the export fails)
   bool progress = false;
   void Check() const;
 };

@@ -118,6 +118,8 @@ int main(int argc, char** argv) {
   vid->add_option("--srt", srt_path, "DJI-style subtitle file")->required();
   vid->add_option("--csv", csv_path, "generic telemetry CSV (optional)");
   vid->add_option("--camera", calibration_path, "also write the frames' OpenCV calibration file (camera.yaml)");
+  bool no_range = false;
+  vid->add_flag("--no-range", no_range, "no [range:] (laser altimeter) in the SRT: height from rel_alt only");
   vid->add_option("--every", video.every, "every Nth camera frame (default 1)");
   vid->add_option("--attitude", attitude, "truth (default) or ins");
   vid->add_flag("--json", json, "print a machine-readable summary on stdout");
@@ -134,6 +136,7 @@ int main(int argc, char** argv) {
       print_photos(nadir::exporter::export_photos(*log, out_dir, photo), in, out_dir, json);
     } else {
       video.attitude = nadir::exporter::parse_attitude_source(attitude);
+      video.range = !no_range;
       video.progress = nadir::stderr_is_terminal();
       const auto r = nadir::exporter::export_video(*log, video_path, srt_path, csv_path, video);
       if (!calibration_path.empty()) {

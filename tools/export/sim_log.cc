@@ -134,18 +134,16 @@ double SimLog::yaw_rate_at(int64_t utime) const {
   return (m.angular_rate[1] * std::sin(m.roll) + m.angular_rate[2] * std::cos(m.roll)) / std::cos(m.pitch);
 }
 
-bool SimLog::range_before(int64_t utime, int64_t max_age_us, double* range_m) const {
-  auto it = std::upper_bound(altimeter_.begin(), altimeter_.end(), utime,
-                             [](int64_t t, const altimeter_t& m) { return t < m.utime; });
-  while (it != altimeter_.begin()) {
-    --it;
-    if (utime - it->utime > max_age_us) return false;
-    if (it->validity == altimeter_t::VALID_OK) {
-      *range_m = it->range_m;
-      return true;
-    }
+bool SimLog::range_near(int64_t utime, int64_t max_age_us, double* range_m) const {
+  const altimeter_t* best = nullptr;
+  auto it = std::lower_bound(altimeter_.begin(), altimeter_.end(), utime - max_age_us,
+                             [](const altimeter_t& m, int64_t t) { return m.utime < t; });
+  for (; it != altimeter_.end() && it->utime <= utime + max_age_us; ++it) {
+    if (it->validity != altimeter_t::VALID_OK) continue;
+    if (!best || std::llabs(it->utime - utime) < std::llabs(best->utime - utime)) best = &*it;
   }
-  return false;
+  if (best) *range_m = best->range_m;
+  return best != nullptr;
 }
 
 }  // namespace nadir::exporter

@@ -51,8 +51,9 @@ class SimLog {
   void ins_position_at(int64_t utime, double* lat_deg, double* lon_deg, double* height_m) const;
   // Heading rate (rad/s) from the INS's body rates at the sample nearest `utime`.
   double yaw_rate_at(int64_t utime) const;
-  // Last valid altimeter range at or before `utime`; false if none within `max_age_us`.
-  bool range_before(int64_t utime, int64_t max_age_us, double* range_m) const;
+  // The valid altimeter range nearest in time to `utime` (either side);
+  // false if none lies within `max_age_us`.
+  bool range_near(int64_t utime, int64_t max_age_us, double* range_m) const;
 
  private:
   explicit SimLog(const std::string& path) : path_(path), reader_(path) {}
