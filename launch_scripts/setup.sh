@@ -7,7 +7,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 packages=(
   build-essential cmake pkg-config git
   liblcm-dev liblcm-bin liblcm-java
-  libeigen3-dev libopencv-dev libyaml-cpp-dev libcli11-dev
+  libeigen3-dev libopencv-dev libyaml-cpp-dev libcli11-dev libexiv2-dev
   libaravis-dev aravis-tools aravis-tools-cli libusb-1.0-0-dev
   libgpiod-dev gpiod
   libgtest-dev libgmock-dev libbenchmark-dev

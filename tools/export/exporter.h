@@ -1,0 +1,85 @@
+#pragma once
+// nadir_sim log -> what a real flight brings (issue 22's round trip):
+//  - a DJI-style photo survey: JPEG photos every `interval_s` of sensor time,
+//    none while the aircraft turns faster than `max_yaw_rate_dps` (a survey
+//    camera triggers on the lines), turned to the DJI orientation, EXIF/XMP
+//    written through libexiv2, and camera.yaml (OpenCV FileStorage) for the
+//    turned image;
+//  - a video: MJPG AVI frames in the same orientation with a DJI-style SRT
+//    and optionally a generic CSV of per-frame telemetry.
+// Positions and altitudes are the simulator's truth (GPS); attitudes are the
+// truth at the exposure by default, or the INS's measured attitude.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tools/export/photo_metadata.h"
+#include "tools/export/sim_log.h"
+
+namespace nadir::exporter {
+
+enum class AttitudeSource { kTruth, kIns };
+AttitudeSource parse_attitude_source(const std::string& name);  // "truth" | "ins"; throws otherwise
+
+struct PhotoExportOptions {
+  double interval_s = 2.0;         // photo every this many seconds of sensor time
+  double max_yaw_rate_dps = 3.0;   // no photo while the heading turns faster
+  int quality = 95;                // JPEG quality
+  double pixel_pitch_um = 5.86;    // nominal sensor pixel pitch: EXIF focal length in mm
+  AttitudeSource attitude = AttitudeSource::kTruth;
+  bool progress = false;
+  void Check() const;              // throws std::invalid_argument naming the option and range
+};
+
+struct VideoExportOptions {
+  int every = 1;                   // every Nth camera frame becomes a video frame
+  AttitudeSource attitude = AttitudeSource::kTruth;
+  double max_range_age_s = 0.2;    // SRT [range:] from the nearest altimeter return this close in time
+  bool range = true;               // write [range:] (every frame has one, or the export fails)
+  bool progress = false;
+  void Check() const;
+};
+
+struct PhotoRecord {
+  std::string file;                // name inside the output folder
+  int64_t utime = 0;               // sensor time written into EXIF
+  PhotoMetadata metadata;
+  double overlap_with_previous = -1.0;  // share of the previous footprint seen again (truth, flat ground)
+  double heading_change_deg = 0.0;      // truth yaw change from the previous photo
+  double north_m = 0.0, east_m = 0.0;   // truth position in the simulator's local frame
+};
+
+struct PhotoExportResult {
+  std::vector<PhotoRecord> photos;
+  int64_t skipped_in_turns = 0;    // ticks with the heading rate above the limit
+  int64_t ticks_without_image = 0; // ticks whose frame was dropped
+  std::string camera_file;         // <dir>/camera.yaml
+  std::string attitude_source;
+};
+
+// Writes photos and camera.yaml into `out_dir` (created); throws naming the file.
+PhotoExportResult export_photos(const SimLog& log, const std::string& out_dir, const PhotoExportOptions& options);
+
+struct VideoExportResult {
+  int64_t frames = 0;
+  int64_t first_utime = 0, last_utime = 0;
+  double fps = 0.0;
+  int64_t frames_with_range = 0;
+};
+
+// Writes the AVI, the SRT and (when `csv_path` is not empty) the CSV.
+VideoExportResult export_video(const SimLog& log, const std::string& video_path, const std::string& srt_path,
+                               const std::string& csv_path, const VideoExportOptions& options);
+
+// Writes the OpenCV calibration file (contract section 4) of `camera`,
+// including its mount_rpy_deg.
+void write_calibration(const CameraModel& camera, const std::string& path);
+
+// Share of footprint A's area (flat ground) inside footprint B.
+double footprint_overlap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b);
+// Ground footprint (north, east) of the camera at truth pose `truth` on the
+// plane of the terrain height directly below it.
+std::vector<Eigen::Vector2d> ground_footprint(const CameraModel& camera, const ground_truth_t& truth);
+
+}  // namespace nadir::exporter
