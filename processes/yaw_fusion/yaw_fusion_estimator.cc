@@ -188,6 +188,7 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
       if (started_ && supersedes_gap_poses(next)) {
         filter_ = good_filter_;
         last_frame_utime_ = last_good_utime_;
+        yaw_without_vo_ = false;  // back to the yaw the delta continues from
         ++counters_.gap_poses_superseded;
       }
       if (started_ && (next.utime <= last_frame_utime_ || next.prev_utime < last_frame_utime_ - tolerance)) {
@@ -429,6 +430,10 @@ int32_t YawFusionEstimator::advance_without_vo(int64_t utime) {
   filter_.propagate_without_vo(displacement, Eigen::Vector3d::Constant(position_var), yaw_var);
   velocity_out_ = e1 <= max_prop ? last_velocity_ : Eigen::Vector3d::Zero();
   last_frame_utime_ = utime;
+  // The predicted yaw is the last one held constant: a turn flown in the gap
+  // (a photo survey's line reversal, an unsolved pair) would otherwise leave
+  // the INS yaw outside the gate for max_consecutive_yaw_rejections updates.
+  yaw_without_vo_ = true;
   return update_attitude(utime);
 }
 
@@ -444,9 +449,11 @@ int32_t YawFusionEstimator::update_attitude(int64_t utime) {
     ++counters_.ins_yaw_unusable;
     return 0;
   }
-  if (!yaw_from_ins_) {
+  if (!yaw_from_ins_ || yaw_without_vo_) {
+    if (yaw_without_vo_) ++counters_.yaw_from_ins_in_gap;
     filter_.reset_yaw(attitude->yaw, attitude->yaw_variance);
     yaw_from_ins_ = true;
+    yaw_without_vo_ = false;
     ++counters_.ins_yaw_updates;
     return 0;
   }

@@ -59,6 +59,7 @@ struct YawFusionCounters {
   int64_t ins_yaw_rejected = 0;
   int64_t ins_yaw_unusable = 0;            // no INS yaw at a frame, or its stddev too large
   int64_t yaw_reinitialised = 0;
+  int64_t yaw_from_ins_in_gap = 0;  // INS yaw taken ungated during a VO gap
   int64_t altimeter_received = 0;
   int64_t altimeter_invalid = 0;           // validity != OK or non-finite
   int64_t altimeter_rejected = 0;          // level_terrain: gated, terrain re-anchored
@@ -149,6 +150,9 @@ class YawFusionEstimator {
   double height_agl_ = 0.0;
   bool have_height_ = false;
   bool yaw_from_ins_ = false;      // the yaw has taken at least one INS measurement
+  // A VO gap: nothing but the INS measures the yaw, so its next yaw is taken
+  // as it is, not gated against a prediction that knows no turn.
+  bool yaw_without_vo_ = false;
   int consecutive_yaw_rejections_ = 0;
   int64_t frames_ = 0;
   std::optional<pose_t> resume_;

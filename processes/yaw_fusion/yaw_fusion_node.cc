@@ -72,6 +72,7 @@ class YawFusionNode : public Node {
         {"ins_yaw_rejected", static_cast<double>(c.ins_yaw_rejected)},
         {"ins_yaw_unusable", static_cast<double>(c.ins_yaw_unusable)},
         {"yaw_reinitialised", static_cast<double>(c.yaw_reinitialised)},
+        {"yaw_from_ins_in_gap", static_cast<double>(c.yaw_from_ins_in_gap)},
         {"altimeter_invalid", static_cast<double>(c.altimeter_invalid)},
         {"altimeter_rejected", static_cast<double>(c.altimeter_rejected)},
         {"frames_without_altimeter", static_cast<double>(c.frames_without_altimeter)},

@@ -28,6 +28,10 @@ PairMetrics evaluate_pairs(const std::vector<vo_delta_t>& deltas, const std::vec
     const double c = std::cos(a.yaw), sn = std::sin(a.yaw);
     const double step_x = c * dn + sn * de, step_y = -sn * dn + c * de;
     s.step_m = std::hypot(dn, de);
+    s.true_x = step_x;
+    s.true_y = step_y;
+    s.dx = d.dx;
+    s.dy = d.dy;
     s.true_dyaw_deg = rad_to_deg(angle_difference(b.yaw, a.yaw));
     s.dyaw_deg = rad_to_deg(wrap_angle(d.dyaw));
     s.error_h_m = std::hypot(d.dx - step_x, d.dy - step_y);
@@ -53,10 +57,12 @@ PairMetrics evaluate_pairs(const std::vector<vo_delta_t>& deltas, const std::vec
 void write_pairs_csv(const PairMetrics& metrics, const std::string& path) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot write");
-  out << "utime,prev_utime,step_m,true_dyaw_deg,dyaw_deg,error_h_m,error_pct,quality,inliers,solved\n";
+  out << "utime,prev_utime,step_m,true_x,true_y,dx,dy,true_dyaw_deg,dyaw_deg,error_h_m,error_pct,quality,inliers,"
+         "solved\n";
   out.precision(10);
   for (const PairSample& s : metrics.samples) {
-    out << s.utime << ',' << s.prev_utime << ',' << s.step_m << ',' << s.true_dyaw_deg << ',' << s.dyaw_deg << ','
+    out << s.utime << ',' << s.prev_utime << ',' << s.step_m << ',' << s.true_x << ',' << s.true_y << ',' << s.dx << ','
+        << s.dy << ',' << s.true_dyaw_deg << ',' << s.dyaw_deg << ','
         << s.error_h_m << ',' << s.error_pct << ',' << s.quality << ',' << s.inliers << ',' << (s.solved ? 1 : 0)
         << '\n';
   }

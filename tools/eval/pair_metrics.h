@@ -17,6 +17,8 @@ struct PairSample {
   int64_t utime = 0;
   int64_t prev_utime = 0;
   double step_m = 0;          // truth horizontal step
+  double true_x = 0, true_y = 0;  // truth step in the level frame of the previous frame (x along its heading)
+  double dx = 0, dy = 0;          // estimated step, same frame
   double true_dyaw_deg = 0;   // truth heading change
   double dyaw_deg = 0;        // estimated
   double error_h_m = 0;       // |estimated - truth| horizontal, in the level frame of the previous frame

@@ -210,6 +210,13 @@ std::string output_yaml(const ImportOptions& o, const ImportSummary& s) {
   const double gap = std::min(3600.0, std::max(1.0, 1.5 * s.max_gap_s + 1.0));
   root["tracker"]["mode"] = "descriptor";
   root["tracker"]["max_gap_s"] = gap;
+  // A photo stream's intervals are irregular (no photos in turns, pauses):
+  // none of them is a lost frame, so no step up to the longest is flagged as
+  // a frame gap (the tracker flags steps over gap_factor camera periods). A
+  // video's frames are regular: a gap there is a real one.
+  if (!o.photos_dir.empty()) {
+    root["tracker"]["gap_factor"] = std::clamp(gap * cam["rate_hz"].as<double>(), 1.5, 100.0);
+  }
   root["vo_solver"]["sync"]["max_frame_interval_ms"] = gap * 1000.0;
   root["yaw_fusion"]["max_delta_interval_s"] = gap;
   root["yaw_fusion"]["max_time_jump_s"] = gap;

@@ -268,6 +268,36 @@ TEST(YawFusionEstimator, VoGapsAreFlaggedDeadReckonedAndSurvived) {
   for (size_t i = 1; i < poses.size(); ++i) EXPECT_GT(poses[i].utime, poses[i - 1].utime);
 }
 
+// A turn flown while VO is missing (a photo survey's line reversal, unsolved
+// pairs): nothing but the INS measures the yaw then, so its yaw is taken, not
+// gated against the last yaw held constant -- which would reject it for
+// max_consecutive_yaw_rejections frames and register them 40 deg off.
+TEST(YawFusionEstimator, TurnDuringAVoGapTakesTheInsYaw) {
+  FlightSpec spec;
+  spec.frames = 200;
+  spec.turn_rate_dps = 30.0;
+  SyntheticFlight flight = test::make_flight(spec);
+  std::vector<vo_delta_t> kept;
+  for (size_t k = 0; k < flight.deltas.size(); ++k) {
+    if (k >= 100 && k < 120) continue;  // ~1.4 s of the turn without VO
+    kept.push_back(flight.deltas[k]);
+  }
+  flight.deltas = kept;
+  YawFusionCounters counters;
+  const auto poses = run_flight(flight, YawFusionOptions{}, &counters);
+  const auto truth = truth_by_time(flight);
+  EXPECT_GT(counters.yaw_from_ins_in_gap, 0);
+  EXPECT_EQ(counters.ins_yaw_rejected, 0);
+  double worst_after_gap_deg = 0.0;
+  for (const pose_t& p : poses) {
+    EXPECT_EQ(p.flags & pose_t::FLAG_INS_YAW_REJECTED, 0) << p.utime;
+    const auto t = truth.find(p.utime);
+    if (t == truth.end() || p.utime <= flight.truth[120].utime) continue;
+    worst_after_gap_deg = std::max(worst_after_gap_deg, std::fabs(rad_to_deg(angle_difference(p.yaw, t->second->yaw))));
+  }
+  EXPECT_LT(worst_after_gap_deg, 0.05);
+}
+
 // Flagged deltas at the start (e.g. no altimeter yet) publish no poses: the
 // origin is the first frame VO measures from, so no motion is lost there.
 TEST(YawFusionEstimator, StartsAtTheFirstUsableDelta) {
