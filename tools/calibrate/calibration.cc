@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 
@@ -87,10 +88,16 @@ class InsTrack {
       std::vector<Eigen::Vector3d> sum(static_cast<size_t>(n) + 1, Eigen::Vector3d::Zero());
       for (int i = 0; i < n; ++i)
         sum[i + 1] = sum[i] + log_so3(gyro[i].transpose() * rotation_from_rpy(ins[i].roll, ins[i].pitch, ins[i].yaw));
+      Eigen::Vector3d scatter = Eigen::Vector3d::Zero();
       for (int i = 0; i < n; ++i) {
         const int lo = std::max(0, i - h), hi = std::min(n - 1, i + h);
-        attitude_[i] = gyro[i] * exp_so3((sum[hi + 1] - sum[lo]) / (hi - lo + 1));
+        const Eigen::Vector3d mean = (sum[hi + 1] - sum[lo]) / (hi - lo + 1);
+        attitude_[i] = gyro[i] * exp_so3(mean);
+        const Eigen::Vector3d d = (sum[i + 1] - sum[i]) - mean;
+        scatter += d.cwiseProduct(d);
       }
+      noise_rad_ = (scatter / std::max(1, n - 1)).cwiseSqrt();
+      window_ = h;
     } else {
       const int h = std::max(0, static_cast<int>(std::lround(std::min(smoothing_s, 0.05) * rate)));
       smoothed_rpy_.resize(static_cast<size_t>(n));
@@ -104,6 +111,25 @@ class InsTrack {
     }
   }
   bool uses_rates() const { return rates_; }
+  // The INS attitude's white noise (body axes, rad) seen against the rates.
+  const Eigen::Vector3d& noise_rad() const { return noise_rad_; }
+  // A copy whose attitude carries another draw of what the averaging leaves
+  // of that noise (a moving average of white noise): for the bootstrap.
+  InsTrack perturbed(uint64_t seed) const {
+    InsTrack copy = *this;
+    if (!rates_) return copy;
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal;
+    const int n = static_cast<int>(attitude_.size());
+    std::vector<Eigen::Vector3d> sum(static_cast<size_t>(n) + 1, Eigen::Vector3d::Zero());
+    for (int i = 0; i < n; ++i)
+      sum[i + 1] = sum[i] + Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).cwiseProduct(noise_rad_);
+    for (int i = 0; i < n; ++i) {
+      const int lo = std::max(0, i - window_), hi = std::min(n - 1, i + window_);
+      copy.attitude_[i] = attitude_[i] * exp_so3((sum[hi + 1] - sum[lo]) / (hi - lo + 1));
+    }
+    return copy;
+  }
   int64_t first_utime() const { return ins_.front().utime; }
   int64_t last_utime() const { return ins_.back().utime; }
   bool covers(double utime) const { return utime >= ins_.front().utime && utime <= ins_.back().utime; }
@@ -134,6 +160,8 @@ class InsTrack {
  private:
   const std::vector<FlightData::InsSample>& ins_;
   bool rates_ = false;
+  int window_ = 0;
+  Eigen::Vector3d noise_rad_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Matrix3d> attitude_;   // with rates
   std::vector<Eigen::Vector3d> smoothed_rpy_;  // without
 };
@@ -210,13 +238,16 @@ class EpipolarFit {
       pairs_.push_back(k);
       for (size_t f = 0; f < pair.prev_norm.size(); ++f) {
         index_.push_back({k, f});
-        cluster_.push_back(static_cast<int>((pair.prev_utime - ins.first_utime()) * 1e-6 / options.cluster_s));
+        const double t = (pair.prev_utime - ins.first_utime()) * 1e-6;
+        cluster_.push_back(static_cast<int>(t / options.cluster_s));
+        time_s_.push_back(t);
       }
     }
   }
   size_t size() const { return index_.size(); }
   size_t pair_count() const { return pairs_.size(); }
   const std::vector<int>& clusters() const { return cluster_; }
+  const std::vector<double>& times_s() const { return time_s_; }
 
   Eigen::VectorXd residuals(const Eigen::VectorXd& theta) const {
     Eigen::VectorXd r(static_cast<Eigen::Index>(index_.size()));
@@ -267,6 +298,7 @@ class EpipolarFit {
   std::vector<size_t> pairs_;
   std::vector<Index> index_;
   std::vector<int> cluster_;
+  std::vector<double> time_s_;  // of each residual's first frame, from the segment start
 };
 
 Estimate make_estimate(const std::string& name, double value, double sigma, bool estimated, double limit) {
@@ -293,19 +325,25 @@ struct CameraFit {
   double rms = 0.0;
 };
 
-CameraFit fit_camera(const EpipolarFit& fit, const std::vector<bool>& active, const CalibrationOptions& options) {
+// Gauss-Newton from `start`; residuals with a time in [skip_from_s, skip_to_s)
+// are left out (the block jackknife).
+CameraFit fit_camera(const EpipolarFit& fit, const std::vector<bool>& active, const CalibrationOptions& options,
+                     const Eigen::VectorXd& start, int iterations, double skip_from_s = 0.0, double skip_to_s = 0.0) {
   CameraFit out;
+  out.theta = start;
   std::vector<bool> use(fit.size(), true);
+  auto skipped = [&](size_t i) { return fit.times_s()[i] >= skip_from_s && fit.times_s()[i] < skip_to_s; };
   std::vector<int> act;
   for (int k = 0; k < 5; ++k)
     if (active[static_cast<size_t>(k)]) act.push_back(k);
   Eigen::VectorXd r;
   Eigen::MatrixXd j;
-  for (int it = 0; it < options.iterations; ++it) {
+  for (int it = 0; it < iterations; ++it) {
     r = fit.residuals(out.theta);
     // Robust sigma from the median absolute residual; outliers (mistracks) dropped.
     const double sigma = 1.4826 * median_abs(std::vector<double>(r.data(), r.data() + r.size()));
-    for (size_t i = 0; i < use.size(); ++i) use[i] = std::fabs(r[static_cast<Eigen::Index>(i)]) <= options.outlier_sigma * sigma;
+    for (size_t i = 0; i < use.size(); ++i)
+      use[i] = std::fabs(r[static_cast<Eigen::Index>(i)]) <= options.outlier_sigma * sigma && !skipped(i);
     j = fit.jacobian(out.theta, active);
     Eigen::MatrixXd h = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(act.size()), static_cast<Eigen::Index>(act.size()));
     Eigen::VectorXd g = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(act.size()));
@@ -354,6 +392,8 @@ void CalibrationOptions::Check() const {
   require_option(attitude_smoothing_s >= 0 && attitude_smoothing_s <= 30, src, "attitude_smoothing_s", "must be in [0, 30]");
   require_option(min_baseline_m > 0 && min_baseline_m <= 100, src, "min_baseline_m", "must be in (0, 100]");
   require_option(cluster_s > 0 && cluster_s <= 600, src, "cluster_s", "must be in (0, 600]");
+  require_option(jackknife_block_s >= 1 && jackknife_block_s <= 3600, src, "jackknife_block_s", "must be in [1, 3600]");
+  require_option(bootstrap_runs == 0 || (bootstrap_runs >= 2 && bootstrap_runs <= 1000), src, "bootstrap_runs", "must be 0 or in [2, 1000]");
   require_option(outlier_sigma >= 2 && outlier_sigma <= 100, src, "outlier_sigma", "must be in [2, 100]");
   require_option(iterations >= 1 && iterations <= 100, src, "iterations", "must be in [1, 100]");
   for (double a : ins_attitude_accuracy_deg)
@@ -428,7 +468,7 @@ CalibrationResult calibrate(const FlightData& data, const Config& camera_root, c
   CameraFit cam;
   const bool camera_data = fit.pair_count() >= 20;
   if (camera_data) {
-    cam = fit_camera(fit, active, options);
+    cam = fit_camera(fit, active, options, Eigen::VectorXd::Zero(5), options.iterations);
     if (active[4] && std::sqrt(cam.cov(4, 4)) > 5.0 * options.focal_sigma_limit) {
       // The focal scale is not observable in this flight: holding it at 1
       // keeps it from absorbing noise into the other parameters.
@@ -436,7 +476,51 @@ CalibrationResult calibrate(const FlightData& data, const Config& camera_root, c
                                     "rotation of several degrees between frames or a strongly sloped scene.",
                                     std::sqrt(cam.cov(4, 4))));
       active[4] = false;
-      cam = fit_camera(fit, active, options);
+      cam = fit_camera(fit, active, options, Eigen::VectorXd::Zero(5), options.iterations);
+    }
+    // Block jackknife: errors shared over longer than a cluster (the INS's
+    // slowly varying attitude error, the scene) show in how much the estimate
+    // moves when a block of the flight is left out. The larger of the two
+    // covariances is reported.
+    const double span = fit.times_s().empty() ? 0.0 : fit.times_s().back();
+    const int blocks = static_cast<int>(std::floor(span / options.jackknife_block_s));
+    if (blocks >= 5) {
+      std::vector<Eigen::VectorXd> leave_out;
+      for (int g = 0; g < blocks; ++g) {
+        const double from = g * options.jackknife_block_s;
+        const double to = g + 1 == blocks ? span + 1.0 : from + options.jackknife_block_s;
+        leave_out.push_back(fit_camera(fit, active, options, cam.theta, 2, from, to).theta);
+      }
+      Eigen::VectorXd mean = Eigen::VectorXd::Zero(5);
+      for (const auto& v : leave_out) mean += v / static_cast<double>(blocks);
+      Eigen::MatrixXd jk = Eigen::MatrixXd::Zero(5, 5);
+      for (const auto& v : leave_out) jk += (v - mean) * (v - mean).transpose();
+      jk *= static_cast<double>(blocks - 1) / static_cast<double>(blocks);
+      for (int k = 0; k < 5; ++k) {
+        if (jk(k, k) > cam.cov(k, k)) {
+          const double f = std::sqrt(jk(k, k) / std::max(cam.cov(k, k), 1e-300));
+          cam.cov.row(k) *= f;
+          cam.cov.col(k) *= f;
+        }
+      }
+    }
+    // The residuals hold the tracks' errors; the INS attitude the fit leans
+    // on has its own (what the averaging leaves of its noise), and the fit
+    // turns small attitude errors into larger boresight and time errors.
+    // Bootstrap: refit against the attitude with other draws of that error;
+    // the spread is added to the covariance.
+    if (options.bootstrap_runs >= 2 && ins.uses_rates()) {
+      std::vector<Eigen::VectorXd> draws;
+      for (int b = 0; b < options.bootstrap_runs; ++b) {
+        const InsTrack other = ins.perturbed(1000 + static_cast<uint64_t>(b));
+        const EpipolarFit refit(data, other, camera.body_from_camera, options);
+        draws.push_back(fit_camera(refit, active, options, cam.theta, 2).theta);
+      }
+      Eigen::VectorXd mean = Eigen::VectorXd::Zero(5);
+      for (const auto& v : draws) mean += v / static_cast<double>(draws.size());
+      Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(5, 5);
+      for (const auto& v : draws) spread += (v - mean) * (v - mean).transpose() / static_cast<double>(draws.size() - 1);
+      cam.cov += spread;
     }
   } else {
     result.warnings.push_back("camera: fewer than 20 usable frame pairs (TRACKS with a baseline >= min_baseline_m); "

@@ -26,6 +26,8 @@ struct CalibrationOptions {
   double attitude_smoothing_s = 1.0;
   double min_baseline_m = 1.0;   // frame pairs with a shorter baseline carry no direction
   double cluster_s = 2.0;        // residuals within this span share INS errors (robust covariance)
+  double jackknife_block_s = 10.0;  // blocks left out in turn for the jackknife sigmas
+  int bootstrap_runs = 12;  // refits against redrawn INS attitude noise (0 = none)
   double outlier_sigma = 4.0;    // residuals beyond this many robust sigmas are dropped
   int iterations = 6;            // Gauss-Newton iterations
   bool estimate_focal = true;    // fit the focal length scale (fixed at 1 when unobservable)
