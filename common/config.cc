@@ -1,5 +1,7 @@
 #include "common/config.h"
 
+#include <algorithm>
+
 namespace nadir {
 
 Config Config::load_file(const std::string& path) {
@@ -44,6 +46,17 @@ std::string Config::key_path(const std::string& key) const { return path_.empty(
 
 ConfigError Config::error(const std::string& key, const std::string& what) const {
   return ConfigError(source_ + ": key '" + key_path(key) + "' " + what);
+}
+
+void Config::require_known_keys(const std::vector<std::string>& known) const {
+  if (!node_.IsMap()) return;
+  for (const auto& item : node_) {
+    const std::string key = item.first.as<std::string>();
+    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw error(key, "is not a known key here (line " + std::to_string(item.first.Mark().line + 1) + "; known: " + list + ")");
+  }
 }
 
 void Config::apply_override(const std::string& assignment) {

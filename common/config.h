@@ -64,6 +64,10 @@ class Config {
     }
   }
 
+  // Throws ConfigError naming the first key of this section that is not in
+  // `known` (a misspelt option must not silently fall back to its default).
+  void require_known_keys(const std::vector<std::string>& known) const;
+
   // "file: key 'a.b.c' <what>"
   ConfigError error(const std::string& key, const std::string& what) const;
 

@@ -32,13 +32,37 @@ constexpr int64_t kGpsEpochUnixUs = 315964800LL * 1000000LL;
 constexpr int64_t kLeapUs = 18LL * 1000000LL;
 constexpr int64_t kWeekUs = 604800LL * 1000000LL;
 
+bool nonzero(const std::array<double, 3>& v) { return v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0; }
+
+// The camera as it really is: the configured one with the sensor set's
+// installation and intrinsic errors applied (each only when set, so an exact
+// set renders bit for bit as before).
+SimCamera true_camera(const SimCamera& configured, const CameraSensorOptions& errors) {
+  SimCamera cam = configured;
+  const auto& b = errors.boresight_rpy_deg;
+  if (nonzero(b)) cam.body_from_camera = configured.body_from_camera * world_from_body(deg2rad(b[0]), deg2rad(b[1]), deg2rad(b[2]));
+  if (errors.focal_scale != 1.0) {
+    cam.fx *= errors.focal_scale;
+    cam.fy *= errors.focal_scale;
+  }
+  cam.distortion.resize(5, 0.0);
+  bool distorted = false;
+  for (size_t i = 0; i < 5; ++i) {
+    cam.distortion[i] += errors.distortion_error[i];
+    distorted = distorted || errors.distortion_error[i] != 0.0;
+  }
+  if (!distorted) cam.distortion = configured.distortion;
+  return cam;
+}
+
 }  // namespace
 
 Simulator::Simulator(const FlightProfile& profile, const SimCamera& camera, const SensorOptions& sensors,
                      const SimulatorOptions& options)
     : profile_(profile),
-      camera_(camera),
+      configured_camera_(camera),
       sensors_(sensors),
+      camera_(true_camera(camera, sensors.camera)),
       options_(options),
       terrain_([&] {
         TerrainOptions t = profile.terrain;
@@ -46,7 +70,7 @@ Simulator::Simulator(const FlightProfile& profile, const SimCamera& camera, cons
         return t;
       }()),
       trajectory_(profile, options.seed),
-      renderer_(camera, terrain_,
+      renderer_(camera_, terrain_,
                 [&] {
                   RendererOptions r;
                   r.pixel_noise_dn = sensors.camera.pixel_noise_dn;
@@ -56,16 +80,22 @@ Simulator::Simulator(const FlightProfile& profile, const SimCamera& camera, cons
       trigger_rng_(options.seed, 1),
       ins_rng_(options.seed, 2),
       altimeter_rng_(options.seed, 3),
-      ins_gm_rng_(options.seed, 7) {
+      ins_gm_rng_(options.seed, 7),
+      ins_yaw_gm_rng_(options.seed, 8),
+      roll_gm_(deg2rad(sensors.ins.roll_pitch_gm_sigma_deg), sensors.ins.roll_pitch_gm_tau_s),
+      pitch_gm_(deg2rad(sensors.ins.roll_pitch_gm_sigma_deg), sensors.ins.roll_pitch_gm_tau_s),
+      yaw_gm_(deg2rad(sensors.ins.yaw_gm_sigma_deg), sensors.ins.yaw_gm_tau_s) {
   sensors_.Check();
   duration_s_ = options.duration_s > 0 ? std::min(options.duration_s, trajectory_.duration_s()) : trajectory_.duration_s();
   duration_us_ = static_cast<int64_t>(std::floor(duration_s_ * 1e6));
   yaw_bias_rad_ = deg2rad(sensors_.ins.yaw_bias_initial_deg);
-  const double gm_sigma = deg2rad(sensors_.ins.roll_pitch_gm_sigma_deg);
-  if (gm_sigma > 0) {  // start in the stationary distribution
-    roll_gm_rad_ = gm_sigma * ins_gm_rng_.normal();
-    pitch_gm_rad_ = gm_sigma * ins_gm_rng_.normal();
-  }
+  roll_gm_.start(&ins_gm_rng_);  // in the stationary distribution
+  pitch_gm_.start(&ins_gm_rng_);
+  yaw_gm_.start(&ins_yaw_gm_rng_);
+  const auto& mis = sensors_.altimeter.beam_misalignment_deg;
+  altimeter_beam_body_ = configured_camera_.optical_axis_body();
+  if (mis[0] != 0.0 || mis[1] != 0.0)
+    altimeter_beam_body_ = (rot_y(deg2rad(mis[1])) * rot_x(deg2rad(mis[0])) * altimeter_beam_body_).normalized();
 
   YAML::Node root;
   root["name"] = "sim";
@@ -93,13 +123,20 @@ Simulator::Simulator(const FlightProfile& profile, const SimCamera& camera, cons
 }
 
 void Simulator::schedule_frame(int64_t k) {
-  const int64_t true_us = tick_us(k, camera_.rate_hz);
+  // The trigger is stamped on the tick (+ jitter); the exposure happens the
+  // camera's time offset + trigger latency later.
+  const int64_t tick = tick_us(k, camera_.rate_hz);
+  const int64_t true_us = tick + static_cast<int64_t>(std::llround(sensors_.camera.exposure_delay_us()));
   if (true_us > duration_us_) return;
+  if (true_us < 0) {  // a negative offset: exposure before the run starts, no such frame
+    schedule_frame(k + 1);
+    return;
+  }
   FrameDraw f;
   f.true_us = true_us;
   const double limit = 0.25e6 / camera_.rate_hz;  // keeps frames in order whatever the draw
   const double jitter = std::max(-limit, std::min(limit, sensors_.camera.trigger_jitter_us * trigger_rng_.normal()));
-  f.reported_us = true_us + static_cast<int64_t>(std::llround(jitter));
+  f.reported_us = tick + static_cast<int64_t>(std::llround(jitter));
   f.dropped = trigger_rng_.bernoulli(sensors_.camera.frame_drop_probability);
   if (static_cast<int64_t>(frames_.size()) <= k) frames_.resize(static_cast<size_t>(k) + 1);
   frames_[static_cast<size_t>(k)] = f;
@@ -218,7 +255,10 @@ void Simulator::make_image(int64_t k, SimEvent* e) {
   // the reported trigger time, as the real driver does.
   const TruthState s = trajectory_.at(f.true_us * 1e-6);
   const Eigen::Matrix3d world_from_camera = s.world_from_body() * camera_.body_from_camera;
-  renderer_.render(s.position_ned, world_from_camera, options_.seed * 0x100000001b3ULL + static_cast<uint64_t>(k),
+  Eigen::Vector3d camera_ned = s.position_ned;  // the trajectory is the INS's
+  const auto& lever = sensors_.camera.lever_arm_m;
+  if (nonzero(lever)) camera_ned += s.world_from_body() * Eigen::Vector3d(lever[0], lever[1], lever[2]);
+  renderer_.render(camera_ned, world_from_camera, options_.seed * 0x100000001b3ULL + static_cast<uint64_t>(k),
                    &image_buffer_);
   counts_.marched_pixels += renderer_.last_stats().marched_pixels;
   if (const SensorOutage* o = outage(SensorOutage::Kind::kTexture, f.true_us)) {
@@ -270,14 +310,9 @@ void Simulator::make_ins(int64_t k, SimEvent* e) {
   if (last_ins_k_ >= 0) {
     const double dt = (t_us - tick_us(last_ins_k_, sensors_.ins.rate_hz)) * 1e-6;
     yaw_bias_rad_ += deg2rad(sensors_.ins.yaw_bias_walk_deg_per_sqrt_s) * std::sqrt(dt) * ins_rng_.normal();
-    const double gm_sigma = deg2rad(sensors_.ins.roll_pitch_gm_sigma_deg);
-    if (gm_sigma > 0) {
-      // First-order Gauss-Markov: x' = a x + sigma sqrt(1 - a^2) n, a = exp(-dt / tau), stationary sigma.
-      const double a = std::exp(-dt / sensors_.ins.roll_pitch_gm_tau_s);
-      const double drive = gm_sigma * std::sqrt(1.0 - a * a);
-      roll_gm_rad_ = a * roll_gm_rad_ + drive * ins_gm_rng_.normal();
-      pitch_gm_rad_ = a * pitch_gm_rad_ + drive * ins_gm_rng_.normal();
-    }
+    roll_gm_.step(dt, &ins_gm_rng_);
+    pitch_gm_.step(dt, &ins_gm_rng_);
+    yaw_gm_.step(dt, &ins_yaw_gm_rng_);
   }
   last_ins_k_ = k;
   const double rp_sigma = deg2rad(sensors_.ins.roll_pitch_noise_deg);
@@ -290,11 +325,13 @@ void Simulator::make_ins(int64_t k, SimEvent* e) {
   msg.gps_seconds = static_cast<double>(gps_us % kWeekUs) * 1e-6;
   msg.roll = s.roll + rp_sigma * ins_rng_.normal();
   msg.pitch = s.pitch + rp_sigma * ins_rng_.normal();
-  if (sensors_.ins.roll_pitch_gm_sigma_deg > 0) {
-    msg.roll += roll_gm_rad_;
-    msg.pitch += pitch_gm_rad_;
+  if (roll_gm_.on()) {
+    msg.roll += roll_gm_.value();
+    msg.pitch += pitch_gm_.value();
   }
-  msg.yaw = wrap_pi(s.yaw + yaw_bias_rad_ + yaw_sigma * ins_rng_.normal());
+  const double yaw_white = yaw_sigma * ins_rng_.normal();
+  msg.yaw = yaw_gm_.on() ? wrap_pi(s.yaw + yaw_bias_rad_ + yaw_gm_.value() + yaw_white)
+                         : wrap_pi(s.yaw + yaw_bias_rad_ + yaw_white);
   msg.has_rates = true;
   for (int i = 0; i < 3; ++i) {
     msg.angular_rate[i] = s.angular_rate_body[i];
@@ -325,9 +362,12 @@ void Simulator::make_ins(int64_t k, SimEvent* e) {
 
 bool Simulator::altimeter_truth_range(double t, double* range_m) const {
   const TruthState s = trajectory_.at(t);
-  const Eigen::Vector3d beam_world = s.world_from_body() * camera_.optical_axis_body();
+  const Eigen::Vector3d beam_world = s.world_from_body() * altimeter_beam_body_;
+  Eigen::Vector3d origin = s.position_ned;
+  const auto& lever = sensors_.altimeter.lever_arm_m;
+  if (nonzero(lever)) origin += s.world_from_body() * Eigen::Vector3d(lever[0], lever[1], lever[2]);
   RayHit hit;
-  if (!cast_ray(terrain_, s.position_ned, beam_world.normalized(), -1.0, &hit)) return false;
+  if (!cast_ray(terrain_, origin, beam_world.normalized(), -1.0, &hit)) return false;
   *range_m = hit.t;
   return true;
 }
@@ -336,7 +376,8 @@ void Simulator::make_altimeter(int64_t k, SimEvent* e) {
   const int64_t t_us = tick_us(k, sensors_.altimeter.rate_hz);
   altimeter_t msg;
   msg.utime = options_.epoch_us + t_us;
-  const Eigen::Vector3d beam = camera_.optical_axis_body().normalized();
+  // Reported: the nominal beam (the configured optical axis); the true one may be misaligned.
+  const Eigen::Vector3d beam = configured_camera_.optical_axis_body().normalized();
   for (int i = 0; i < 3; ++i) msg.beam_body[i] = beam[i];
   double range = 0.0;
   const bool hit = altimeter_truth_range(t_us * 1e-6, &range);
@@ -355,7 +396,9 @@ void Simulator::make_altimeter(int64_t k, SimEvent* e) {
     msg.validity = altimeter_t::VALID_OUT_OF_RANGE;
   } else {
     const double sigma = sensors_.altimeter.noise_m + 0.01 * sensors_.altimeter.noise_pct * range;
-    msg.range_m = range + sigma * noise;
+    const AltimeterModelOptions& alt = sensors_.altimeter;
+    msg.range_m = (alt.scale != 1.0 || alt.bias_m != 0.0) ? alt.scale * range + alt.bias_m + sigma * noise
+                                                          : range + sigma * noise;
     msg.signal_quality = static_cast<float>(std::max(0.1, 1.0 - range / sensors_.altimeter.max_range_m));
     msg.validity = altimeter_t::VALID_OK;
   }

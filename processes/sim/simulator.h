@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "processes/sim/flight_profile.h"
+#include "processes/sim/gauss_markov.h"
 #include "processes/sim/renderer.h"
 #include "processes/sim/sensor_options.h"
 #include "processes/sim/sensor_outage.h"
@@ -73,11 +74,16 @@ class Simulator {
   const Trajectory& trajectory() const { return trajectory_; }
   const Terrain& terrain() const { return terrain_; }
   Renderer& renderer() { return renderer_; }
+  // The true camera the renderer uses (the configured one with the sensor
+  // set's boresight, focal and distortion errors applied).
   const SimCamera& camera() const { return camera_; }
+  // The camera as configured (what the estimator believes).
+  const SimCamera& configured_camera() const { return configured_camera_; }
   // The YAML published in CONFIG: profile + sensor set + seed + camera.
   const std::string& config_yaml() const { return config_yaml_; }
 
-  // Truth ray cast along the optical axis from the body position at time t (s).
+  // Truth ray cast along the altimeter's true beam (the configured optical
+  // axis, misaligned as the sensor set says) from its true origin at time t (s).
   bool altimeter_truth_range(double t, double* range_m) const;
 
  private:
@@ -113,8 +119,9 @@ class Simulator {
   }
 
   FlightProfile profile_;
-  SimCamera camera_;
+  SimCamera configured_camera_;
   SensorOptions sensors_;
+  SimCamera camera_;  // true camera
   SimulatorOptions options_;
   Terrain terrain_;
   Trajectory trajectory_;
@@ -126,8 +133,10 @@ class Simulator {
   std::string config_yaml_;
   std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> queue_;
   RandomStream trigger_rng_, ins_rng_, altimeter_rng_;
-  RandomStream ins_gm_rng_;                 // correlated roll/pitch errors only
-  double roll_gm_rad_ = 0.0, pitch_gm_rad_ = 0.0;
+  RandomStream ins_gm_rng_;      // correlated roll/pitch errors only
+  RandomStream ins_yaw_gm_rng_;  // correlated yaw error only
+  GaussMarkov roll_gm_, pitch_gm_, yaw_gm_;
+  Eigen::Vector3d altimeter_beam_body_ = Eigen::Vector3d::UnitZ();  // true beam
   std::vector<FrameDraw> frames_;  // by frame index (small: 14 Hz)
   double yaw_bias_rad_ = 0.0;
   int64_t last_ins_k_ = -1;

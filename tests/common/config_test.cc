@@ -25,6 +25,16 @@ TEST(Config, OutOfRangeValueNamesFileKeyAndRange) {
   EXPECT_NE(what.find("[10, 5000]"), std::string::npos) << what;
 }
 
+TEST(Config, UnknownKeyIsNamedWithItsLine) {
+  const Config c = Config::parse("cam:\n  fx: 1\n  fz: 2\n", "k.yaml");
+  EXPECT_NO_THROW(c.section("cam").require_known_keys({"fx", "fz"}));
+  const std::string what = error_of([&] { c.section("cam").require_known_keys({"fx", "fy"}); });
+  EXPECT_NE(what.find("k.yaml"), std::string::npos) << what;
+  EXPECT_NE(what.find("cam.fz"), std::string::npos) << what;
+  EXPECT_NE(what.find("line 3"), std::string::npos) << what;
+  EXPECT_NE(what.find("known: fx, fy"), std::string::npos) << what;
+}
+
 TEST(Config, WrongTypeNamesKeyAndLine) {
   const Config c = Config::parse("a:\n  b: hello\n", "x.yaml");
   const std::string what = error_of([&] { c.section("a").get<double>("b"); });

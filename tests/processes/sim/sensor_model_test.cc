@@ -52,6 +52,7 @@ class SensorNoise : public ::testing::Test {
       if (e.channel == channels::kGroundTruth) {
         const auto gt = decode<ground_truth_t>(e);
         if (gt.kind == ground_truth_t::KIND_INS) truth_at[gt.utime] = gt;
+        if (gt.kind == ground_truth_t::KIND_FRAME) frame_truth.push_back(gt);
       } else if (e.channel == channels::kIns) {
         ins.push_back(decode<ins_t>(e));
       } else if (e.channel == channels::kAltimeter) {
@@ -78,6 +79,7 @@ class SensorNoise : public ::testing::Test {
   std::vector<altimeter_t> altimeter;
   std::vector<double> altimeter_truth;
   std::vector<trigger_t> triggers;
+  std::vector<ground_truth_t> frame_truth;
   int64_t epoch = 0;
   SimulatorCounts counts;
   double rate_hz = 14.0;
@@ -172,6 +174,150 @@ TEST_F(SensorNoise, IdealSetIsNoiseFree) {
   }
   for (size_t i = 0; i < altimeter.size(); ++i) EXPECT_NEAR(altimeter[i].range_m, altimeter_truth[i], 1e-9);
   EXPECT_EQ(counts.dropped_frames, 0);
+}
+
+// Autocorrelation of x at a lag of `lag` samples.
+double autocorrelation(const std::vector<double>& x, size_t lag) {
+  double num = 0, den = 0;
+  for (size_t i = 0; i + lag < x.size(); ++i) num += x[i] * x[i + lag];
+  for (double v : x) den += v * v;
+  return num / den * static_cast<double>(x.size()) / static_cast<double>(x.size() - lag);
+}
+
+// Gauss-Markov roll/pitch/yaw errors alone (white noise and bias walk off):
+// stationary sigma, the exact one-step recursion and the correlation time.
+TEST_F(SensorNoise, GaussMarkovAttitudeErrorsMatchSigmaAndCorrelationTime) {
+  SensorOptions sensors = testing::sensor_set("standard");
+  sensors.ins.roll_pitch_noise_deg = 0.0;
+  sensors.ins.yaw_noise_deg = 0.0;
+  sensors.ins.yaw_bias_walk_deg_per_sqrt_s = 0.0;
+  sensors.ins.roll_pitch_gm_sigma_deg = 0.2;
+  sensors.ins.roll_pitch_gm_tau_s = 0.25;
+  sensors.ins.yaw_gm_sigma_deg = 0.3;
+  sensors.ins.yaw_gm_tau_s = 0.2;
+  run(sensors, 17);
+  ASSERT_GT(ins.size(), 25000u);
+  std::vector<double> roll, pitch, yaw;
+  for (size_t i = 0; i < ins.size(); ++i) {
+    roll.push_back(ins[i].roll - ins_truth[i].roll);
+    pitch.push_back(ins[i].pitch - ins_truth[i].pitch);
+    yaw.push_back(wrap_pi(ins[i].yaw - ins_truth[i].yaw));
+  }
+  const double dt = 1.0 / sensors.ins.rate_hz;
+  struct Axis {
+    const std::vector<double>* x;
+    double sigma, tau;
+  };
+  for (const Axis& axis : {Axis{&roll, deg2rad(0.2), 0.25}, Axis{&pitch, deg2rad(0.2), 0.25},
+                           Axis{&yaw, deg2rad(0.3), 0.2}}) {
+    const std::vector<double>& x = *axis.x;
+    // Stationary sigma: about T / (2 tau) independent variance samples.
+    Stats all;
+    for (double v : x) all.add(v);
+    const double n_eff = x.size() * dt / (2.0 * axis.tau);
+    EXPECT_NEAR(std::sqrt(all.sum2 / all.n) / axis.sigma, 1.0, tolerance(static_cast<int64_t>(n_eff)));
+    // The driving noise x[k+1] - a x[k] is white with sigma sqrt(1 - a^2).
+    const double a = std::exp(-dt / axis.tau);
+    Stats drive;
+    std::vector<double> innovations;
+    for (size_t i = 0; i + 1 < x.size(); ++i) {
+      innovations.push_back(x[i + 1] - a * x[i]);
+      drive.add(innovations.back());
+    }
+    EXPECT_NEAR(drive.stddev() / (axis.sigma * std::sqrt(1.0 - a * a)), 1.0, tolerance(drive.n));
+    EXPECT_NEAR(autocorrelation(innovations, 1), 0.0, 4.0 / std::sqrt(static_cast<double>(drive.n)));
+    // Correlation time: the autocorrelation at a lag of tau is 1/e (Bartlett
+    // standard error of r at that lag ~0.02 here; 4 of those).
+    const size_t lag = static_cast<size_t>(std::llround(axis.tau / dt));
+    EXPECT_NEAR(autocorrelation(x, lag), std::exp(-1.0), 0.08);
+  }
+}
+
+// The calibration-test set: the altimeter reads scale * range + bias (+ its
+// noise), frames are exposed the time offset after their stamp, and the true
+// camera carries the boresight while the estimator's config does not.
+TEST_F(SensorNoise, InstallationErrorsOfTheCalibrationSet) {
+  const SensorOptions sensors = testing::sensor_set("calibration_test");
+  ASSERT_DOUBLE_EQ(sensors.altimeter.scale, 1.01);
+  run(sensors, 9);
+  Stats normalized;
+  double sxx = 0, sxy = 0, sx = 0, sy = 0;
+  int64_t n = 0;
+  for (size_t i = 0; i < altimeter.size(); ++i) {
+    if (altimeter[i].validity != altimeter_t::VALID_OK) continue;
+    const double truth = altimeter_truth[i];
+    const double sigma = sensors.altimeter.noise_m + 0.01 * sensors.altimeter.noise_pct * truth;
+    normalized.add((altimeter[i].range_m - sensors.altimeter.scale * truth - sensors.altimeter.bias_m) / sigma);
+    sxx += truth * truth, sxy += truth * altimeter[i].range_m, sx += truth, sy += altimeter[i].range_m, ++n;
+  }
+  EXPECT_NEAR(normalized.stddev(), 1.0, tolerance(normalized.n));
+  EXPECT_NEAR(normalized.mean(), 0.0, 4.0 / std::sqrt(normalized.n));
+  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  EXPECT_NEAR(slope, 1.01, 0.002);
+
+  // Frame truth (true exposure) minus trigger stamp = offset + latency + jitter.
+  std::map<int64_t, int64_t> trigger_us;
+  for (const trigger_t& t : triggers) trigger_us[t.sequence] = t.utime;
+  ASSERT_EQ(frame_truth.size(), triggers.size());
+  Stats delay;
+  for (size_t k = 0; k < frame_truth.size(); ++k) delay.add(static_cast<double>(frame_truth[k].utime - trigger_us[k]));
+  EXPECT_NEAR(delay.mean(), sensors.camera.exposure_delay_us(), 4.0 * sensors.camera.trigger_jitter_us / std::sqrt(delay.n));
+  EXPECT_NEAR(delay.stddev() / sensors.camera.trigger_jitter_us, 1.0, tolerance(delay.n) + 0.01);
+}
+
+TEST(InstallationErrors, TrueCameraAndAltimeterBeamDifferFromTheConfig) {
+  SensorOptions sensors = testing::sensor_set("calibration_test");
+  sensors.camera.focal_scale = 1.01;
+  sensors.camera.distortion_error = {0.01, 0, 0, 0, 0};
+  sensors.altimeter.beam_misalignment_deg = {3.0, 0.0};
+  SimulatorOptions options;
+  options.render_images = false;
+  const SimCamera configured = testing::default_camera();
+  Simulator sim(testing::profile("test1"), configured, sensors, options);
+  const Eigen::Matrix3d boresight =
+      sim.configured_camera().body_from_camera.transpose() * sim.camera().body_from_camera;
+  EXPECT_NEAR(boresight(2, 1), deg2rad(0.4), 1e-4);   // roll: camera y toward z
+  EXPECT_NEAR(boresight(0, 2), deg2rad(-0.3), 1e-4);  // pitch
+  EXPECT_NEAR(boresight(1, 0), deg2rad(0.5), 1e-4);   // yaw
+  EXPECT_DOUBLE_EQ(sim.camera().fx, configured.fx * 1.01);
+  EXPECT_DOUBLE_EQ(sim.camera().distortion[0], configured.distortion[0] + 0.01);
+  EXPECT_DOUBLE_EQ(sim.configured_camera().fx, configured.fx);
+  // A beam misaligned by 3 deg in roll reads longer than the nominal one at
+  // the same instant over gently rolling terrain: about 1/cos(3 deg) on average.
+  SensorOptions aligned = sensors;
+  aligned.altimeter.beam_misalignment_deg = {0.0, 0.0};
+  Simulator reference(testing::profile("test1"), configured, aligned, options);
+  Stats ratio;
+  for (double t = 10; t < 250; t += 0.5) {
+    double r1 = 0, r0 = 0;
+    if (sim.altimeter_truth_range(t, &r1) && reference.altimeter_truth_range(t, &r0)) ratio.add(r1 / r0);
+  }
+  ASSERT_GT(ratio.n, 400);
+  EXPECT_GT(ratio.stddev(), 1e-5);  // really a different ray
+  EXPECT_NEAR(ratio.mean(), 1.0 / std::cos(deg2rad(3.0)), 0.01);
+}
+
+TEST(SensorOptionsFile, BadInstallationConfigNamesTheKey) {
+  auto expect_error = [](const std::string& yaml, const std::string& key) {
+    const Config bad = Config::parse(yaml, "bad_sensors.yaml");
+    try {
+      SensorOptions::from_config(bad, "s");
+      ADD_FAILURE() << "expected a ConfigError for " << key;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad_sensors.yaml"), std::string::npos) << e.what();
+    }
+  };
+  expect_error("s:\n  ins:\n    yaw_gm_sigma_deg: -0.1\n", "s.ins.yaw_gm_sigma_deg");
+  expect_error("s:\n  ins:\n    yaw_gm_tau_s: 0\n", "s.ins.yaw_gm_tau_s");
+  expect_error("s:\n  ins:\n    roll_pitch_gm_tau_s: 0\n", "s.ins.roll_pitch_gm_tau_s");
+  expect_error("s:\n  camera:\n    boresight_deg: [0, 0, 0]\n", "s.camera.boresight_deg");
+  expect_error("s:\n  camera:\n    boresight_rpy_deg: [0, 0]\n", "s.camera.boresight_rpy_deg");
+  expect_error("s:\n  altimeter:\n    scale: -1\n", "s.altimeter.scale");
+  expect_error("s:\n  altimeter:\n    noise_m: -0.1\n", "s.altimeter.noise_m");
+  expect_error("s:\n  lidar: {}\n", "s.lidar");
+  for (const std::string set : {"standard", "ideal", "correlated_ins", "realistic", "calibration_test"})
+    EXPECT_NO_THROW(testing::sensor_set(set)) << set;
 }
 
 TEST(SensorOptionsFile, BadValueNamesFileAndKey) {

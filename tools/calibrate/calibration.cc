@@ -1,0 +1,713 @@
+#include "tools/calibrate/calibration.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/camera_model.h"
+#include "common/channels.h"
+#include "common/geometry.h"
+#include "common/json_writer.h"
+#include "common/log_file.h"
+#include "common/message_guard.h"
+#include "common/progress.h"
+#include "nadir/altimeter_t.hpp"
+#include "nadir/ground_truth_t.hpp"
+#include "nadir/ins_t.hpp"
+#include "nadir/tracks_t.hpp"
+
+namespace nadir::calibrate {
+namespace {
+
+template <class Msg>
+bool decode(const LogEvent& e, Msg* msg) {
+  std::string reason;
+  return decode_message(e.data, e.size, msg, &reason);
+}
+
+// Local north-east-down about a geodetic origin (WGS84 radii of curvature at
+// the origin: metres over a calibration segment of a few km).
+class LocalTangentPlane {
+ public:
+  LocalTangentPlane(double lat_deg, double lon_deg, double height_m)
+      : lat0_(deg_to_rad(lat_deg)), lon0_(deg_to_rad(lon_deg)), h0_(height_m) {
+    const double a = 6378137.0, e2 = 6.69437999014e-3;
+    const double s = std::sin(lat0_), w = 1.0 - e2 * s * s;
+    r_n_ = a / std::sqrt(w);
+    r_m_ = a * (1.0 - e2) / (w * std::sqrt(w));
+  }
+  Eigen::Vector3d ned(double lat_deg, double lon_deg, double height_m) const {
+    return {(deg_to_rad(lat_deg) - lat0_) * (r_m_ + h0_),
+            (deg_to_rad(lon_deg) - lon0_) * (r_n_ + h0_) * std::cos(lat0_), h0_ - height_m};
+  }
+
+ private:
+  double lat0_, lon0_, h0_, r_n_ = 0, r_m_ = 0;
+};
+
+Eigen::Matrix3d exp_so3(const Eigen::Vector3d& v) {
+  const double angle = v.norm();
+  if (angle < 1e-15) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
+}
+
+Eigen::Vector3d log_so3(const Eigen::Matrix3d& r) {
+  const Eigen::AngleAxisd aa(r);
+  return aa.angle() * aa.axis();
+}
+
+// INS attitude and position at any time in the segment. With body rates: the
+// rates integrated (the motion between frames, exact up to gyro errors) and
+// pulled to the INS attitude by a centred average of their difference (the
+// white attitude noise averages out, the motion is not averaged at all).
+// Without rates: a short centred average of roll, pitch, yaw, interpolated
+// linearly (attenuates fast motion: a fallback).
+class InsTrack {
+ public:
+  InsTrack(const std::vector<FlightData::InsSample>& ins, double smoothing_s) : ins_(ins) {
+    const int n = static_cast<int>(ins.size());
+    double rate = 100.0;
+    if (n > 1) rate = (n - 1) / ((ins.back().utime - ins.front().utime) * 1e-6);
+    rates_ = std::all_of(ins.begin(), ins.end(), [](const FlightData::InsSample& s) { return s.has_rates; });
+    attitude_.resize(static_cast<size_t>(n));
+    if (rates_) {
+      const int h = std::max(0, static_cast<int>(std::lround(smoothing_s * rate)));
+      std::vector<Eigen::Matrix3d> gyro(static_cast<size_t>(n));
+      gyro[0] = rotation_from_rpy(ins[0].roll, ins[0].pitch, ins[0].yaw);
+      for (int i = 0; i + 1 < n; ++i) {
+        const double dt = (ins[i + 1].utime - ins[i].utime) * 1e-6;
+        gyro[i + 1] = gyro[i] * exp_so3(0.5 * (ins[i].angular_rate + ins[i + 1].angular_rate) * dt);
+      }
+      // Prefix sums of the error INS vs integrated rates (body frame, small).
+      std::vector<Eigen::Vector3d> sum(static_cast<size_t>(n) + 1, Eigen::Vector3d::Zero());
+      for (int i = 0; i < n; ++i)
+        sum[i + 1] = sum[i] + log_so3(gyro[i].transpose() * rotation_from_rpy(ins[i].roll, ins[i].pitch, ins[i].yaw));
+      Eigen::Vector3d scatter = Eigen::Vector3d::Zero();
+      for (int i = 0; i < n; ++i) {
+        const int lo = std::max(0, i - h), hi = std::min(n - 1, i + h);
+        const Eigen::Vector3d mean = (sum[hi + 1] - sum[lo]) / (hi - lo + 1);
+        attitude_[i] = gyro[i] * exp_so3(mean);
+        const Eigen::Vector3d d = (sum[i + 1] - sum[i]) - mean;
+        scatter += d.cwiseProduct(d);
+      }
+      noise_rad_ = (scatter / std::max(1, n - 1)).cwiseSqrt();
+      window_ = h;
+    } else {
+      const int h = std::max(0, static_cast<int>(std::lround(std::min(smoothing_s, 0.05) * rate)));
+      smoothed_rpy_.resize(static_cast<size_t>(n));
+      for (int i = 0; i < n; ++i) {
+        Eigen::Vector3d total = Eigen::Vector3d::Zero();
+        int count = 0;
+        for (int j = std::max(0, i - h); j <= std::min(n - 1, i + h); ++j, ++count)
+          total += Eigen::Vector3d(ins[j].roll, ins[j].pitch, ins[i].yaw + angle_difference(ins[j].yaw, ins[i].yaw));
+        smoothed_rpy_[i] = total / count;
+      }
+    }
+  }
+  bool uses_rates() const { return rates_; }
+  // The INS attitude's white noise (body axes, rad) seen against the rates.
+  const Eigen::Vector3d& noise_rad() const { return noise_rad_; }
+  // A copy whose attitude carries another draw of what the averaging leaves
+  // of that noise (a moving average of white noise): for the bootstrap.
+  InsTrack perturbed(uint64_t seed) const {
+    InsTrack copy = *this;
+    if (!rates_) return copy;
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal;
+    const int n = static_cast<int>(attitude_.size());
+    std::vector<Eigen::Vector3d> sum(static_cast<size_t>(n) + 1, Eigen::Vector3d::Zero());
+    for (int i = 0; i < n; ++i)
+      sum[i + 1] = sum[i] + Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).cwiseProduct(noise_rad_);
+    for (int i = 0; i < n; ++i) {
+      const int lo = std::max(0, i - window_), hi = std::min(n - 1, i + window_);
+      copy.attitude_[i] = attitude_[i] * exp_so3((sum[hi + 1] - sum[lo]) / (hi - lo + 1));
+    }
+    return copy;
+  }
+  int64_t first_utime() const { return ins_.front().utime; }
+  int64_t last_utime() const { return ins_.back().utime; }
+  bool covers(double utime) const { return utime >= ins_.front().utime && utime <= ins_.back().utime; }
+  // Requires covers(utime).
+  void at(double utime, Eigen::Matrix3d* world_from_body, Eigen::Vector3d* position_ned) const {
+    auto it = std::upper_bound(ins_.begin(), ins_.end(), utime,
+                               [](double t, const FlightData::InsSample& s) { return t < static_cast<double>(s.utime); });
+    size_t j = static_cast<size_t>(it - ins_.begin());
+    if (j == 0) j = 1;
+    if (j >= ins_.size()) j = ins_.size() - 1;
+    const size_t i = j - 1;
+    const double span = static_cast<double>(ins_[j].utime - ins_[i].utime);
+    const double w = span > 0 ? (utime - static_cast<double>(ins_[i].utime)) / span : 0.0;
+    if (world_from_body) {
+      if (rates_) {  // rates interpolated linearly, integrated from sample i to t (trapezoid)
+        const double tau = w * span * 1e-6;
+        const Eigen::Vector3d mean_rate = ins_[i].angular_rate * (1.0 - 0.5 * w) + ins_[j].angular_rate * (0.5 * w);
+        *world_from_body = attitude_[i] * exp_so3(mean_rate * tau);
+      } else {
+        const Eigen::Vector3d a = smoothed_rpy_[i], b = smoothed_rpy_[j];
+        *world_from_body = rotation_from_rpy(a.x() + w * (b.x() - a.x()), a.y() + w * (b.y() - a.y()),
+                                             a.z() + w * angle_difference(b.z(), a.z()));
+      }
+    }
+    if (position_ned) *position_ned = ins_[i].position_ned + w * (ins_[j].position_ned - ins_[i].position_ned);
+  }
+
+ private:
+  const std::vector<FlightData::InsSample>& ins_;
+  bool rates_ = false;
+  int window_ = 0;
+  Eigen::Vector3d noise_rad_ = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Matrix3d> attitude_;   // with rates
+  std::vector<Eigen::Vector3d> smoothed_rpy_;  // without
+};
+
+// Truth height above the ground directly below, interpolated; false outside the series.
+bool interpolate_agl(const std::vector<FlightData::TerrainSample>& terrain, double utime, double* value) {
+  if (terrain.size() < 2 || utime < terrain.front().utime || utime > terrain.back().utime) return false;
+  auto it = std::upper_bound(terrain.begin(), terrain.end(), utime, [](double t, const FlightData::TerrainSample& s) {
+    return t < static_cast<double>(s.utime);
+  });
+  size_t j = std::min(static_cast<size_t>(it - terrain.begin()), terrain.size() - 1);
+  if (j == 0) j = 1;
+  const auto& a = terrain[j - 1];
+  const auto& b = terrain[j];
+  const double w = (utime - static_cast<double>(a.utime)) / static_cast<double>(b.utime - a.utime);
+  const double agl_a = -a.position_ned.z() - a.terrain_height_m, agl_b = -b.position_ned.z() - b.terrain_height_m;
+  *value = agl_a + w * (agl_b - agl_a);
+  return true;
+}
+
+// Least squares with a covariance robust to errors shared within a cluster
+// (INS attitude errors and terrain are correlated over seconds; treating
+// residuals as independent would make the sigmas far too small):
+// cov = H^-1 (sum_c g_c g_c^T) H^-1 * G / (G - 1), g_c = J_c^T r_c, never
+// below the classical s^2 H^-1.
+Eigen::MatrixXd robust_covariance(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual,
+                                  const std::vector<int>& cluster, const std::vector<bool>& use) {
+  const int p = static_cast<int>(jacobian.cols());
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(p, p);
+  std::map<int, Eigen::VectorXd> g;
+  double rss = 0;
+  int64_t n = 0;
+  for (int i = 0; i < jacobian.rows(); ++i) {
+    if (!use[static_cast<size_t>(i)]) continue;
+    const Eigen::VectorXd row = jacobian.row(i).transpose();
+    h += row * row.transpose();
+    auto it = g.find(cluster[static_cast<size_t>(i)]);
+    if (it == g.end()) it = g.emplace(cluster[static_cast<size_t>(i)], Eigen::VectorXd::Zero(p)).first;
+    it->second += row * residual[i];
+    rss += residual[i] * residual[i];
+    ++n;
+  }
+  const Eigen::MatrixXd h_inv = h.ldlt().solve(Eigen::MatrixXd::Identity(p, p));
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(p, p);
+  for (const auto& [c, v] : g) meat += v * v.transpose();
+  const double groups = static_cast<double>(g.size());
+  Eigen::MatrixXd cov = h_inv * meat * h_inv * (groups > 1 ? groups / (groups - 1) : 1.0);
+  const Eigen::MatrixXd classical = h_inv * (n > p ? rss / static_cast<double>(n - p) : 0.0);
+  for (int k = 0; k < p; ++k) {
+    if (cov(k, k) < classical(k, k)) {  // keep the larger diagonal, scale its row/column
+      const double f = std::sqrt(classical(k, k) / std::max(cov(k, k), 1e-300));
+      cov.row(k) *= f;
+      cov.col(k) *= f;
+    }
+  }
+  return cov;
+}
+
+// The camera fit: parameters boresight roll, pitch, yaw (rad), time offset
+// (s) and focal scale - 1.
+class EpipolarFit {
+ public:
+  EpipolarFit(const FlightData& data, const InsTrack& ins, const Eigen::Matrix3d& configured_body_from_camera,
+              const CalibrationOptions& options)
+      : data_(data), ins_(ins), body_from_camera_(configured_body_from_camera), options_(options) {
+    const double margin_us = 60000.0;  // room for the time offset to move
+    for (size_t k = 0; k < data.pairs.size(); ++k) {
+      const auto& pair = data.pairs[k];
+      if (!ins.covers(pair.prev_utime - margin_us) || !ins.covers(pair.utime + margin_us)) continue;
+      Eigen::Vector3d pi, pj;
+      ins.at(pair.prev_utime, nullptr, &pi);
+      ins.at(pair.utime, nullptr, &pj);
+      if ((pj - pi).norm() < options.min_baseline_m) continue;
+      pairs_.push_back(k);
+      for (size_t f = 0; f < pair.prev_norm.size(); ++f) {
+        index_.push_back({k, f});
+        const double t = (pair.prev_utime - ins.first_utime()) * 1e-6;
+        cluster_.push_back(static_cast<int>(t / options.cluster_s));
+        time_s_.push_back(t);
+      }
+    }
+  }
+  size_t size() const { return index_.size(); }
+  size_t pair_count() const { return pairs_.size(); }
+  const std::vector<int>& clusters() const { return cluster_; }
+  const std::vector<double>& times_s() const { return time_s_; }
+
+  Eigen::VectorXd residuals(const Eigen::VectorXd& theta) const {
+    Eigen::VectorXd r(static_cast<Eigen::Index>(index_.size()));
+    const Eigen::Matrix3d r_bc = body_from_camera_ * rotation_from_rpy(theta[0], theta[1], theta[2]);
+    const double dt_us = theta[3] * 1e6;
+    const double inv_scale = 1.0 / (1.0 + theta[4]);
+    size_t row = 0;
+    for (size_t k : pairs_) {
+      const auto& pair = data_.pairs[k];
+      Eigen::Matrix3d ri, rj;
+      Eigen::Vector3d pi, pj;
+      ins_.at(pair.prev_utime + dt_us, &ri, &pi);
+      ins_.at(pair.utime + dt_us, &rj, &pj);
+      const Eigen::Vector3d baseline = pj - pi;
+      const Eigen::Matrix3d ai = ri * r_bc, aj = rj * r_bc;
+      for (size_t f = 0; f < pair.prev_norm.size(); ++f, ++row) {
+        const Eigen::Vector3d bi(pair.prev_norm[f].x() * inv_scale, pair.prev_norm[f].y() * inv_scale, 1.0);
+        const Eigen::Vector3d bj(pair.curr_norm[f].x() * inv_scale, pair.curr_norm[f].y() * inv_scale, 1.0);
+        const Eigen::Vector3d n = (ai * bi.normalized()).cross(baseline);
+        const double nn = n.norm();
+        r[static_cast<Eigen::Index>(row)] = nn > 0 ? n.dot(aj * bj.normalized()) / nn : 0.0;
+      }
+    }
+    return r;
+  }
+
+  Eigen::MatrixXd jacobian(const Eigen::VectorXd& theta, const std::vector<bool>& active) const {
+    static const double kStep[5] = {1e-5, 1e-5, 1e-5, 2e-4, 1e-5};
+    Eigen::MatrixXd j = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(size()), 5);
+    for (int k = 0; k < 5; ++k) {
+      if (!active[static_cast<size_t>(k)]) continue;
+      Eigen::VectorXd plus = theta, minus = theta;
+      plus[k] += kStep[k];
+      minus[k] -= kStep[k];
+      j.col(k) = (residuals(plus) - residuals(minus)) / (2.0 * kStep[k]);
+    }
+    return j;
+  }
+
+ private:
+  struct Index {
+    size_t pair, feature;
+  };
+  const FlightData& data_;
+  const InsTrack& ins_;
+  Eigen::Matrix3d body_from_camera_;
+  const CalibrationOptions& options_;
+  std::vector<size_t> pairs_;
+  std::vector<Index> index_;
+  std::vector<int> cluster_;
+  std::vector<double> time_s_;  // of each residual's first frame, from the segment start
+};
+
+Estimate make_estimate(const std::string& name, double value, double sigma, bool estimated, double limit) {
+  Estimate e;
+  e.name = name;
+  e.value = value;
+  e.sigma = sigma;
+  e.estimated = estimated;
+  e.excited = estimated && sigma <= limit;
+  return e;
+}
+
+double median_abs(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  for (double& x : v) x = std::fabs(x);
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+struct CameraFit {
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(5);
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(5, 5);
+  int64_t residuals = 0, outliers = 0;
+  double rms = 0.0;
+};
+
+// Gauss-Newton from `start`; residuals with a time in [skip_from_s, skip_to_s)
+// are left out (the block jackknife).
+CameraFit fit_camera(const EpipolarFit& fit, const std::vector<bool>& active, const CalibrationOptions& options,
+                     const Eigen::VectorXd& start, int iterations, double skip_from_s = 0.0, double skip_to_s = 0.0) {
+  CameraFit out;
+  out.theta = start;
+  std::vector<bool> use(fit.size(), true);
+  auto skipped = [&](size_t i) { return fit.times_s()[i] >= skip_from_s && fit.times_s()[i] < skip_to_s; };
+  std::vector<int> act;
+  for (int k = 0; k < 5; ++k)
+    if (active[static_cast<size_t>(k)]) act.push_back(k);
+  Eigen::VectorXd r;
+  Eigen::MatrixXd j;
+  for (int it = 0; it < iterations; ++it) {
+    r = fit.residuals(out.theta);
+    // Robust sigma from the median absolute residual; outliers (mistracks) dropped.
+    const double sigma = 1.4826 * median_abs(std::vector<double>(r.data(), r.data() + r.size()));
+    for (size_t i = 0; i < use.size(); ++i)
+      use[i] = std::fabs(r[static_cast<Eigen::Index>(i)]) <= options.outlier_sigma * sigma && !skipped(i);
+    j = fit.jacobian(out.theta, active);
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(act.size()), static_cast<Eigen::Index>(act.size()));
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(act.size()));
+    for (size_t i = 0; i < use.size(); ++i) {
+      if (!use[i]) continue;
+      Eigen::VectorXd row(static_cast<Eigen::Index>(act.size()));
+      for (size_t a = 0; a < act.size(); ++a) row[static_cast<Eigen::Index>(a)] = j(static_cast<Eigen::Index>(i), act[a]);
+      h += row * row.transpose();
+      g += row * r[static_cast<Eigen::Index>(i)];
+    }
+    const Eigen::VectorXd step = -h.ldlt().solve(g);
+    for (size_t a = 0; a < act.size(); ++a) out.theta[act[a]] += step[static_cast<Eigen::Index>(a)];
+    if (step.cwiseAbs().maxCoeff() < 1e-9) break;
+  }
+  r = fit.residuals(out.theta);
+  j = fit.jacobian(out.theta, active);
+  Eigen::MatrixXd ja(j.rows(), static_cast<Eigen::Index>(act.size()));
+  for (size_t a = 0; a < act.size(); ++a) ja.col(static_cast<Eigen::Index>(a)) = j.col(act[a]);
+  const Eigen::MatrixXd cov = robust_covariance(ja, r, fit.clusters(), use);
+  for (size_t a = 0; a < act.size(); ++a)
+    for (size_t b = 0; b < act.size(); ++b)
+      out.cov(act[a], act[b]) = cov(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
+  double rss = 0;
+  for (size_t i = 0; i < use.size(); ++i) {
+    if (use[i]) {
+      rss += r[static_cast<Eigen::Index>(i)] * r[static_cast<Eigen::Index>(i)];
+      ++out.residuals;
+    } else {
+      ++out.outliers;
+    }
+  }
+  out.rms = out.residuals > 0 ? std::sqrt(rss / static_cast<double>(out.residuals)) : 0.0;
+  return out;
+}
+
+std::string fmt(const char* format, double a, double b = 0.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), format, a, b);
+  return buf;
+}
+
+}  // namespace
+
+void CalibrationOptions::Check() const {
+  const std::string src = "calibration options";
+  require_option(attitude_smoothing_s >= 0 && attitude_smoothing_s <= 30, src, "attitude_smoothing_s", "must be in [0, 30]");
+  require_option(min_baseline_m > 0 && min_baseline_m <= 100, src, "min_baseline_m", "must be in (0, 100]");
+  require_option(cluster_s > 0 && cluster_s <= 600, src, "cluster_s", "must be in (0, 600]");
+  require_option(jackknife_block_s >= 1 && jackknife_block_s <= 3600, src, "jackknife_block_s", "must be in [1, 3600]");
+  require_option(bootstrap_runs == 0 || (bootstrap_runs >= 2 && bootstrap_runs <= 1000), src, "bootstrap_runs", "must be 0 or in [2, 1000]");
+  require_option(outlier_sigma >= 2 && outlier_sigma <= 100, src, "outlier_sigma", "must be in [2, 100]");
+  require_option(iterations >= 1 && iterations <= 100, src, "iterations", "must be in [1, 100]");
+  for (double a : ins_attitude_accuracy_deg)
+    require_option(a >= 0 && a <= 10, src, "ins_attitude_accuracy_deg", "must be in [0, 10] per axis");
+  require_option(std::isnan(ground_height_m) || std::fabs(ground_height_m) < 1e4, src, "ground_height_m",
+                 "must be in (-1e4, 1e4)");
+}
+
+FlightData load_flight(const std::string& log_path, bool progress) {
+  FlightData data;
+  LogReader reader(log_path);
+  ProgressBar bar("reading " + log_path, static_cast<double>(reader.size()), progress && stderr_is_terminal());
+  std::unique_ptr<LocalTangentPlane> plane;
+  LogEvent e;
+  while (reader.next(&e)) {
+    bar.update(static_cast<double>(reader.position()));
+    if (e.channel == channels::kIns) {
+      ins_t m;
+      if (!decode(e, &m)) continue;
+      if (!plane) {
+        plane = std::make_unique<LocalTangentPlane>(m.latitude_deg, m.longitude_deg, m.height_m);
+        data.reference_height_m = m.height_m;
+      }
+      if (!data.ins.empty() && m.utime <= data.ins.back().utime) continue;  // keep time strictly increasing
+      data.ins.push_back({m.utime, m.roll, m.pitch, m.yaw, m.has_rates != 0,
+                          Eigen::Vector3d(m.angular_rate[0], m.angular_rate[1], m.angular_rate[2]),
+                          plane->ned(m.latitude_deg, m.longitude_deg, m.height_m)});
+    } else if (e.channel == channels::kTracks) {
+      tracks_t m;
+      if (!decode(e, &m)) continue;
+      const int32_t bad = tracks_t::FLAG_FIRST_FRAME | tracks_t::FLAG_FRAME_GAP | tracks_t::FLAG_BAD_IMAGE |
+                          tracks_t::FLAG_WRONG_FORMAT;
+      if ((m.flags & bad) != 0 || m.num_tracks < 8) continue;
+      FlightData::FramePair pair;
+      pair.prev_utime = m.prev_utime;
+      pair.utime = m.utime;
+      for (int32_t i = 0; i < m.num_tracks; ++i) {
+        pair.prev_norm.emplace_back(m.prev_norm[i][0], m.prev_norm[i][1]);
+        pair.curr_norm.emplace_back(m.curr_norm[i][0], m.curr_norm[i][1]);
+      }
+      data.pairs.push_back(std::move(pair));
+    } else if (e.channel == channels::kAltimeter) {
+      altimeter_t m;
+      if (!decode(e, &m) || m.validity != altimeter_t::VALID_OK) continue;
+      data.altimeter.push_back({m.utime, m.range_m, Eigen::Vector3d(m.beam_body[0], m.beam_body[1], m.beam_body[2])});
+    } else if (e.channel == channels::kGroundTruth) {
+      ground_truth_t m;
+      if (!decode(e, &m) || m.kind != ground_truth_t::KIND_INS) continue;
+      if (!data.terrain.empty() && m.utime <= data.terrain.back().utime) continue;
+      data.terrain.push_back(
+          {m.utime, Eigen::Vector3d(m.position_ned[0], m.position_ned[1], m.position_ned[2]), m.terrain_height_m});
+    }
+  }
+  bar.finish();
+  data.corrupt_records = reader.corrupt_records();
+  if (data.ins.size() < 100) throw std::runtime_error(log_path + ": fewer than 100 INS messages: no attitude/position reference");
+  return data;
+}
+
+CalibrationResult calibrate(const FlightData& data, const Config& camera_root, const CalibrationOptions& options) {
+  options.Check();
+  const CameraModel camera = CameraModel::from_config(camera_root);
+  const InsTrack ins(data.ins, options.attitude_smoothing_s);
+  CalibrationResult result;
+  result.segment_s = (ins.last_utime() - ins.first_utime()) * 1e-6;
+
+  // --- Camera: boresight, time offset, focal scale.
+  const EpipolarFit fit(data, ins, camera.body_from_camera, options);
+  result.frame_pairs = static_cast<int64_t>(fit.pair_count());
+  std::vector<bool> active(5, true);
+  active[4] = options.estimate_focal;
+  CameraFit cam;
+  const bool camera_data = fit.pair_count() >= 20;
+  if (camera_data) {
+    cam = fit_camera(fit, active, options, Eigen::VectorXd::Zero(5), options.iterations);
+    if (active[4] && std::sqrt(cam.cov(4, 4)) > 5.0 * options.focal_sigma_limit) {
+      // The focal scale is not observable in this flight: holding it at 1
+      // keeps it from absorbing noise into the other parameters.
+      result.warnings.push_back(fmt("focal_scale: not observable in this flight (sigma %.4f); held at 1. Needs "
+                                    "rotation of several degrees between frames or a strongly sloped scene.",
+                                    std::sqrt(cam.cov(4, 4))));
+      active[4] = false;
+      cam = fit_camera(fit, active, options, Eigen::VectorXd::Zero(5), options.iterations);
+    }
+    // Block jackknife: errors shared over longer than a cluster (the INS's
+    // slowly varying attitude error, the scene) show in how much the estimate
+    // moves when a block of the flight is left out. The larger of the two
+    // covariances is reported.
+    const double span = fit.times_s().empty() ? 0.0 : fit.times_s().back();
+    const int blocks = static_cast<int>(std::floor(span / options.jackknife_block_s));
+    if (blocks >= 5) {
+      std::vector<Eigen::VectorXd> leave_out;
+      for (int g = 0; g < blocks; ++g) {
+        const double from = g * options.jackknife_block_s;
+        const double to = g + 1 == blocks ? span + 1.0 : from + options.jackknife_block_s;
+        leave_out.push_back(fit_camera(fit, active, options, cam.theta, 2, from, to).theta);
+      }
+      Eigen::VectorXd mean = Eigen::VectorXd::Zero(5);
+      for (const auto& v : leave_out) mean += v / static_cast<double>(blocks);
+      Eigen::MatrixXd jk = Eigen::MatrixXd::Zero(5, 5);
+      for (const auto& v : leave_out) jk += (v - mean) * (v - mean).transpose();
+      jk *= static_cast<double>(blocks - 1) / static_cast<double>(blocks);
+      for (int k = 0; k < 5; ++k) {
+        if (jk(k, k) > cam.cov(k, k)) {
+          const double f = std::sqrt(jk(k, k) / std::max(cam.cov(k, k), 1e-300));
+          cam.cov.row(k) *= f;
+          cam.cov.col(k) *= f;
+        }
+      }
+    }
+    // The residuals hold the tracks' errors; the INS attitude the fit leans
+    // on has its own (what the averaging leaves of its noise), and the fit
+    // turns small attitude errors into larger boresight and time errors.
+    // Bootstrap: refit against the attitude with other draws of that error;
+    // the spread is added to the covariance.
+    if (options.bootstrap_runs >= 2 && ins.uses_rates()) {
+      std::vector<Eigen::VectorXd> draws;
+      for (int b = 0; b < options.bootstrap_runs; ++b) {
+        const InsTrack other = ins.perturbed(1000 + static_cast<uint64_t>(b));
+        const EpipolarFit refit(data, other, camera.body_from_camera, options);
+        draws.push_back(fit_camera(refit, active, options, cam.theta, 2).theta);
+      }
+      Eigen::VectorXd mean = Eigen::VectorXd::Zero(5);
+      for (const auto& v : draws) mean += v / static_cast<double>(draws.size());
+      Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(5, 5);
+      for (const auto& v : draws) spread += (v - mean) * (v - mean).transpose() / static_cast<double>(draws.size() - 1);
+      cam.cov += spread;
+    }
+  } else {
+    result.warnings.push_back("camera: fewer than 20 usable frame pairs (TRACKS with a baseline >= min_baseline_m); "
+                              "replay the tracker over the flight first (nadir_replay --nodes tracker)");
+  }
+  result.residuals = cam.residuals;
+  result.outliers = cam.outliers;
+  result.camera_rms_rad = cam.rms;
+  const char* names[3] = {"boresight_roll_deg", "boresight_pitch_deg", "boresight_yaw_deg"};
+  for (int k = 0; k < 3; ++k)
+    result.boresight[static_cast<size_t>(k)] =
+        make_estimate(names[k], rad_to_deg(cam.theta[k]),
+                      std::hypot(rad_to_deg(std::sqrt(cam.cov(k, k))), options.ins_attitude_accuracy_deg[static_cast<size_t>(k)]),
+                      camera_data, options.boresight_sigma_limit_deg);
+  result.time_offset_ms = make_estimate("time_offset_ms", cam.theta[3] * 1e3, std::sqrt(cam.cov(3, 3)) * 1e3,
+                                        camera_data, options.time_offset_sigma_limit_ms);
+  result.focal_scale = make_estimate("focal_scale", 1.0 + cam.theta[4], std::sqrt(cam.cov(4, 4)),
+                                     camera_data && active[4], options.focal_sigma_limit);
+  const Eigen::Matrix3d mount = camera.body_from_camera * rotation_from_rpy(cam.theta[0], cam.theta[1], cam.theta[2]);
+  result.mount_rpy_deg = rpy_from_rotation(mount) * (180.0 / M_PI);
+  result.fx = camera.fx * (1.0 + cam.theta[4]);
+  result.fy = camera.fy * (1.0 + cam.theta[4]);
+  const char* hints[5] = {
+      "needs a vertical or sideways baseline (climbs and descents, crabbing) and rotation about the pitch/yaw axes",
+      "needs forward flight with rotation about the roll/yaw axes",
+      "needs forward flight with rotation about the roll/pitch axes (straight and level flight reveals it only "
+      "through the direction of travel)",
+      "needs attitude changes (rates of several deg/s that vary: oscillations, turn entries and exits)",
+      "needs large rotations between frames"};
+  for (int k = 0; k < 5 && camera_data; ++k) {
+    const Estimate& e = k < 3 ? result.boresight[static_cast<size_t>(k)] : (k == 3 ? result.time_offset_ms : result.focal_scale);
+    if (e.estimated && !e.excited)
+      result.warnings.push_back(e.name + ": weakly excited by this flight (sigma " + fmt("%.4g", e.sigma) + "); " +
+                                hints[k]);
+  }
+  for (int a = 0; a < 5 && camera_data; ++a)
+    for (int b = a + 1; b < 5; ++b) {
+      if (!active[static_cast<size_t>(a)] || !active[static_cast<size_t>(b)]) continue;
+      const double corr = cam.cov(a, b) / std::sqrt(cam.cov(a, a) * cam.cov(b, b));
+      if (std::fabs(corr) > 0.95) {
+        const char* pn[5] = {"boresight_roll", "boresight_pitch", "boresight_yaw", "time_offset", "focal_scale"};
+        result.warnings.push_back(std::string(pn[a]) + " and " + pn[b] + " are not separable in this flight (correlation " +
+                                  fmt("%.3f", corr) + ")");
+      }
+    }
+
+  // --- Altimeter: measured range = scale * (height above ground along the beam) + bias.
+  std::vector<double> x, y;
+  std::vector<int> cluster;
+  for (const auto& a : data.altimeter) {
+    if (!ins.covers(static_cast<double>(a.utime))) continue;
+    double agl = 0.0;
+    Eigen::Matrix3d r_wb;
+    Eigen::Vector3d p;
+    ins.at(static_cast<double>(a.utime), &r_wb, &p);
+    if (!data.terrain.empty()) {
+      if (!interpolate_agl(data.terrain, static_cast<double>(a.utime), &agl)) continue;
+    } else if (!std::isnan(options.ground_height_m)) {
+      agl = data.reference_height_m - p.z() - options.ground_height_m;  // INS height minus the ground's
+    } else {
+      continue;
+    }
+    const double cos_tilt = (r_wb * a.beam_body.normalized()).z();
+    if (cos_tilt < 0.5) continue;
+    x.push_back(agl / cos_tilt);
+    y.push_back(a.range_m);
+    cluster.push_back(static_cast<int>((a.utime - ins.first_utime()) * 1e-6 / options.cluster_s));
+  }
+  result.altimeter_samples = static_cast<int64_t>(x.size());
+  Eigen::Vector2d ab(1.0, 0.0);
+  Eigen::Matrix2d acov = Eigen::Matrix2d::Zero();
+  const bool altimeter_data = x.size() >= 20;
+  if (altimeter_data) {
+    // The reference (height above the ground below the vehicle, along the
+    // beam) carries the terrain's mismatch with the beam's footprint (metres
+    // over relief), the measured range only the altimeter noise: regress the
+    // reference on the measurement, x = c1 y + c0 (no attenuation of the
+    // slope by the reference's errors), then scale = 1 / c1, bias = -c0 / c1.
+    const Eigen::Index n = static_cast<Eigen::Index>(x.size());
+    Eigen::MatrixXd j(n, 2);
+    Eigen::VectorXd xx(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      j(i, 0) = y[static_cast<size_t>(i)];
+      j(i, 1) = 1.0;
+      xx[i] = x[static_cast<size_t>(i)];
+    }
+    std::vector<bool> use(x.size(), true);
+    Eigen::Vector2d c(1.0, 0.0);
+    for (int it = 0; it < 3; ++it) {  // refit without outliers (terrain edges)
+      Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
+      Eigen::Vector2d g = Eigen::Vector2d::Zero();
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (use[static_cast<size_t>(i)]) {
+          h += j.row(i).transpose() * j.row(i);
+          g += j.row(i).transpose() * xx[i];
+        }
+      c = h.ldlt().solve(g);
+      const Eigen::VectorXd r = xx - j * c;
+      const double sigma = 1.4826 * median_abs(std::vector<double>(r.data(), r.data() + r.size()));
+      for (Eigen::Index i = 0; i < n; ++i) use[static_cast<size_t>(i)] = std::fabs(r[i]) <= options.outlier_sigma * sigma;
+    }
+    const Eigen::VectorXd r = xx - j * c;
+    const Eigen::Matrix2d ccov = robust_covariance(j, -r, cluster, use);
+    ab = Eigen::Vector2d(1.0 / c[0], -c[1] / c[0]);
+    Eigen::Matrix2d g;  // d(scale, bias) / d(c1, c0)
+    g << -1.0 / (c[0] * c[0]), 0.0, c[1] / (c[0] * c[0]), -1.0 / c[0];
+    acov = g * ccov * g.transpose();
+    double rss = 0;
+    int64_t used = 0;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (use[static_cast<size_t>(i)]) rss += r[i] * r[i], ++used;
+    result.altimeter_rms_m = std::sqrt(rss / static_cast<double>(std::max<int64_t>(used, 1)));
+  } else {
+    result.warnings.push_back("altimeter: fewer than 20 valid ranges with a height-above-ground reference "
+                              "(GROUND_TRUTH in the log, or --ground-height-m over flat ground)");
+  }
+  result.altimeter_scale = make_estimate("altimeter_scale", ab[0], std::sqrt(acov(0, 0)), altimeter_data,
+                                         options.altimeter_scale_sigma_limit);
+  result.altimeter_bias_m = make_estimate("altimeter_bias_m", ab[1], std::sqrt(acov(1, 1)), altimeter_data,
+                                          options.altimeter_bias_sigma_limit_m);
+  if (altimeter_data) {
+    double mean = 0, var = 0;
+    for (double v : x) mean += v / static_cast<double>(x.size());
+    for (double v : x) var += (v - mean) * (v - mean) / static_cast<double>(x.size());
+    const double corr = acov(0, 1) / std::sqrt(acov(0, 0) * acov(1, 1));
+    if (!result.altimeter_scale.excited || !result.altimeter_bias_m.excited || std::fabs(corr) > 0.99)
+      result.warnings.push_back(fmt("altimeter scale and bias: poorly separated (height range spread %.1f m, "
+                                    "correlation %.3f); fly at two or more heights at least 50 m apart",
+                                    std::sqrt(var), corr));
+  }
+  return result;
+}
+
+std::string CalibrationResult::config_fragment(const std::string& source) const {
+  std::ostringstream o;
+  auto line = [&](const Estimate& e) {
+    return (e.estimated ? fmt("%.4f +- %.4f", e.value, e.sigma) : std::string("not estimated")) +
+           (e.estimated && !e.excited ? " (weakly excited)" : "");
+  };
+  o << "# nadir_calibrate: from " << source << " (" << frame_pairs << " frame pairs, " << altimeter_samples
+    << " altimeter ranges, " << fmt("%.1f", segment_s) << " s)\n";
+  o << "# boresight roll  " << line(boresight[0]) << " deg\n";
+  o << "# boresight pitch " << line(boresight[1]) << " deg\n";
+  o << "# boresight yaw   " << line(boresight[2]) << " deg\n";
+  o << "# time offset     " << line(time_offset_ms) << " ms\n";
+  o << "# focal scale     " << line(focal_scale) << "\n";
+  o << "# altimeter scale " << line(altimeter_scale) << "\n";
+  o << "# altimeter bias  " << line(altimeter_bias_m) << " m\n";
+  for (const std::string& w : warnings) o << "# warning: " << w << "\n";
+  o << "camera:\n";
+  o << "  mount_rpy_deg: [" << fmt("%.4f", mount_rpy_deg[0]) << ", " << fmt("%.4f", mount_rpy_deg[1]) << ", "
+    << fmt("%.4f", mount_rpy_deg[2]) << "]\n";
+  if (focal_scale.estimated && focal_scale.excited) {
+    o << "  fx: " << fmt("%.3f", fx) << "\n";
+    o << "  fy: " << fmt("%.3f", fy) << "\n";
+  }
+  o << "  # Not read by the estimator yet (issue 17): exposure time = image stamp + offset.\n";
+  o << "  time_offset_us: " << fmt("%.0f", time_offset_ms.estimated ? time_offset_ms.value * 1e3 : 0.0) << "\n";
+  o << "altimeter:\n";
+  o << "  # Not read by the estimator yet (issue 17): true range = (measured - range_bias_m) / range_scale.\n";
+  o << "  range_scale: " << fmt("%.5f", altimeter_scale.value) << "\n";
+  o << "  range_bias_m: " << fmt("%.3f", altimeter_bias_m.value) << "\n";
+  return o.str();
+}
+
+std::string CalibrationResult::json() const {
+  JsonWriter j;
+  j.begin_object();
+  auto put = [&](const Estimate& e) {
+    j.key(e.name).begin_object();
+    j.field("value", e.value).field("sigma", e.sigma).field("estimated", e.estimated).field("excited", e.excited);
+    j.end_object();
+  };
+  for (const Estimate& e : boresight) put(e);
+  put(time_offset_ms);
+  put(focal_scale);
+  put(altimeter_scale);
+  put(altimeter_bias_m);
+  j.key("mount_rpy_deg").begin_array().value(mount_rpy_deg[0]).value(mount_rpy_deg[1]).value(mount_rpy_deg[2]).end_array();
+  j.field("frame_pairs", frame_pairs).field("residuals", residuals).field("outliers", outliers);
+  j.field("altimeter_samples", altimeter_samples).field("camera_rms_rad", camera_rms_rad);
+  j.field("altimeter_rms_m", altimeter_rms_m).field("segment_s", segment_s);
+  j.key("warnings").begin_array();
+  for (const std::string& w : warnings) j.value(w);
+  j.end_array();
+  j.end_object();
+  return j.str();
+}
+
+}  // namespace nadir::calibrate

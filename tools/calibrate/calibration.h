@@ -1,0 +1,117 @@
+#pragma once
+// Installation calibration from a flight segment with a position/attitude
+// reference (INS with GNSS) and camera feature tracks (TRACKS, from replaying
+// the tracker over the flight): camera-body boresight, camera-INS time offset
+// and focal length scale by an epipolar fit; altimeter scale and bias by a
+// regression of the measured range against the height above ground along the
+// beam. Method and the flight it needs: tools/calibrate/README.md.
+
+#include <array>
+#include <limits>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/config.h"
+
+namespace nadir::calibrate {
+
+struct CalibrationOptions {
+  // Half-width (s) of the centred average over the INS attitude error
+  // relative to the integrated INS body rates (the rates carry the motion,
+  // the attitude the absolute level: neither the white attitude noise nor
+  // the averaging reaches the motion). Without rates: over the attitude itself.
+  double attitude_smoothing_s = 1.0;
+  double min_baseline_m = 1.0;   // frame pairs with a shorter baseline carry no direction
+  double cluster_s = 2.0;        // residuals within this span share INS errors (robust covariance)
+  double jackknife_block_s = 10.0;  // blocks left out in turn for the jackknife sigmas
+  int bootstrap_runs = 12;  // refits against redrawn INS attitude noise (0 = none)
+  double outlier_sigma = 4.0;    // residuals beyond this many robust sigmas are dropped
+  int iterations = 6;            // Gauss-Newton iterations
+  bool estimate_focal = true;    // fit the focal length scale (fixed at 1 when unobservable)
+  // Height of flat ground (m, the INS height datum) for the altimeter
+  // regression when the log has no GROUND_TRUTH; NaN = none.
+  double ground_height_m = std::numeric_limits<double>::quiet_NaN();
+  // The INS attitude's own slowly varying error (deg, roll/pitch/yaw, e.g.
+  // from its datasheet): the boresight is estimated relative to the INS's
+  // attitude, so its mean error over the segment is not seen in the residuals
+  // and is added to the boresight sigmas.
+  std::array<double, 3> ins_attitude_accuracy_deg{0.0, 0.0, 0.0};
+  // A parameter whose sigma exceeds its limit is reported as not excited.
+  double boresight_sigma_limit_deg = 0.05;
+  double time_offset_sigma_limit_ms = 1.0;
+  double focal_sigma_limit = 0.002;
+  double altimeter_scale_sigma_limit = 0.003;
+  double altimeter_bias_sigma_limit_m = 0.3;
+  void Check() const;  // throws ConfigError naming the option
+};
+
+// One estimated quantity with its 1-sigma uncertainty.
+struct Estimate {
+  std::string name;  // e.g. boresight_roll_deg
+  double value = 0.0;
+  double sigma = 0.0;
+  bool estimated = false;  // false: held at its nominal value (not observable or no data)
+  bool excited = false;    // sigma within its limit
+};
+
+// The data of a flight segment, read from a log.
+struct FlightData {
+  struct InsSample {
+    int64_t utime;
+    double roll, pitch, yaw;
+    bool has_rates;
+    Eigen::Vector3d angular_rate;  // body frame, rad/s
+    Eigen::Vector3d position_ned;  // from latitude/longitude/height about the first sample
+  };
+  struct FramePair {
+    int64_t prev_utime, utime;
+    std::vector<Eigen::Vector2d> prev_norm, curr_norm;  // undistorted normalized (configured camera)
+  };
+  struct AltimeterSample {
+    int64_t utime;
+    double range_m;
+    Eigen::Vector3d beam_body;
+  };
+  struct TerrainSample {  // GROUND_TRUTH (KIND_INS): the ground under the vehicle
+    int64_t utime;
+    Eigen::Vector3d position_ned;  // the truth's own NED frame
+    double terrain_height_m;
+  };
+  std::vector<InsSample> ins;
+  std::vector<FramePair> pairs;
+  std::vector<AltimeterSample> altimeter;
+  std::vector<TerrainSample> terrain;  // if the log has GROUND_TRUTH
+  double reference_height_m = 0.0;  // INS height of the first sample (the NED origin)
+  int64_t corrupt_records = 0;
+};
+
+// Reads INS, TRACKS, ALTIMETER (VALID_OK) and GROUND_TRUTH; throws
+// std::runtime_error naming the file when it lacks what the fit needs.
+FlightData load_flight(const std::string& log_path, bool progress);
+
+struct CalibrationResult {
+  std::array<Estimate, 3> boresight;  // roll, pitch, yaw (deg), about the configured mount
+  Estimate time_offset_ms;            // exposure = image stamp + offset
+  Estimate focal_scale;               // true focal length / configured
+  Estimate altimeter_scale;           // measured = scale * true range + bias
+  Estimate altimeter_bias_m;
+  Eigen::Vector3d mount_rpy_deg = Eigen::Vector3d::Zero();  // configured mount composed with the boresight
+  double fx = 0, fy = 0;              // configured focal lengths times the focal scale
+  int64_t frame_pairs = 0, residuals = 0, outliers = 0, altimeter_samples = 0;
+  double camera_rms_rad = 0.0, altimeter_rms_m = 0.0;
+  double segment_s = 0.0;
+  std::vector<std::string> warnings;  // observability and data warnings
+
+  // The YAML config fragment (camera: / altimeter:) with sigmas in comments.
+  std::string config_fragment(const std::string& source) const;
+  std::string json() const;
+};
+
+// Fits everything the data allows. `camera_root` holds the configured
+// `camera:` section (intrinsics and mount the TRACKS were normalized with).
+CalibrationResult calibrate(const FlightData& data, const Config& camera_root, const CalibrationOptions& options);
+
+}  // namespace nadir::calibrate
