@@ -22,7 +22,7 @@ frame's level frame (as nadir_eval's pairs.csv). The implied focal length of a
 pair is f * |solved step| / |GPS step| (the solved step scales with 1/f).
 Writes PREFIX.csv (one row per pair) and prints the summary table.
 
-Usage: seneca_reference.py RUN_DIR [--nadir-log PATH] [--focal F] [--out PREFIX]
+Usage: seneca_reference.py RUN_DIR [--nadir-log PATH] [--focal F] [--ins-offset-deg ROLL PITCH] [--out PREFIX]
 """
 
 import argparse
@@ -182,6 +182,8 @@ def main(argv):
     ap.add_argument("run_dir", help="own_flight.sh run folder (replay.lcmlog, flight.yaml)")
     ap.add_argument("--nadir-log", default=os.path.join(ROOT, "build", "bin", "nadir_log"))
     ap.add_argument("--focal", type=float, default=None, help="solve with this focal length (px) instead of the camera's")
+    ap.add_argument("--ins-offset-deg", type=float, nargs=2, default=[0.0, 0.0], metavar=("ROLL", "PITCH"),
+                    help="added to the INS roll/pitch for ref_ins (e.g. the median image tilt - INS: a mounting offset)")
     ap.add_argument("--out", default=None, help="output prefix (default RUN_DIR/report/reference)")
     args = ap.parse_args(argv[1:])
     log = os.path.join(args.run_dir, "replay.lcmlog")
@@ -250,6 +252,7 @@ def main(argv):
         level_prev = level_from_normal(body_from_camera, n_prev)
         level_curr = level_from_normal(body_from_camera, r_cp @ n_prev)
         height_prev = float(alp["range_m"])
+        row["height_m"] = height_prev
         centre = -r_cp.T @ x[3:6] * height_prev  # curr camera centre in the prev camera frame, m
         hor = level_prev @ centre
         record("homography", hor[0], hor[1])
@@ -262,8 +265,9 @@ def main(argv):
         # The independent ML solve, with the INS roll/pitch and with the images' roll/pitch.
         pts = np.hstack([p[inl], q[inl]])
         altimeter = [float(al["range_m"]), float(al["beam_x"]), float(al["beam_y"]), float(al["beam_z"])]
-        for name, att in (("ref_ins", [float(ia["roll"]), float(ia["pitch"]), float(ia["yaw"]),
-                                       float(ib["roll"]), float(ib["pitch"]), float(ib["yaw"])]),
+        off_r, off_p = (math.radians(v) for v in args.ins_offset_deg)
+        for name, att in (("ref_ins", [float(ia["roll"]) + off_r, float(ia["pitch"]) + off_p, float(ia["yaw"]),
+                                       float(ib["roll"]) + off_r, float(ib["pitch"]) + off_p, float(ib["yaw"])]),
                           ("ref_img", [ra, pa, float(ia["yaw"]), rb, pb, float(ib["yaw"])])):
             pair = ref.Pair(att, altimeter, body_from_camera, focal, pts, f"{utime}")
             g, rms_ref, _ = ref.solve(pair)
@@ -282,9 +286,9 @@ def main(argv):
         w.writeheader()
         w.writerows(out_rows)
     n = len(out_rows)
-    print(f"{n} pairs, focal {focal:.1f} px (camera {f_cam:.1f} px); per-pair horizontal error in % of the GPS step")
+    print(f"{n} pairs, focal {focal:.1f} px (camera {f_cam:.1f} px), INS roll/pitch offset {args.ins_offset_deg} deg; per-pair horizontal error in % of the GPS step")
     print(f"{'solve':11s} {'solved':>7s} {'median%':>8s} {'p90%':>7s} {'len_ratio':>10s} {'|dir|deg':>9s} "
-          f"{'implied_f_px':>16s}")
+          f"{'implied_f_px':>16s} {'median%_scaled':>15s} {'median%_on_nadir_pairs':>23s}")
     for name in ("nadir", "homography", "ref_ins", "ref_img"):
         errs = [r[f"{name}_err_pct"] for r in out_rows if f"{name}_err_pct" in r]
         ratios = [r[f"{name}_len_ratio"] for r in out_rows if f"{name}_len_ratio" in r]
@@ -292,8 +296,37 @@ def main(argv):
         f_nadir = f_cam if name == "nadir" else focal
         implied = [f_nadir * x for x in ratios]
         p90 = float(np.percentile(errs, 90)) if errs else float("nan")
-        print(f"{name:11s} {len(errs):3d}/{n:<3d} {median(errs):8.1f} {p90:7.1f} {median(ratios):10.3f} "
-              f"{median(dirs):9.1f} {median(implied):9.0f} +- {robust_sigma_of_median(implied):3.0f}")
+        common = [r[f"{name}_err_pct"] for r in out_rows if f"{name}_err_pct" in r and "nadir_err_pct" in r]
+        # The error left when the solve's median length ratio (a focal/height scale) is divided out.
+        k = median(ratios)
+        scaled = [100 * math.hypot(r[f"{name}_dx"] / k - r["gps_x"], r[f"{name}_dy"] / k - r["gps_y"]) / r["step_m"]
+                  for r in out_rows if f"{name}_dx" in r]
+        print(f"{name:11s} {len(errs):3d}/{n:<3d} {median(errs):8.1f} {p90:7.1f} {k:10.3f} "
+              f"{median(dirs):9.1f} {median(implied):9.0f} +- {robust_sigma_of_median(implied):3.0f} "
+              f"{median(scaled):15.1f} {median(common):23.1f}")
+    for other in ("ref_ins", "homography", "ref_img"):
+        both = [r for r in out_rows if "nadir_dx" in r and f"{other}_dx" in r]
+        diff = [100 * math.hypot(r["nadir_dx"] - r[f"{other}_dx"], r["nadir_dy"] - r[f"{other}_dy"]) / r["step_m"]
+                for r in both]
+        print(f"nadir - {other} on the {len(both)} pairs both solved: median |difference| {median(diff):.1f} % of "
+              f"the step (nadir {median([r['nadir_err_pct'] for r in both]):.1f} %, {other} "
+              f"{median([r[f'{other}_err_pct'] for r in both]):.1f} % against GPS)")
+    # Focal or height? gps = A * s * h + B * s with s = solved length / height: A = f_solve / f_true, B = A * h0
+    # (h0: an offset of the barometric height above take-off from the height above these fields).
+    fit = [r for r in out_rows if "homography_dx" in r and r["homography_err_pct"] < 50]
+    if len(fit) >= 5:
+        s_len = np.array([math.hypot(r["homography_dx"], r["homography_dy"]) / r["height_m"] for r in fit])
+        h = np.array([r["height_m"] for r in fit])
+        y = np.array([r["step_m"] for r in fit])
+        design = np.column_stack([s_len * h, s_len])
+        coef, *_ = np.linalg.lstsq(design, y, rcond=None)
+        resid = y - design @ coef
+        cov = np.linalg.inv(design.T @ design) * (resid @ resid) / (len(y) - 2)
+        a_sd = math.sqrt(cov[0, 0])
+        print(f"homography steps (error < 50 %, {len(fit)} pairs, heights {h.min():.0f}-{h.max():.0f} m): "
+              f"focal {focal / coef[0]:.0f} +- {focal * a_sd / coef[0] ** 2:.0f} px with height offset "
+              f"{coef[1] / coef[0]:+.1f} +- {math.sqrt(cov[1, 1]) / coef[0]:.1f} m; focal alone (offset 0): "
+              f"{focal * float(np.sum(s_len * h * s_len * h)) / float(np.sum(y * s_len * h)):.0f} px")
     dr = [r["img_roll_prev_deg"] - r["ins_roll_prev_deg"] for r in out_rows if "img_roll_prev_deg" in r]
     dp = [r["img_pitch_prev_deg"] - r["ins_pitch_prev_deg"] for r in out_rows if "img_pitch_prev_deg" in r]
     if dr:
