@@ -44,7 +44,10 @@ SOLVED_MASK = 1 | 2 | 8 | 16  # VO_DELTA quality bits that make a pair unsolved 
 
 
 def dump(nadir_log, log, channel):
-    proc = subprocess.run([nadir_log, "dump", log, channel], capture_output=True, text=True, check=False)
+    try:
+        proc = subprocess.run([nadir_log, "dump", log, channel], capture_output=True, text=True, check=False)
+    except OSError as e:
+        raise RuntimeError(f"{nadir_log}: {e.strerror} (build it: cmake --build build --target nadir_log)") from None
     if proc.returncode != 0:
         raise RuntimeError(f"nadir_log dump {log} {channel}: {proc.stderr.strip()}")
     return list(csv.DictReader(io.StringIO(proc.stdout)))
@@ -186,6 +189,14 @@ def main(argv):
                     help="added to the INS roll/pitch for ref_ins (e.g. the median image tilt - INS: a mounting offset)")
     ap.add_argument("--out", default=None, help="output prefix (default RUN_DIR/report/reference)")
     args = ap.parse_args(argv[1:])
+    try:
+        return run(args)
+    except (OSError, RuntimeError, KeyError) as e:
+        print(f"seneca_reference: error: {e}", file=sys.stderr)
+        return 1
+
+
+def run(args):
     log = os.path.join(args.run_dir, "replay.lcmlog")
     with open(os.path.join(args.run_dir, "flight.yaml"), encoding="utf-8") as f:
         cam = yaml.safe_load(f)["camera"]

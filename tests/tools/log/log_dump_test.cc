@@ -94,12 +94,26 @@ SampleLog write_sample(const testing::TempDir& dir) {
   return log;
 }
 
-TEST(LogDump, TracksAreOneCsvRowPerTrack) {
+struct Dumped {
+  DumpStats stats;
+  std::vector<std::string> lines;
+};
+
+// Dumps one channel of the sample log (written to a fresh folder).
+Dumped dump_sample(const std::string& channel, DumpFormat format) {
   testing::TempDir dir("log_dump");
   const SampleLog log = write_sample(dir);
   std::ostringstream out;
-  const DumpStats s = dump_channel(log.path, channels::kTracks, DumpFormat::kCsv, out);
-  const auto lines = lines_of(out.str());
+  Dumped d;
+  d.stats = dump_channel(log.path, channel, format, out);
+  d.lines = lines_of(out.str());
+  return d;
+}
+
+TEST(LogDump, TracksAreOneCsvRowPerTrack) {
+  const Dumped d = dump_sample(channels::kTracks, DumpFormat::kCsv);
+  const DumpStats& s = d.stats;
+  const auto& lines = d.lines;
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_EQ(lines[0], "utime,prev_utime,frame_counter,flags,track_id,age,prev_px_x,prev_px_y,curr_px_x,curr_px_y,"
                       "prev_norm_x,prev_norm_y,curr_norm_x,curr_norm_y");
@@ -112,11 +126,9 @@ TEST(LogDump, TracksAreOneCsvRowPerTrack) {
 }
 
 TEST(LogDump, VoDeltaScalarsAndUndecodableMessagesAreCounted) {
-  testing::TempDir dir("log_dump");
-  const SampleLog log = write_sample(dir);
-  std::ostringstream out;
-  const DumpStats s = dump_channel(log.path, channels::kVoDelta, DumpFormat::kCsv, out);
-  const auto lines = lines_of(out.str());
+  const Dumped d = dump_sample(channels::kVoDelta, DumpFormat::kCsv);
+  const DumpStats& s = d.stats;
+  const auto& lines = d.lines;
   ASSERT_EQ(lines.size(), 2u);  // header + the good message; the cut one is skipped
   EXPECT_EQ(lines[0], "utime,prev_utime,dx,dy,dz,dyaw,ground_roll,ground_pitch,var_dx,var_dy,var_dz,var_dyaw,"
                       "var_ground_roll,var_ground_pitch,altitude_m,inliers,outliers,residual_rms_px,iterations,"
@@ -128,11 +140,9 @@ TEST(LogDump, VoDeltaScalarsAndUndecodableMessagesAreCounted) {
 }
 
 TEST(LogDump, InsAsJsonLinesKeepsFullPrecision) {
-  testing::TempDir dir("log_dump");
-  const SampleLog log = write_sample(dir);
-  std::ostringstream out;
-  const DumpStats s = dump_channel(log.path, channels::kIns, DumpFormat::kJsonLines, out);
-  const auto lines = lines_of(out.str());
+  const Dumped d = dump_sample(channels::kIns, DumpFormat::kJsonLines);
+  const DumpStats& s = d.stats;
+  const auto& lines = d.lines;
   ASSERT_EQ(lines.size(), 3u);  // no header in JSON lines
   EXPECT_EQ(lines[0], "{\"utime\":5000000,\"device_utime\":0,\"roll\":0.01,\"pitch\":-0.02,\"yaw\":1.5,"
                       "\"latitude_deg\":41.031234567891,\"longitude_deg\":-83.312345678912,\"height_m\":271.25,"
