@@ -9,6 +9,7 @@
 
 #include "common/geometry.h"
 #include "processes/vo_solver/frame_sync.h"
+#include "processes/vo_solver/vo_solver_options.h"
 
 namespace nadir::vo {
 namespace {
@@ -221,6 +222,14 @@ TEST(FrameSync, CalibrationKeysAreReadAndCheckedByName) {
   SyncOptions options;
   options.calibration.altimeter_range_scale = 0.0;
   EXPECT_THROW(options.Check(), ConfigError);
+  // The solver's options carry them into its FrameSync.
+  const VoSolverOptions solver = VoSolverOptions::from_config(Config::parse(
+      "camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5, time_offset_us: 3000}\n"
+      "altimeter: {range_scale: 1.01, range_bias_m: 0.3}\n",
+      "cal.yaml"));
+  EXPECT_EQ(solver.sync.calibration.camera_time_offset_us, 3000);
+  EXPECT_EQ(solver.sync.calibration.altimeter_range_scale, 1.01);
+  EXPECT_EQ(solver.sync.calibration.altimeter_range_bias_m, 0.3);
 }
 
 }  // namespace
