@@ -51,7 +51,8 @@ struct SyncOptions {
   // time, stamp + offset) and altimeter scale/bias (ranges corrected as they
   // are added). Frames are still named by their stamp.
   SensorCalibration calibration;
-  // Throws std::invalid_argument naming the field and the allowed range.
+  // Throws std::invalid_argument naming the field and the allowed range
+  // (ConfigError naming the config key for the calibration).
   void Check() const;
 };
 

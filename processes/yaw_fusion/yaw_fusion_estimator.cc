@@ -133,7 +133,8 @@ std::vector<pose_t> YawFusionEstimator::add_altimeter(const altimeter_t& altimet
   if (!plausible_time(altimeter.utime, &altimeter_jump_candidate_, "ALTIMETER")) return out;
   const Eigen::Vector3d beam(altimeter.beam_body[0], altimeter.beam_body[1], altimeter.beam_body[2]);
   const double range_m = options_.calibration.true_range(altimeter.range_m);
-  const bool usable = altimeter.validity == altimeter_t::VALID_OK && std::isfinite(range_m) && range_m > 0.0 && beam.allFinite() && beam.norm() > 0.5 && beam.norm() < 1.5;
+  const bool usable = altimeter.validity == altimeter_t::VALID_OK && std::isfinite(range_m) && range_m > 0.0 &&
+                      beam.allFinite() && beam.norm() > 0.5 && beam.norm() < 1.5;
   if (usable) {
     RangeSample sample;
     sample.utime = altimeter.utime;
@@ -150,7 +151,8 @@ std::vector<pose_t> YawFusionEstimator::add_altimeter(const altimeter_t& altimet
 }
 
 std::optional<AttitudeSample> YawFusionEstimator::ins_attitude_at(int64_t utime) const {
-  return ins_.at(options_.calibration.exposure_utime(utime), static_cast<int64_t>(options_.max_ins_bracket_s * 1e6), options_.attitude_policy);
+  return ins_.at(options_.calibration.exposure_utime(utime), static_cast<int64_t>(options_.max_ins_bracket_s * 1e6),
+                 options_.attitude_policy);
 }
 
 bool YawFusionEstimator::delta_ready(const vo_delta_t& delta) const {
@@ -480,9 +482,9 @@ int32_t YawFusionEstimator::update_attitude(int64_t utime) {
 }
 
 int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height) {
-  const auto height =
-      altimeter_.height_agl(options_.calibration.exposure_utime(utime), static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_,
-                            options_.altimeter_interpolate);
+  const auto height = altimeter_.height_agl(options_.calibration.exposure_utime(utime),
+                                            static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_,
+                                            options_.altimeter_interpolate);
   const bool level_terrain = options_.altitude_mode == AltitudeMode::kLevelTerrain;
   if (!height) {
     ++counters_.frames_without_altimeter;

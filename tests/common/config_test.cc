@@ -82,8 +82,8 @@ TEST(Config, AnOverlayMergesAFragmentKeyByKey) {
   EXPECT_EQ(c.section("altimeter").get<std::vector<double>>("beam_body"), (std::vector<double>{0, 0, 1}));
   EXPECT_NE(c.source().find("camera.fx=401.429"), std::string::npos) << c.source();
   // A fragment key where the config has a value, not a section, is named.
-  EXPECT_NE(error_of([&] { c.apply_overlay(Config::parse("camera: {fx: {a: 1}}\n", "bad.yaml")); }).find("not a section"),
-            std::string::npos);
+  const Config bad = Config::parse("camera: {fx: {a: 1}}\n", "bad.yaml");
+  EXPECT_NE(error_of([&] { c.apply_overlay(bad); }).find("not a section"), std::string::npos);
 }
 
 TEST(Config, DefaultsApplyWhenAbsent) {

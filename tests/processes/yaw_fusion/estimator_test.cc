@@ -625,7 +625,8 @@ TEST(YawFusionEstimator, CalibrationRemovesTimeOffsetAndAltimeterScaleAndBias) {
     EXPECT_NEAR(p.height_agl_m, spec.height_agl_m - t.position.z(), 1e-4) << "frame " << i;
     EXPECT_EQ(p.flags, i == 0 ? pose_t::FLAG_INITIALIZING : 0) << "frame " << i;
     plain_roll_error = std::max(plain_roll_error, std::abs(plain[i].roll - t.roll));
-    plain_height_error = std::max(plain_height_error, std::abs(plain[i].height_agl_m - (spec.height_agl_m - t.position.z())));
+    const double true_height = spec.height_agl_m - t.position.z();
+    plain_height_error = std::max(plain_height_error, std::abs(plain[i].height_agl_m - true_height));
   }
   EXPECT_EQ(counters.vo_deltas_integrated, spec.frames - 1);
   EXPECT_EQ(counters.vo_deltas_without_ins, 0);
