@@ -101,6 +101,29 @@ std::string Config::dump() const {
   return out.c_str();
 }
 
+namespace {
+
+void collect_leaves(const YAML::Node& node, const std::string& prefix, std::vector<std::string>* assignments) {
+  for (const auto& item : node) {
+    const std::string path = prefix + item.first.as<std::string>();
+    if (item.second.IsMap()) {
+      collect_leaves(item.second, path + ".", assignments);
+    } else {
+      YAML::Emitter value;
+      value << YAML::Flow << item.second;
+      assignments->push_back(path + "=" + value.c_str());
+    }
+  }
+}
+
+}  // namespace
+
+void Config::apply_overlay(const Config& overlay) {
+  std::vector<std::string> assignments;
+  collect_leaves(overlay.node(), "", &assignments);
+  for (const std::string& a : assignments) apply_override(a);
+}
+
 void require_option(bool ok, const std::string& source, const std::string& key, const std::string& what) {
   if (!ok) throw ConfigError(source + ": key '" + key + "' " + what);
 }

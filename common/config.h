@@ -74,6 +74,10 @@ class Config {
   // Applies "a.b.c=value" (value parsed as YAML) to this config; throws
   // ConfigError naming the override when it is malformed.
   void apply_override(const std::string& assignment);
+  // Applies every leaf of `overlay` (a config fragment such as the one
+  // nadir_calibrate writes) as an override: a.b.c=<value>. Sections are
+  // merged key by key; a leaf (a number, string or list) replaces the value.
+  void apply_overlay(const Config& overlay);
 
   std::string key_path(const std::string& key) const;
   const std::string& source() const { return source_; }

@@ -62,6 +62,7 @@ ReplaySummary run_replay(const ReplayOptions& options, const NodeRegistry& regis
   }
   const std::string config_path = options.config_path.empty() ? default_config_path() : options.config_path;
   Config config = Config::load_file(config_path);
+  for (const auto& path : options.overlays) config.apply_overlay(Config::load_file(path));
   for (const auto& o : options.overrides) config.apply_override(o);
 
   LogReader reader(options.in_path);

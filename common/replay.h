@@ -43,7 +43,8 @@ struct ReplayOptions {
   std::string out_path;
   std::vector<std::string> nodes;
   std::string config_path;      // empty: default_config_path()
-  std::vector<std::string> overrides;  // "section.key=value", applied in order
+  std::vector<std::string> overlays;   // YAML fragments merged into the config in order (Config::apply_overlay)
+  std::vector<std::string> overrides;  // "section.key=value", applied in order after the overlays
   bool passthrough = true;      // copy input events into the output log
   bool progress = false;        // progress bar on stderr
   void Check() const;           // throws std::invalid_argument naming the option

@@ -29,6 +29,7 @@ void SyncOptions::Check() const {
   require(max_ins_samples >= 2 && max_ins_samples <= 1000000, "max_ins_samples", "in [2, 1e6]");
   require(max_altimeter_samples >= 2 && max_altimeter_samples <= 1000000, "max_altimeter_samples", "in [2, 1e6]");
   require(max_cached_frames >= 2 && max_cached_frames <= 100000, "max_cached_frames", "in [2, 1e5]");
+  calibration.Check();
 }
 
 FrameSync::FrameSync(const SyncOptions& options, const Eigen::Vector3d& default_beam_body)
@@ -58,9 +59,9 @@ void FrameSync::add_ins(const ins_t& ins) {
 }
 
 void FrameSync::add_altimeter(const altimeter_t& altimeter) {
-  Range range{altimeter.validity == altimeter_t::VALID_OK && std::isfinite(altimeter.range_m) &&
-                  altimeter.range_m > 0,
-              altimeter.range_m, default_beam_body_};
+  const double range_m = options_.calibration.true_range(altimeter.range_m);
+  Range range{altimeter.validity == altimeter_t::VALID_OK && std::isfinite(range_m) && range_m > 0, range_m,
+              default_beam_body_};
   const Eigen::Vector3d beam(altimeter.beam_body[0], altimeter.beam_body[1], altimeter.beam_body[2]);
   if (beam.allFinite() && beam.norm() > 0.5) range.beam_body = beam.normalized();
   if (!range.valid) ++invalid_altimeter_;
@@ -82,8 +83,9 @@ bool FrameSync::ins_final(int64_t utime) const {
          ins_complete_.complete_at(utime, newest);
 }
 
-bool FrameSync::ready(int64_t utime) const {
-  if (cache_.count(utime)) return true;
+bool FrameSync::ready(int64_t stamp_utime) const {
+  if (cache_.count(stamp_utime)) return true;
+  const int64_t utime = options_.calibration.exposure_utime(stamp_utime);
   if (!ins_final(utime)) return false;
   if (!options_.altimeter_interpolate) return true;
   const int64_t settled = utime + options_.settle_us;
@@ -103,7 +105,8 @@ const FrameState& FrameSync::frame_state(int64_t utime) {
   return it->second;
 }
 
-FrameState FrameSync::compute(int64_t utime) const {
+FrameState FrameSync::compute(int64_t stamp_utime) const {
+  const int64_t utime = options_.calibration.exposure_utime(stamp_utime);
   FrameState state;
   attitude_at(utime, &state);
   range_at(utime, &state);

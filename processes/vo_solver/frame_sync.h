@@ -19,6 +19,7 @@
 #include <string>
 
 #include "common/attitude_propagation.h"
+#include "common/sensor_calibration.h"
 #include "nadir/altimeter_t.hpp"
 #include "nadir/ins_t.hpp"
 
@@ -46,7 +47,12 @@ struct SyncOptions {
   int max_ins_samples = 3000;                // buffer sizes (oldest by utime dropped first)
   int max_altimeter_samples = 2000;
   int max_cached_frames = 256;
-  // Throws std::invalid_argument naming the field and the allowed range.
+  // Camera time offset (attitude and range are looked up at the exposure
+  // time, stamp + offset) and altimeter scale/bias (ranges corrected as they
+  // are added). Frames are still named by their stamp.
+  SensorCalibration calibration;
+  // Throws std::invalid_argument naming the field and the allowed range
+  // (ConfigError naming the config key for the calibration).
   void Check() const;
 };
 
@@ -73,9 +79,12 @@ class FrameSync {
   // INS has run altimeter_wait_us further. Messages of one channel are assumed
   // to arrive in utime order unless settle_us covers their reordering; across
   // channels any interleaving is fine.
+  // `utime` is the frame's stamp; the sensors are read at its exposure time
+  // (stamp + options.calibration's camera time offset).
   bool ready(int64_t utime) const;
 
-  // The frame's attitude and range, computed on first use and then cached.
+  // The frame's attitude and range at its exposure time, computed on first
+  // use and then cached by the stamp.
   const FrameState& frame_state(int64_t utime);
 
   size_t ins_samples() const { return ins_.size(); }
@@ -91,7 +100,7 @@ class FrameSync {
     double range_m;
     Eigen::Vector3d beam_body;
   };
-  FrameState compute(int64_t utime) const;
+  FrameState compute(int64_t stamp_utime) const;
   bool ins_final(int64_t utime) const;
   void attitude_at(int64_t utime, FrameState* state) const;
   void interpolate_attitude(int64_t utime, FrameState* state) const;

@@ -84,6 +84,7 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   t.max_pending_frames = y.get_in_range("max_pending_frames", t.max_pending_frames, 1, 10000);
   t.max_ins_samples = y.get_in_range("max_ins_samples", t.max_ins_samples, 2, 1000000);
   t.max_altimeter_samples = y.get_in_range("max_altimeter_samples", t.max_altimeter_samples, 2, 1000000);
+  t.calibration = SensorCalibration::from_config(root);
   try {
     o.solver.Check();
     o.sync.Check();

@@ -132,12 +132,13 @@ std::vector<pose_t> YawFusionEstimator::add_altimeter(const altimeter_t& altimet
   }
   if (!plausible_time(altimeter.utime, &altimeter_jump_candidate_, "ALTIMETER")) return out;
   const Eigen::Vector3d beam(altimeter.beam_body[0], altimeter.beam_body[1], altimeter.beam_body[2]);
-  const bool usable = altimeter.validity == altimeter_t::VALID_OK && std::isfinite(altimeter.range_m) &&
-                      altimeter.range_m > 0.0 && beam.allFinite() && beam.norm() > 0.5 && beam.norm() < 1.5;
+  const double range_m = options_.calibration.true_range(altimeter.range_m);
+  const bool usable = altimeter.validity == altimeter_t::VALID_OK && std::isfinite(range_m) && range_m > 0.0 &&
+                      beam.allFinite() && beam.norm() > 0.5 && beam.norm() < 1.5;
   if (usable) {
     RangeSample sample;
     sample.utime = altimeter.utime;
-    sample.range_m = altimeter.range_m;
+    sample.range_m = range_m;
     sample.beam_body = beam.normalized();
     altimeter_.add(sample);
   } else {
@@ -150,18 +151,19 @@ std::vector<pose_t> YawFusionEstimator::add_altimeter(const altimeter_t& altimet
 }
 
 std::optional<AttitudeSample> YawFusionEstimator::ins_attitude_at(int64_t utime) const {
-  return ins_.at(utime, static_cast<int64_t>(options_.max_ins_bracket_s * 1e6), options_.attitude_policy);
+  return ins_.at(options_.calibration.exposure_utime(utime), static_cast<int64_t>(options_.max_ins_bracket_s * 1e6),
+                 options_.attitude_policy);
 }
 
 bool YawFusionEstimator::delta_ready(const vo_delta_t& delta) const {
-  if (sensor_now_ >= delta.utime + options_.ins_wait_us()) return true;
+  const int64_t t = options_.calibration.exposure_utime(delta.utime);  // when the sensors are read
+  if (sensor_now_ >= t + options_.ins_wait_us()) return true;
   if (static_cast<int>(pending_.size()) > options_.max_pending_deltas) return true;
-  const bool ins_complete = options_.attitude_policy == AttitudePolicy::kPropagate
-                                ? ins_.complete_at(delta.utime)
-                                : ins_.newest_utime() >= delta.utime;
+  const bool ins_complete = options_.attitude_policy == AttitudePolicy::kPropagate ? ins_.complete_at(t)
+                                                                                    : ins_.newest_utime() >= t;
   if (!ins_complete) return false;
   if (!options_.altimeter_interpolate) return true;
-  return altimeter_.newest_utime() >= delta.utime || sensor_now_ >= delta.utime + options_.altimeter_wait_us();
+  return altimeter_.newest_utime() >= t || sensor_now_ >= t + options_.altimeter_wait_us();
 }
 
 void YawFusionEstimator::pump(std::vector<pose_t>* out) {
@@ -218,7 +220,7 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
     }
     if (started_) {
       const int64_t t = last_frame_utime_ + period;
-      if (gap_due(t) && sensor_now_ >= t + options_.ins_wait_us()) {
+      if (gap_due(t) && sensor_now_ >= options_.calibration.exposure_utime(t) + options_.ins_wait_us()) {
         emit_gap_pose(t);
         continue;
       }
@@ -228,10 +230,11 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
   counters_.poses += static_cast<int64_t>(out->size() - poses_before);
   if (started_) {
     // Keep what any later query can touch (queries are at or after the last
-    // frame), so how many frames one call processes -- which depends on
+    // frame's exposure), so how many frames one call processes -- which depends on
     // arrival order -- cannot change an answer.
-    altimeter_.forget_before(last_frame_utime_ - static_cast<int64_t>(options_.max_altimeter_age_s * 1e6));
-    ins_.forget_before(last_frame_utime_);
+    const int64_t last_exposure = options_.calibration.exposure_utime(last_frame_utime_);
+    altimeter_.forget_before(last_exposure - static_cast<int64_t>(options_.max_altimeter_age_s * 1e6));
+    ins_.forget_before(last_exposure);
   } else {
     ins_.forget_before(sensor_now_ - kPreStartInsKeepUs);
     altimeter_.forget_before(sensor_now_ - kPreStartInsKeepUs);
@@ -370,7 +373,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     out->push_back(make_pose(delta.utime, flags));
     return;
   }
-  if (ins_.newest_utime() < delta.utime) ++counters_.vo_deltas_without_ins;
+  if (ins_.newest_utime() < options_.calibration.exposure_utime(delta.utime)) ++counters_.vo_deltas_without_ins;
 
   Eigen::Matrix4d cov;
   for (int r = 0; r < 4; ++r) {
@@ -479,9 +482,9 @@ int32_t YawFusionEstimator::update_attitude(int64_t utime) {
 }
 
 int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height) {
-  const auto height =
-      altimeter_.height_agl(utime, static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_,
-                            options_.altimeter_interpolate);
+  const auto height = altimeter_.height_agl(options_.calibration.exposure_utime(utime),
+                                            static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_,
+                                            options_.altimeter_interpolate);
   const bool level_terrain = options_.altitude_mode == AltitudeMode::kLevelTerrain;
   if (!height) {
     ++counters_.frames_without_altimeter;

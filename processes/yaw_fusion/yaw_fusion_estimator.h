@@ -100,7 +100,7 @@ class YawFusionEstimator {
   bool vo_lost() const;
 
  private:
-  // The INS attitude at a frame time under the configured attitude policy.
+  // The INS attitude at a frame (stamp) time's exposure time under the configured attitude policy.
   std::optional<AttitudeSample> ins_attitude_at(int64_t utime) const;
   bool delta_ready(const vo_delta_t& delta) const;
   void pump(std::vector<pose_t>* out);

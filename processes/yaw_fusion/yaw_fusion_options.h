@@ -8,6 +8,7 @@
 
 #include "common/attitude_propagation.h"
 #include "common/config.h"
+#include "common/sensor_calibration.h"
 
 namespace nadir {
 
@@ -65,7 +66,12 @@ struct YawFusionOptions {
   double gap_max_propagation_s = 5.0;      // dead-reckon with the last velocity this long, then hold
   double gap_max_duration_s = 30.0;        // stop publishing gap poses after this long without VO
 
-  // Reads `yaw_fusion:` (and camera.rate_hz) from the whole config.
+  // camera.time_offset_us (INS and altimeter read at a frame's exposure time,
+  // stamp + offset; poses keep the stamp), altimeter.range_scale/range_bias_m
+  // (ranges corrected as they arrive): common/sensor_calibration.h.
+  SensorCalibration calibration;
+
+  // Reads `yaw_fusion:` (and camera.rate_hz, the calibration keys) from the whole config.
   static YawFusionOptions from_config(const Config& root);
   void Check() const;  // throws ConfigError naming the key and allowed range
 

@@ -62,6 +62,30 @@ TEST(Config, OverridesEditNestedKeysAndAreNamedInErrors) {
   EXPECT_NE(error_of([&] { c.apply_override("vo_solver.variant.x=1"); }).find("not a section"), std::string::npos);
 }
 
+TEST(Config, AnOverlayMergesAFragmentKeyByKey) {
+  // nadir_calibrate's fragment (tools/calibrate/README.md) over a config.
+  Config c = Config::parse(
+      "camera: {fx: 398.79, fy: 398.79, cx: 305.5, mount_rpy_deg: [0, 0, 0]}\naltimeter: {beam_body: [0, 0, 1]}\n",
+      "x.yaml");
+  c.apply_overlay(Config::parse(
+      "# comment\ncamera:\n  mount_rpy_deg: [0.2831, 0.0219, 0.4143]\n  fx: 401.429\n  time_offset_us: 2042\n"
+      "altimeter:\n  range_scale: 1.00762\n  range_bias_m: -1.242\n",
+      "cal.yaml"));
+  const Config camera = c.section("camera");
+  EXPECT_EQ(camera.get<std::vector<double>>("mount_rpy_deg"), (std::vector<double>{0.2831, 0.0219, 0.4143}));
+  EXPECT_EQ(camera.get<double>("fx"), 401.429);
+  EXPECT_EQ(camera.get<double>("fy"), 398.79);  // not in the fragment: kept
+  EXPECT_EQ(camera.get<double>("cx"), 305.5);
+  EXPECT_EQ(camera.get<int64_t>("time_offset_us"), 2042);
+  EXPECT_EQ(c.section("altimeter").get<double>("range_scale"), 1.00762);
+  EXPECT_EQ(c.section("altimeter").get<double>("range_bias_m"), -1.242);
+  EXPECT_EQ(c.section("altimeter").get<std::vector<double>>("beam_body"), (std::vector<double>{0, 0, 1}));
+  EXPECT_NE(c.source().find("camera.fx=401.429"), std::string::npos) << c.source();
+  // A fragment key where the config has a value, not a section, is named.
+  const Config bad = Config::parse("camera: {fx: {a: 1}}\n", "bad.yaml");
+  EXPECT_NE(error_of([&] { c.apply_overlay(bad); }).find("not a section"), std::string::npos);
+}
+
 TEST(Config, DefaultsApplyWhenAbsent) {
   const Config c = Config::parse("a: {}\n", "x.yaml");
   EXPECT_EQ(c.section_or_empty("b").get<int>("n", 7), 7);

@@ -677,10 +677,10 @@ std::string CalibrationResult::config_fragment(const std::string& source) const 
     o << "  fx: " << fmt("%.3f", fx) << "\n";
     o << "  fy: " << fmt("%.3f", fy) << "\n";
   }
-  o << "  # Not read by the estimator yet (issue 17): exposure time = image stamp + offset.\n";
+  o << "  # exposure time = image stamp + offset (vo_solver and yaw_fusion read the INS/altimeter there).\n";
   o << "  time_offset_us: " << fmt("%.0f", time_offset_ms.estimated ? time_offset_ms.value * 1e3 : 0.0) << "\n";
   o << "altimeter:\n";
-  o << "  # Not read by the estimator yet (issue 17): true range = (measured - range_bias_m) / range_scale.\n";
+  o << "  # vo_solver and yaw_fusion use true range = (measured - range_bias_m) / range_scale.\n";
   o << "  range_scale: " << fmt("%.5f", altimeter_scale.value) << "\n";
   o << "  range_bias_m: " << fmt("%.3f", altimeter_bias_m.value) << "\n";
   return o.str();

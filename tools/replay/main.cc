@@ -44,6 +44,9 @@ int main(int argc, char** argv) {
   app.add_option("--nodes", nodes, "comma-separated nodes to run (available: " + known + ")")
       ->capture_default_str();
   app.add_option("--config", options.config_path, "YAML config (default: <checkout>/config/default.yaml)");
+  app.add_option("--config-overlay", options.overlays,
+                 "YAML fragment merged into the config key by key, e.g. nadir_calibrate's output (repeatable; "
+                 "before --set)");
   app.add_option("--set", options.overrides, "override a config value: section.key=value (repeatable)");
   app.add_flag("--no-passthrough", no_passthrough, "write only what the nodes publish, not the input events");
   app.add_flag("--json", json, "print a machine-readable summary, no progress bar");

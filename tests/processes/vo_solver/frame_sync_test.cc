@@ -3,8 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+#include <utility>
+
 #include "common/geometry.h"
 #include "processes/vo_solver/frame_sync.h"
+#include "processes/vo_solver/vo_solver_options.h"
 
 namespace nadir::vo {
 namespace {
@@ -139,6 +144,92 @@ TEST(FrameSync, OptionsAreChecked) {
   SyncOptions bad;
   bad.max_pending_frames = 0;
   EXPECT_THROW(bad.Check(), std::invalid_argument);
+}
+
+// Issue 17: a camera stamping its frames `offset` before the exposure and an
+// altimeter measuring scale * true + bias; with the calibration in the sync
+// options the frame's attitude and range are the true ones at the exposure,
+// exactly (noise-free, attitude and range linear in time).
+TEST(FrameSync, CalibrationRemovesTimeOffsetAndAltimeterScaleAndBias) {
+  const int64_t offset_us = 3000;
+  const double scale = 1.01, bias_m = 0.3;
+  auto roll_at = [](int64_t t) { return 0.1 * static_cast<double>(t) * 1e-6 - 0.05; };  // 0.1 rad/s
+  auto range_at = [](int64_t t) { return 200.0 + 5.0 * static_cast<double>(t) * 1e-6; };
+  SyncOptions calibrated = interpolating();
+  calibrated.altimeter_interpolate = true;  // linear interpolation of a linear range is exact
+  calibrated.calibration.camera_time_offset_us = offset_us;
+  calibrated.calibration.altimeter_range_scale = scale;
+  calibrated.calibration.altimeter_range_bias_m = bias_m;
+  calibrated.Check();
+  SyncOptions uncalibrated = calibrated;
+  uncalibrated.calibration = SensorCalibration{};
+  FrameSync sync(calibrated, Eigen::Vector3d::UnitZ());
+  FrameSync plain(uncalibrated, Eigen::Vector3d::UnitZ());
+  for (int64_t t = 0; t <= 3000000; t += 10000) {
+    sync.add_ins(ins_at(t, roll_at(t), 0.0, 0.0));
+    plain.add_ins(ins_at(t, roll_at(t), 0.0, 0.0));
+  }
+  for (int64_t t = 0; t <= 3000000; t += 50000) {
+    sync.add_altimeter(altimeter_at(t, scale * range_at(t) + bias_m));
+    plain.add_altimeter(altimeter_at(t, scale * range_at(t) + bias_m));
+  }
+  int frames = 0;
+  for (int64_t exposure = 1000000; exposure < 2000000; exposure += 71429) {
+    const int64_t stamp = exposure - offset_us;
+    ASSERT_TRUE(sync.ready(stamp));
+    const FrameState& s = sync.frame_state(stamp);
+    ASSERT_TRUE(s.has_attitude && s.has_range);
+    EXPECT_NEAR(s.roll, roll_at(exposure), 1e-12) << exposure;
+    EXPECT_NEAR(s.range_m, range_at(exposure), 1e-9) << exposure;
+    // Without the calibration: the attitude of 3 ms earlier, the raw range.
+    const FrameState& p = plain.frame_state(stamp);
+    EXPECT_NEAR(p.roll, roll_at(stamp), 1e-12);
+    EXPECT_GT(std::abs(p.range_m - range_at(exposure)), 2.0);
+    ++frames;
+  }
+  EXPECT_EQ(frames, 14);
+}
+
+TEST(FrameSync, DefaultCalibrationIsTheIdentityBitForBit) {
+  const SensorCalibration none;
+  for (double r : {0.0, 1e-300, 0.1, 123.456789012345, 4321.0 / 3.0, 1e9}) EXPECT_EQ(none.true_range(r), r);
+  for (int64_t t : {int64_t{0}, int64_t{-5}, int64_t{1764000000123456}}) EXPECT_EQ(none.exposure_utime(t), t);
+}
+
+TEST(FrameSync, CalibrationKeysAreReadAndCheckedByName) {
+  const SensorCalibration c = SensorCalibration::from_config(Config::parse(
+      "camera: {time_offset_us: -2042}\naltimeter: {range_scale: 1.00762, range_bias_m: -1.242}\n", "cal.yaml"));
+  EXPECT_EQ(c.camera_time_offset_us, -2042);
+  EXPECT_EQ(c.altimeter_range_scale, 1.00762);
+  EXPECT_EQ(c.altimeter_range_bias_m, -1.242);
+  const std::pair<const char*, const char*> bad[] = {
+      {"camera: {time_offset_us: 1000000}\n", "camera.time_offset_us"},
+      {"camera: {time_offset_us: 2.5}\n", "camera.time_offset_us"},  // integer microseconds
+      {"altimeter: {range_scale: 0.5}\n", "altimeter.range_scale"},
+      {"altimeter: {range_scale: 2.5}\n", "altimeter.range_scale"},
+      {"altimeter: {range_bias_m: -100}\n", "altimeter.range_bias_m"},
+      {"altimeter: {range_bias_m: .nan}\n", "altimeter.range_bias_m"},
+  };
+  for (const auto& [yaml, key] : bad) {
+    try {
+      SensorCalibration::from_config(Config::parse(yaml, "bad.yaml"));
+      ADD_FAILURE() << "expected ConfigError for " << yaml;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
+    }
+  }
+  SyncOptions options;
+  options.calibration.altimeter_range_scale = 0.0;
+  EXPECT_THROW(options.Check(), ConfigError);
+  // The solver's options carry them into its FrameSync.
+  const VoSolverOptions solver = VoSolverOptions::from_config(Config::parse(
+      "camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5, time_offset_us: 3000}\n"
+      "altimeter: {range_scale: 1.01, range_bias_m: 0.3}\n",
+      "cal.yaml"));
+  EXPECT_EQ(solver.sync.calibration.camera_time_offset_us, 3000);
+  EXPECT_EQ(solver.sync.calibration.altimeter_range_scale, 1.01);
+  EXPECT_EQ(solver.sync.calibration.altimeter_range_bias_m, 0.3);
 }
 
 }  // namespace

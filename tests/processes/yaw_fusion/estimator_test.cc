@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -581,6 +582,69 @@ TEST(YawFusionOptions, CheckedInDefaultConfigLoads) {
   EXPECT_EQ(o.reject_quality_mask, vo_delta_t::QUALITY_TOO_FEW_FEATURES | vo_delta_t::QUALITY_NO_ALTIMETER |
                                        vo_delta_t::QUALITY_NOT_CONVERGED | vo_delta_t::QUALITY_NO_ATTITUDE);
   EXPECT_EQ(o.reject_quality_mask, YawFusionOptions{}.reject_quality_mask);
+}
+
+// Issue 17: the camera stamps each frame 3 ms before its exposure and the
+// altimeter measures 1.01 * true + 0.3 m. With camera.time_offset_us and
+// altimeter.range_scale / range_bias_m in the config the noise-free flight is
+// recovered exactly (poses keep the frames' stamps); without them it is not.
+TEST(YawFusionEstimator, CalibrationRemovesTimeOffsetAndAltimeterScaleAndBias) {
+  FlightSpec spec;
+  spec.frames = 300;  // a turn: roll and yaw change, so a 3 ms shift shows
+  SyntheticFlight flight = test::make_flight(spec);
+  const int64_t offset_us = 3000;
+  const double scale = 1.01, bias_m = 0.3;
+  for (auto& d : flight.deltas) {
+    d.utime -= offset_us;
+    d.prev_utime -= offset_us;
+  }
+  for (auto& a : flight.altimeter) a.range_m = scale * a.range_m + bias_m;
+  YawFusionOptions options = YawFusionOptions::from_config(Config::parse(
+      "camera: {time_offset_us: 3000}\naltimeter: {range_scale: 1.01, range_bias_m: 0.3}\n", "cal.yaml"));
+  options.altimeter_interpolate = true;
+  YawFusionOptions uncalibrated = options;
+  uncalibrated.calibration = SensorCalibration{};
+  YawFusionCounters counters;
+  const auto poses = run_flight(flight, options, &counters);
+  const auto plain = run_flight(flight, uncalibrated);
+  ASSERT_EQ(poses.size(), flight.truth.size());
+  ASSERT_EQ(plain.size(), flight.truth.size());
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  double plain_roll_error = 0.0, plain_height_error = 0.0;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const pose_t& p = poses[i];
+    const test::TruthFrame& t = flight.truth[i];
+    ASSERT_EQ(p.utime, t.utime - offset_us) << "poses keep the frame's stamp";
+    const Eigen::Vector3d expected = t.position - origin;
+    EXPECT_NEAR(p.position_ned[0], expected.x(), 1e-6) << "frame " << i;
+    EXPECT_NEAR(p.position_ned[1], expected.y(), 1e-6) << "frame " << i;
+    EXPECT_NEAR(p.position_ned[2], expected.z(), 1e-6) << "frame " << i;
+    EXPECT_NEAR(angle_difference(p.yaw, t.yaw), 0.0, 1e-9) << "frame " << i;
+    EXPECT_NEAR(p.roll, t.roll, 1e-12) << "frame " << i;
+    EXPECT_NEAR(p.pitch, t.pitch, 1e-12) << "frame " << i;
+    EXPECT_NEAR(p.height_agl_m, spec.height_agl_m - t.position.z(), 1e-4) << "frame " << i;
+    EXPECT_EQ(p.flags, i == 0 ? pose_t::FLAG_INITIALIZING : 0) << "frame " << i;
+    plain_roll_error = std::max(plain_roll_error, std::abs(plain[i].roll - t.roll));
+    const double true_height = spec.height_agl_m - t.position.z();
+    plain_height_error = std::max(plain_height_error, std::abs(plain[i].height_agl_m - true_height));
+  }
+  EXPECT_EQ(counters.vo_deltas_integrated, spec.frames - 1);
+  EXPECT_EQ(counters.vo_deltas_without_ins, 0);
+  EXPECT_GT(plain_roll_error, 1e-5) << "the flight must make the time offset matter";
+  EXPECT_GT(plain_height_error, 2.0);
+}
+
+TEST(YawFusionOptions, CalibrationKeysAreChecked) {
+  const Config bad = Config::parse("altimeter: {range_scale: 3}\n", "bad.yaml");
+  try {
+    YawFusionOptions::from_config(bad);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("altimeter.range_scale"), std::string::npos) << e.what();
+  }
+  YawFusionOptions o;
+  o.calibration.camera_time_offset_us = -1000000;
+  EXPECT_THROW(o.Check(), ConfigError);
 }
 
 }  // namespace
