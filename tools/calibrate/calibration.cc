@@ -17,10 +17,13 @@
 #include "common/log_file.h"
 #include "common/message_guard.h"
 #include "common/progress.h"
+#include "common/sensor_calibration.h"
 #include "nadir/altimeter_t.hpp"
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/tracks_t.hpp"
+#include "nadir/vo_delta_t.hpp"
+#include "tools/eval/pair_metrics.h"
 
 namespace nadir::calibrate {
 namespace {
@@ -400,6 +403,14 @@ void CalibrationOptions::Check() const {
     require_option(a >= 0 && a <= 10, src, "ins_attitude_accuracy_deg", "must be in [0, 10] per axis");
   require_option(std::isnan(ground_height_m) || std::fabs(ground_height_m) < 1e4, src, "ground_height_m",
                  "must be in (-1e4, 1e4)");
+  require_option(gps_scale_min_baseline_m > 0 && gps_scale_min_baseline_m <= 1000, src, "gps_scale_min_baseline_m",
+                 "must be in (0, 1000]");
+  require_option(segment_from_s >= 0 && segment_until_s > segment_from_s, src, "segment_from_s / segment_until_s",
+                 "must satisfy 0 <= from < until");
+  require_option(!gps_scale_only || gps_scale_target != GpsScaleTarget::kReport, src, "gps_scale_only",
+                 "needs a GNSS scale target (focal or altimeter)");
+  require_option(!(gps_scale_target == GpsScaleTarget::kFocal && estimate_focal), src, "gps_scale_target",
+                 "focal: the focal length comes from the GNSS scale, so the epipolar focal fit must be off (--no-focal)");
 }
 
 FlightData load_flight(const std::string& log_path, bool progress) {
@@ -439,6 +450,10 @@ FlightData load_flight(const std::string& log_path, bool progress) {
       altimeter_t m;
       if (!decode(e, &m) || m.validity != altimeter_t::VALID_OK) continue;
       data.altimeter.push_back({m.utime, m.range_m, Eigen::Vector3d(m.beam_body[0], m.beam_body[1], m.beam_body[2])});
+    } else if (e.channel == channels::kVoDelta) {
+      vo_delta_t m;
+      if (!decode(e, &m)) continue;
+      data.vo_steps.push_back({m.prev_utime, m.utime, m.dx, m.dy, m.quality});
     } else if (e.channel == channels::kGroundTruth) {
       ground_truth_t m;
       if (!decode(e, &m) || m.kind != ground_truth_t::KIND_INS) continue;
@@ -453,8 +468,40 @@ FlightData load_flight(const std::string& log_path, bool progress) {
   return data;
 }
 
-CalibrationResult calibrate(const FlightData& data, const Config& camera_root, const CalibrationOptions& options) {
+namespace {
+
+// The part of the flight between from_s and until_s after the first INS
+// sample (the INS kept 5 s further on each side for its smoothing).
+FlightData restrict_to_segment(const FlightData& all, double from_s, double until_s) {
+  if (from_s <= 0.0 && std::isinf(until_s)) return all;
+  const double t0 = static_cast<double>(all.ins.front().utime);
+  auto inside = [&](int64_t utime, double margin_s) {
+    const double t = (static_cast<double>(utime) - t0) * 1e-6;
+    return t >= from_s - margin_s && t <= until_s + margin_s;
+  };
+  FlightData seg;
+  seg.reference_height_m = all.reference_height_m;
+  seg.corrupt_records = all.corrupt_records;
+  for (const auto& s : all.ins)
+    if (inside(s.utime, 5.0)) seg.ins.push_back(s);
+  for (const auto& p : all.pairs)
+    if (inside(p.prev_utime, 0.0) && inside(p.utime, 0.0)) seg.pairs.push_back(p);
+  for (const auto& a : all.altimeter)
+    if (inside(a.utime, 0.0)) seg.altimeter.push_back(a);
+  for (const auto& g : all.terrain)
+    if (inside(g.utime, 5.0)) seg.terrain.push_back(g);
+  for (const auto& v : all.vo_steps)
+    if (inside(v.prev_utime, 0.0) && inside(v.utime, 0.0)) seg.vo_steps.push_back(v);
+  if (seg.ins.size() < 2) throw std::runtime_error("calibration segment: no INS data in the chosen segment");
+  return seg;
+}
+
+}  // namespace
+
+CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera_root,
+                            const CalibrationOptions& options) {
   options.Check();
+  const FlightData data = restrict_to_segment(whole_flight, options.segment_from_s, options.segment_until_s);
   const CameraModel camera = CameraModel::from_config(camera_root);
   const InsTrack ins(data.ins, options.attitude_smoothing_s);
   CalibrationResult result;
@@ -651,6 +698,34 @@ CalibrationResult calibrate(const FlightData& data, const Config& camera_root, c
                                     "correlation %.3f); fly at two or more heights at least 50 m apart",
                                     std::sqrt(var), corr));
   }
+
+  // --- Image scale against GNSS, from the VO_DELTA of a replay.
+  std::vector<PositionSample> positions;
+  for (const auto& s : data.ins) positions.push_back({s.utime, s.position_ned});
+  const GpsScaleFit gps = fit_gps_scale(data.vo_steps, positions, kUnsolvedQualityMask,
+                                        options.gps_scale_min_baseline_m, options.outlier_sigma);
+  result.gps_scale_pairs = gps.pairs;
+  result.gps_scale = make_estimate("gps_scale", gps.scale, gps.sigma, gps.pairs >= 10, 0.01);
+  result.gps_scale_target = options.gps_scale_target;
+  const SensorCalibration configured = SensorCalibration::from_config(camera_root);
+  result.range_scale = altimeter_data ? result.altimeter_scale.value : configured.altimeter_range_scale;
+  result.range_bias_m = altimeter_data ? result.altimeter_bias_m.value : configured.altimeter_range_bias_m;
+  result.scale_only = options.gps_scale_only;
+  if (options.gps_scale_target != CalibrationOptions::GpsScaleTarget::kReport) {
+    if (!result.gps_scale.estimated)
+      throw std::runtime_error(fmt("GNSS scale: %lld solved frame pair(s) with VO_DELTA and a GNSS baseline of at "
+                                   "least %.1f m, 10 needed (replay vo_solver over the flight first)",
+                                   static_cast<long long>(gps.pairs), options.gps_scale_min_baseline_m));
+    if (options.gps_scale_target == CalibrationOptions::GpsScaleTarget::kFocal) {
+      result.fx = camera.fx / gps.scale;
+      result.fy = camera.fy / gps.scale;
+    } else {
+      if (altimeter_data)
+        throw std::runtime_error("GNSS scale into the altimeter: the altimeter scale was also fitted from ranges "
+                                 "against a height reference; use one of the two");
+      result.range_scale = configured.altimeter_range_scale / gps.scale;
+    }
+  }
   return result;
 }
 
@@ -669,11 +744,24 @@ std::string CalibrationResult::config_fragment(const std::string& source) const 
   o << "# focal scale     " << line(focal_scale) << "\n";
   o << "# altimeter scale " << line(altimeter_scale) << "\n";
   o << "# altimeter bias  " << line(altimeter_bias_m) << " m\n";
+  o << "# GNSS scale      " << line(gps_scale) << " (GNSS baseline / VO step, " << gps_scale_pairs << " pairs"
+    << (gps_scale_target == CalibrationOptions::GpsScaleTarget::kFocal       ? "; written as the focal length"
+        : gps_scale_target == CalibrationOptions::GpsScaleTarget::kAltimeter ? "; written as the altimeter scale"
+                                                                             : "; not applied")
+    << ")\n";
   for (const std::string& w : warnings) o << "# warning: " << w << "\n";
+  if (scale_only) {  // only the keys the GNSS scale sets; everything else stays as configured
+    if (gps_scale_target == CalibrationOptions::GpsScaleTarget::kFocal)
+      o << "camera:\n  fx: " << fmt("%.3f", fx) << "\n  fy: " << fmt("%.3f", fy) << "\n";
+    else
+      o << "altimeter:\n  range_scale: " << fmt("%.5f", range_scale) << "\n";
+    return o.str();
+  }
   o << "camera:\n";
   o << "  mount_rpy_deg: [" << fmt("%.4f", mount_rpy_deg[0]) << ", " << fmt("%.4f", mount_rpy_deg[1]) << ", "
     << fmt("%.4f", mount_rpy_deg[2]) << "]\n";
-  if (focal_scale.estimated && focal_scale.excited) {
+  if ((focal_scale.estimated && focal_scale.excited) ||
+      gps_scale_target == CalibrationOptions::GpsScaleTarget::kFocal) {
     o << "  fx: " << fmt("%.3f", fx) << "\n";
     o << "  fy: " << fmt("%.3f", fy) << "\n";
   }
@@ -681,8 +769,8 @@ std::string CalibrationResult::config_fragment(const std::string& source) const 
   o << "  time_offset_us: " << fmt("%.0f", time_offset_ms.estimated ? time_offset_ms.value * 1e3 : 0.0) << "\n";
   o << "altimeter:\n";
   o << "  # vo_solver and yaw_fusion use true range = (measured - range_bias_m) / range_scale.\n";
-  o << "  range_scale: " << fmt("%.5f", altimeter_scale.value) << "\n";
-  o << "  range_bias_m: " << fmt("%.3f", altimeter_bias_m.value) << "\n";
+  o << "  range_scale: " << fmt("%.5f", range_scale) << "\n";
+  o << "  range_bias_m: " << fmt("%.3f", range_bias_m) << "\n";
   return o.str();
 }
 
@@ -699,6 +787,7 @@ std::string CalibrationResult::json() const {
   put(focal_scale);
   put(altimeter_scale);
   put(altimeter_bias_m);
+  put(gps_scale);
   j.key("mount_rpy_deg").begin_array().value(mount_rpy_deg[0]).value(mount_rpy_deg[1]).value(mount_rpy_deg[2]).end_array();
   j.field("frame_pairs", frame_pairs).field("residuals", residuals).field("outliers", outliers);
   j.field("altimeter_samples", altimeter_samples).field("camera_rms_rad", camera_rms_rad);

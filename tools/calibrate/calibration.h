@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "common/config.h"
+#include "tools/calibrate/gps_scale.h"
 
 namespace nadir::calibrate {
 
@@ -45,6 +46,18 @@ struct CalibrationOptions {
   double focal_sigma_limit = 0.002;
   double altimeter_scale_sigma_limit = 0.003;
   double altimeter_bias_sigma_limit_m = 0.3;
+  // The image scale against GNSS (tools/calibrate/gps_scale.h), from the
+  // log's VO_DELTA: always reported when the log has them; written into the
+  // fragment as a focal length (kFocal) or an altimeter scale (kAltimeter)
+  // when asked. The VO_DELTA must come from the config given as camera_root.
+  enum class GpsScaleTarget { kReport, kFocal, kAltimeter };
+  GpsScaleTarget gps_scale_target = GpsScaleTarget::kReport;
+  bool gps_scale_only = false;  // the fragment sets only what the GNSS scale gives (a survey flight)
+  double gps_scale_min_baseline_m = 2.0;  // shorter GNSS baselines carry too much of the GNSS noise
+  // The segment of the flight used (s after the log's first INS sample);
+  // the rest is left for checking the result on data it was not fitted on.
+  double segment_from_s = 0.0;
+  double segment_until_s = std::numeric_limits<double>::infinity();
   void Check() const;  // throws ConfigError naming the option
 };
 
@@ -84,6 +97,7 @@ struct FlightData {
   std::vector<FramePair> pairs;
   std::vector<AltimeterSample> altimeter;
   std::vector<TerrainSample> terrain;  // if the log has GROUND_TRUTH
+  std::vector<VoStep> vo_steps;        // if the log has VO_DELTA (a replay through vo_solver)
   double reference_height_m = 0.0;  // INS height of the first sample (the NED origin)
   int64_t corrupt_records = 0;
 };
@@ -98,8 +112,14 @@ struct CalibrationResult {
   Estimate focal_scale;               // true focal length / configured
   Estimate altimeter_scale;           // measured = scale * true range + bias
   Estimate altimeter_bias_m;
+  Estimate gps_scale;                 // GNSS baseline / VO step (not estimated without VO_DELTA)
+  int64_t gps_scale_pairs = 0;
+  CalibrationOptions::GpsScaleTarget gps_scale_target = CalibrationOptions::GpsScaleTarget::kReport;
   Eigen::Vector3d mount_rpy_deg = Eigen::Vector3d::Zero();  // configured mount composed with the boresight
-  double fx = 0, fy = 0;              // configured focal lengths times the focal scale
+  double fx = 0, fy = 0;              // configured focal lengths times the focal scale (or over the GNSS scale)
+  double range_scale = 1.0;           // altimeter.range_scale written into the fragment
+  double range_bias_m = 0.0;          // altimeter.range_bias_m written (fitted, else as configured)
+  bool scale_only = false;            // the fragment holds only the GNSS scale's keys
   int64_t frame_pairs = 0, residuals = 0, outliers = 0, altimeter_samples = 0;
   double camera_rms_rad = 0.0, altimeter_rms_m = 0.0;
   double segment_s = 0.0;

@@ -15,7 +15,8 @@ int main(int argc, char** argv) {
   CLI::App app{"Estimates the camera-body boresight (roll, pitch, yaw), the camera-INS time offset, the focal length "
                "scale and the altimeter scale and bias, each with a 1-sigma uncertainty, from a flight segment: a log "
                "with INS (attitude and GNSS position), TRACKS (replay the tracker over the flight: nadir_replay "
-               "--nodes tracker) and ALTIMETER, plus GROUND_TRUTH or --ground-height-m for the altimeter. Warns when "
+               "--nodes tracker) and ALTIMETER, plus GROUND_TRUTH or --ground-height-m for the altimeter; with "
+               "VO_DELTA (replay vo_solver too) also the image scale against GNSS. Warns when "
                "the flight does not excite a parameter. Writes a YAML config fragment (--out, or stdout).",
                "nadir_calibrate"};
   std::string log_path, config_path, out_path;
@@ -37,6 +38,18 @@ int main(int argc, char** argv) {
                  "sigmas (the boresight is relative to the INS)")
       ->expected(3);
   app.add_flag("--no-focal", no_focal, "hold the focal length scale at 1");
+  std::string gps_scale;
+  app.add_option("--gps-scale", gps_scale,
+                 "write the image scale against GNSS (GNSS baseline / VO step over the log's solved VO_DELTA; always "
+                 "reported when the log has them) into the fragment as the focal length (focal: an undocumented "
+                 "camera; implies --no-focal) or as the altimeter scale (altimeter: a barometric height)")
+      ->check(CLI::IsMember({"focal", "altimeter"}));
+  app.add_flag("--scale-only", options.gps_scale_only,
+               "with --gps-scale: the fragment sets only the focal length or the altimeter scale, everything else "
+               "stays as configured (a survey flight that does not excite the boresight)");
+  app.add_option("--from-s", options.segment_from_s, "use the flight from this many seconds after its first INS sample");
+  app.add_option("--until-s", options.segment_until_s,
+                 "... up to this many seconds (the rest is left for checking the result on data it was not fitted on)");
   app.add_flag("--json", json, "print the estimates as JSON on stdout (the fragment then needs --out)");
   try {
     app.parse(argc, argv);
@@ -46,7 +59,10 @@ int main(int argc, char** argv) {
   try {
     if (*ground) options.ground_height_m = ground_height_m;
     for (size_t i = 0; i < ins_accuracy.size() && i < 3; ++i) options.ins_attitude_accuracy_deg[i] = ins_accuracy[i];
-    options.estimate_focal = !no_focal;
+    options.estimate_focal = !no_focal && gps_scale != "focal";
+    if (gps_scale == "focal") options.gps_scale_target = nadir::calibrate::CalibrationOptions::GpsScaleTarget::kFocal;
+    if (gps_scale == "altimeter")
+      options.gps_scale_target = nadir::calibrate::CalibrationOptions::GpsScaleTarget::kAltimeter;
     options.Check();
     const std::string config_file = config_path.empty() ? nadir::default_config_path() : config_path;
     const nadir::Config config = nadir::Config::load_file(config_file);

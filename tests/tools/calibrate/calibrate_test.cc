@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 
 #include "common/config.h"
 #include "common/log_file.h"
@@ -116,6 +117,25 @@ TEST(Calibrate, RecoversTheCalibrationSetWithinThreeSigma) {
   EXPECT_EQ(parsed.section("camera").get<std::vector<double>>("mount_rpy_deg").size(), 3u);
   EXPECT_NEAR(parsed.section("camera").get<double>("time_offset_us"), r.time_offset_ms.value * 1e3, 1.0);
   EXPECT_NEAR(parsed.section("altimeter").get<double>("range_scale"), r.altimeter_scale.value, 1e-5);
+}
+
+// --from-s / --until-s: only the chosen part of the flight is fitted (the
+// rest is left for checking the result on data it was not fitted on).
+TEST(Calibrate, SegmentKeepsOnlyTheChosenPart) {
+  const Flight& flight = calibration_flight();
+  const Config config = Config::load_file(kSource + "/config/default.yaml");
+  CalibrationOptions options = options_for(flight);
+  options.bootstrap_runs = 0;
+  const CalibrationResult whole = calibrate(flight.data, config, options);
+  options.segment_from_s = 10.0;
+  options.segment_until_s = 30.0;
+  const CalibrationResult part = calibrate(flight.data, config, options);
+  EXPECT_GT(part.frame_pairs, 100);
+  EXPECT_LT(part.frame_pairs, whole.frame_pairs / 2);
+  EXPECT_LE(part.segment_s, 20.0 + 2 * 5.0 + 0.1);  // the INS is kept 5 s beyond each end
+  options.segment_from_s = 1e5;  // after the flight
+  options.segment_until_s = 2e5;
+  EXPECT_THROW(calibrate(flight.data, config, options), std::runtime_error);
 }
 
 // The first leg alone: 5 s straight and level at one height. Scale and bias

@@ -1,0 +1,101 @@
+// The image scale against GNSS (tools/calibrate/gps_scale.h): exact on
+// noise-free steps, the median holds against mismatched pairs, flagged and
+// short pairs are not used.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "tools/calibrate/gps_scale.h"
+
+namespace nadir::calibrate {
+namespace {
+
+constexpr int32_t kUnsolved = 1 | 2 | 8 | 16;
+
+// A flight along a curve sampled at 1 Hz; a VO step per second whose length
+// is the true one times `vo_scale` (a focal length or height error).
+struct Track {
+  std::vector<PositionSample> positions;
+  std::vector<VoStep> steps;
+};
+
+Track curved_flight(int n, double vo_scale) {
+  Track t;
+  for (int i = 0; i <= n; ++i) {
+    const double s = i * 20.0;  // 20 m/s
+    t.positions.push_back({static_cast<int64_t>(i) * 1000000, Eigen::Vector3d(200.0 * std::sin(s / 200.0),
+                                                                              200.0 * (1.0 - std::cos(s / 200.0)),
+                                                                              -100.0 - 0.1 * i)});
+  }
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = t.positions[i + 1].position_ned - t.positions[i].position_ned;
+    // The level frame of the previous frame: any rotation of (dx, dy) about z keeps the length.
+    const double heading = 0.3 * i;
+    const double dx = std::cos(heading) * d.x() + std::sin(heading) * d.y();
+    const double dy = -std::sin(heading) * d.x() + std::cos(heading) * d.y();
+    t.steps.push_back({t.positions[i].utime, t.positions[i + 1].utime, vo_scale * dx, vo_scale * dy, 0});
+  }
+  return t;
+}
+
+TEST(GpsScale, ExactOnNoiseFreeSteps) {
+  const Track t = curved_flight(50, 1.2);
+  const GpsScaleFit fit = fit_gps_scale(t.steps, t.positions, kUnsolved, 2.0, 4.0);
+  EXPECT_EQ(fit.pairs, 50);
+  EXPECT_EQ(fit.rejected, 0);
+  EXPECT_NEAR(fit.scale, 1.0 / 1.2, 1e-12);
+  EXPECT_NEAR(fit.sigma, 0.0, 1e-12);
+}
+
+TEST(GpsScale, StepsBetweenPositionSamplesAreInterpolated) {
+  const Track t = curved_flight(50, 0.9);
+  // Steps from mid-second to mid-second: the positions are interpolated.
+  std::vector<VoStep> steps;
+  for (size_t i = 0; i + 2 < t.positions.size(); ++i) {
+    const Eigen::Vector3d a = 0.5 * (t.positions[i].position_ned + t.positions[i + 1].position_ned);
+    const Eigen::Vector3d b = 0.5 * (t.positions[i + 1].position_ned + t.positions[i + 2].position_ned);
+    steps.push_back({t.positions[i].utime + 500000, t.positions[i + 1].utime + 500000, 0.9 * (b - a).x(),
+                     0.9 * (b - a).y(), 0});
+  }
+  const GpsScaleFit fit = fit_gps_scale(steps, t.positions, kUnsolved, 2.0, 4.0);
+  EXPECT_EQ(fit.pairs, static_cast<int64_t>(steps.size()));
+  EXPECT_NEAR(fit.scale, 1.0 / 0.9, 1e-12);
+}
+
+TEST(GpsScale, NoisyStepsWithMismatchesStayWithinThreeSigma) {
+  Track t = curved_flight(200, 1.1);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.5);  // 0.5 m per axis on 20 m steps
+  for (size_t i = 0; i < t.steps.size(); ++i) {
+    t.steps[i].dx += noise(rng);
+    t.steps[i].dy += noise(rng);
+    if (i % 10 == 3) t.steps[i].dx *= 3.0;  // a mismatched pair: far off
+  }
+  const GpsScaleFit fit = fit_gps_scale(t.steps, t.positions, kUnsolved, 2.0, 4.0);
+  EXPECT_GT(fit.sigma, 0.0);
+  EXPECT_LT(fit.sigma, 0.01);
+  EXPECT_NEAR(fit.scale, 1.0 / 1.1, 3.0 * fit.sigma);
+  EXPECT_GE(fit.rejected, 15);  // the 20 mismatched pairs, most of them dropped as outliers
+}
+
+TEST(GpsScale, FlaggedShortAndUncoveredPairsAreNotUsed) {
+  Track t = curved_flight(30, 1.0);
+  t.steps[0].quality = 8;                 // not converged: unsolved
+  t.steps[1].quality = 64;                // high residual: solved (flagged), used
+  t.steps[2].dx = t.steps[2].dy = 0.0;    // no VO motion: rejected
+  t.steps[3].prev_utime = -5000000;       // before the GNSS span
+  t.steps[4].dx = std::nan("");           // non-finite: rejected
+  const GpsScaleFit fit = fit_gps_scale(t.steps, t.positions, kUnsolved, 2.0, 4.0);
+  EXPECT_EQ(fit.pairs, 26);
+  EXPECT_EQ(fit.rejected, 2);
+  EXPECT_NEAR(fit.scale, 1.0, 1e-12);
+  const GpsScaleFit none = fit_gps_scale({}, t.positions, kUnsolved, 2.0, 4.0);
+  EXPECT_EQ(none.pairs, 0);
+  // Baselines under the minimum carry mostly GNSS noise.
+  const GpsScaleFit long_only = fit_gps_scale(t.steps, t.positions, kUnsolved, 25.0, 4.0);
+  EXPECT_EQ(long_only.pairs, 0);
+}
+
+}  // namespace
+}  // namespace nadir::calibrate
