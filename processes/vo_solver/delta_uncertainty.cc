@@ -132,6 +132,8 @@ UncertaintyOptions UncertaintyOptions::from_config(const Config& vo_solver_secti
   o.altimeter_stddev_m = c.get_in_range("altimeter_stddev_m", o.altimeter_stddev_m, 0.0, 100.0);
   o.altimeter_stddev_fraction = c.get_in_range("altimeter_stddev_fraction", o.altimeter_stddev_fraction, 0.0, 0.5);
   o.range_scale_stddev = c.get_in_range("range_scale_stddev", o.range_scale_stddev, 0.0, 0.5);
+  o.relief_scale_stddev = c.get_in_range("relief_scale_stddev", o.relief_scale_stddev, 0.0, 0.5);
+  o.dyaw_model_stddev_deg = c.get_in_range("dyaw_model_stddev_deg", o.dyaw_model_stddev_deg, 0.0, 10.0);
   try {
     o.Check();
   } catch (const std::invalid_argument& e) {
@@ -147,6 +149,8 @@ void UncertaintyOptions::Check() const {
   require(altimeter_stddev_fraction >= 0 && altimeter_stddev_fraction <= 0.5, "altimeter_stddev_fraction",
           "in [0, 0.5]");
   require(range_scale_stddev >= 0 && range_scale_stddev <= 0.5, "range_scale_stddev", "in [0, 0.5]");
+  require(relief_scale_stddev >= 0 && relief_scale_stddev <= 0.5, "relief_scale_stddev", "in [0, 0.5]");
+  require(dyaw_model_stddev_deg >= 0 && dyaw_model_stddev_deg <= 10, "dyaw_model_stddev_deg", "in [0, 10]");
 }
 
 SensorVector measured_inputs(const FramePair& pair) {
@@ -229,6 +233,9 @@ Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, co
   Eigen::Matrix4d cov = j * sensor_input_covariance(pair, options) * j.transpose();
   // `flow` takes its heading change from the INS: both frames' yaw noise.
   if (solver.variant == Variant::kFlow) cov(3, 3) += 2 * variance_rad2(options.yaw_stddev_deg);
+  cov.topLeftCorner<3, 3>() += options.relief_scale_stddev * options.relief_scale_stddev *
+                               est.translation * est.translation.transpose();
+  cov(3, 3) += variance_rad2(options.dyaw_model_stddev_deg);
   return 0.5 * (cov + cov.transpose());
 }
 
