@@ -153,6 +153,19 @@ void UncertaintyOptions::Check() const {
   require(dyaw_model_stddev_deg >= 0 && dyaw_model_stddev_deg <= 10, "dyaw_model_stddev_deg", "in [0, 10]");
 }
 
+double levelling_variance_m2(double height_m, double roll_pitch_stddev_rad) {
+  const double shift = height_m * roll_pitch_stddev_rad;
+  return shift * shift;
+}
+
+void frame_levelling_variances(double prev_altitude_m, double dz, double roll_pitch_stddev_rad, double* prev_m2,
+                               double* curr_m2) {
+  *prev_m2 = *curr_m2 = 0.0;
+  if (!std::isfinite(prev_altitude_m) || !(prev_altitude_m > 0.0) || !std::isfinite(dz)) return;
+  *prev_m2 = levelling_variance_m2(prev_altitude_m, roll_pitch_stddev_rad);
+  *curr_m2 = levelling_variance_m2(std::max(0.0, prev_altitude_m - dz), roll_pitch_stddev_rad);
+}
+
 SensorVector measured_inputs(const FramePair& pair) {
   SensorVector x;
   x << pair.prev_roll, pair.prev_pitch, pair.curr_roll, pair.curr_pitch, pair.prev_range_m, pair.curr_range_m, 0.0;
@@ -228,9 +241,18 @@ Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, co
   // dz's response to levelling errors is under-predicted (the model has no
   // ground tilt fit; the solver's dz moves ~2.5x more): a known gap, dz is not
   // part of the horizontal protection level.
-  const SensorJacobian j = sensor_jacobian(pair, est, symmetric);
+  SensorJacobian j = sensor_jacobian(pair, est, symmetric);
   if (!j.allFinite()) return Eigen::Matrix4d::Zero();
+  // dx, dy against the attitudes: the analytic h * eps per frame instead of
+  // the model's (whose grid adds ~1 % of perspective the solver's tilt fit
+  // does not have), so that yaw fusion removes exactly what is added here.
+  j.block<2, 4>(0, kPrevRoll).setZero();
   Eigen::Matrix4d cov = j * sensor_input_covariance(pair, options) * j.transpose();
+  double prev_levelling = 0, curr_levelling = 0;
+  frame_levelling_variances(est.altitude_m, est.translation.z(), deg_to_rad(options.roll_pitch_stddev_deg),
+                            &prev_levelling, &curr_levelling);
+  cov(0, 0) += prev_levelling + curr_levelling;
+  cov(1, 1) += prev_levelling + curr_levelling;
   // `flow` takes its heading change from the INS: both frames' yaw noise.
   if (solver.variant == Variant::kFlow) cov(3, 3) += 2 * variance_rad2(options.yaw_stddev_deg);
   cov.topLeftCorner<3, 3>() += options.relief_scale_stddev * options.relief_scale_stddev *

@@ -91,6 +91,17 @@ Eigen::Matrix<double, kSensorInputs, kSensorInputs> sensor_input_covariance(cons
 Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, const SolverOptions& solver,
                                   const UncertaintyOptions& options);
 
+// Levelling variance (m^2 per horizontal axis) of one frame `height_m` above
+// the ground: a roll/pitch error eps moves the footprint by height * eps (the
+// solver's response, checked by the tests: d dx / d pitch = h within 1 %).
+// sensor_covariance puts exactly prev + curr of these on dx and dy (prev at
+// est.altitude_m, curr at altitude_m - dz), so that yaw fusion, which keeps the
+// levelling error once per frame rather than once per delta, can take
+// exactly that part out again (processes/yaw_fusion/delta_integration.h).
+double levelling_variance_m2(double height_m, double roll_pitch_stddev_rad);
+void frame_levelling_variances(double prev_altitude_m, double dz, double roll_pitch_stddev_rad, double* prev_m2,
+                               double* curr_m2);
+
 // The hook of vo_solver_node: adds sensor_covariance to est->covariance.
 void add_sensor_uncertainty(const FramePair& pair, const SolverOptions& solver, const UncertaintyOptions& options,
                             Estimate* est);

@@ -10,9 +10,9 @@ namespace nadir {
 
 namespace {
 
-// The nearest positive semi-definite matrix (negative eigenvalues to 0): the
-// levelling part removed is the model's h^2 sigma^2, the solver's Jacobian
-// differs from it by the perspective of the footprint (~1 %).
+// The nearest positive semi-definite matrix (negative eigenvalues to 0): a
+// delta published without the sensor part (uncertainty disabled, an older
+// solver) has less than the shared part to give.
 Eigen::Matrix4d psd_part(const Eigen::Matrix4d& m) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(0.5 * (m + m.transpose()));
   const Eigen::Vector4d clamped = eig.eigenvalues().cwiseMax(0.0);
@@ -21,22 +21,15 @@ Eigen::Matrix4d psd_part(const Eigen::Matrix4d& m) {
 
 }  // namespace
 
-double levelling_variance_m2(double height_m, double roll_pitch_stddev_rad) {
-  const double shift = height_m * roll_pitch_stddev_rad;
-  return shift * shift;
-}
-
 Eigen::Vector3d integrate_delta(PoseFilter* filter, const vo_delta_t& delta, const Eigen::Matrix4d& covariance,
                                 const YawFusionOptions& options) {
   const vo::UncertaintyOptions& u = options.sensor_uncertainty;
   const Eigen::Vector3d translation(delta.dx, delta.dy, delta.dz);
   double prev_levelling = 0.0, curr_levelling = 0.0, range_scale_variance = 0.0;
   if (u.enabled) {
-    const double sigma = deg_to_rad(u.roll_pitch_stddev_deg);
-    if (std::isfinite(delta.altitude_m) && delta.altitude_m > 0.0) {
-      prev_levelling = levelling_variance_m2(delta.altitude_m, sigma);
-      curr_levelling = levelling_variance_m2(std::max(0.0, delta.altitude_m - delta.dz), sigma);
-    }
+    // Exactly what vo_solver put on dx, dy (vo::sensor_covariance).
+    vo::frame_levelling_variances(delta.altitude_m, delta.dz, deg_to_rad(u.roll_pitch_stddev_deg), &prev_levelling,
+                                  &curr_levelling);
     range_scale_variance = u.range_scale_stddev * u.range_scale_stddev;
   }
   Eigen::Matrix4d shared = Eigen::Matrix4d::Zero();

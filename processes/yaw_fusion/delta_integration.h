@@ -14,10 +14,6 @@
 
 namespace nadir {
 
-// Levelling variance (m^2 per horizontal axis) of a frame `height_m` above
-// the ground: a roll/pitch error eps moves the footprint by height * eps.
-double levelling_variance_m2(double height_m, double roll_pitch_stddev_rad);
-
 // `covariance`: the delta's, over (dx, dy, dz, dyaw), as yaw fusion uses it.
 // Returns the world translation added (PoseFilter::predict_with_delta).
 Eigen::Vector3d integrate_delta(PoseFilter* filter, const vo_delta_t& delta, const Eigen::Matrix4d& covariance,

@@ -126,7 +126,9 @@ Eigen::Matrix4d monte_carlo(const FramePair& pair, const SolverOptions& options,
 TEST(DeltaUncertainty, VarianceMatchesMonteCarloOfTheSolver) {
   const testing::Scene scene = testing::make_scene(pair_spec());
   const SolverOptions options;
-  UncertaintyOptions u;  // the standard set: 0.05 deg, 0.1 m + 0.1 %
+  UncertaintyOptions u;  // the standard set: 0.05 deg, 0.1 m + 0.1 %; no model error terms
+  u.relief_scale_stddev = 0.0;
+  u.dyaw_model_stddev_deg = 0.0;
   const Estimate est = solve(scene.pair, options);
   const Eigen::Matrix4d predicted = sensor_covariance(scene.pair, est, options, u);
   // dx, dy: levelling and ranges. Within +-10 % (400 runs: the sample variance
@@ -151,6 +153,22 @@ TEST(DeltaUncertainty, NothingAddedToAFailedSolveOrWhenDisabled) {
   const Eigen::Matrix4d on = sensor_covariance(scene.pair, est, SolverOptions(), UncertaintyOptions());
   EXPECT_GT(on(0, 0), 0.0);
   EXPECT_TRUE(on.allFinite());
+}
+
+TEST(DeltaUncertainty, ModelErrorTermsAlongTheStepAndOnTheHeading) {
+  const testing::Scene scene = testing::make_scene(pair_spec());
+  const SolverOptions options;
+  const Estimate est = solve(scene.pair, options);
+  UncertaintyOptions without, with;
+  without.relief_scale_stddev = 0.0;
+  without.dyaw_model_stddev_deg = 0.0;
+  with.relief_scale_stddev = 0.02;
+  with.dyaw_model_stddev_deg = 0.005;
+  const Eigen::Matrix4d added =
+      sensor_covariance(scene.pair, est, options, with) - sensor_covariance(scene.pair, est, options, without);
+  const Eigen::Matrix3d expected = 0.02 * 0.02 * est.translation * est.translation.transpose();
+  EXPECT_TRUE((added.topLeftCorner<3, 3>().isApprox(expected, 1e-9)));
+  EXPECT_NEAR(added(3, 3), std::pow(deg_to_rad(0.005), 2), 1e-15);
 }
 
 TEST(DeltaUncertainty, FlowVariantCarriesTheInsHeadingNoise) {

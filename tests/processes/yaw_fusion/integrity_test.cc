@@ -49,7 +49,7 @@ Flight fly(int frames, double height, double step, const YawFusionOptions& optio
     d.dy = measured.y();
     d.altitude_m = height;
     Eigen::Matrix4d cov = Eigen::Matrix4d::Zero();
-    cov(0, 0) = cov(1, 1) = 2 * levelling_variance_m2(height, level_sigma) + image_sigma * image_sigma;
+    cov(0, 0) = cov(1, 1) = 2 * vo::levelling_variance_m2(height, level_sigma) + image_sigma * image_sigma;
     cov(0, 0) += std::pow(options.sensor_uncertainty.range_scale_stddev * step, 2);
     cov(3, 3) = 1e-12;
     integrate_delta(&filter, d, cov, options);
