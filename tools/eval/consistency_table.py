@@ -42,7 +42,7 @@ def load(folder):
 
 
 def interval(n, dim):
-    return chi2.ppf(0.025, n * dim) / n, chi2.ppf(0.975, n * dim) / n
+    return float(chi2.ppf(0.025, n * dim) / n), float(chi2.ppf(0.975, n * dim) / n)
 
 
 def summarise(flights):
@@ -54,7 +54,7 @@ def summarise(flights):
         steps = min(len(rows) for _, rows in flights)
         averages = [sum(rows[i][key] for _, rows in flights) / n for i in range(steps)]
         poses = [r[key] for _, rows in flights for r in rows]
-        out[key] = {"final_mean": final, "interval_95": [lo, hi], "final_inside": lo <= final <= hi,
+        out[key] = {"final_mean": final, "interval_95": [lo, hi], "final_inside": bool(lo <= final <= hi),
                     "all_poses_mean": sum(poses) / len(poses),
                     "time_steps_inside_pct": 100.0 * sum(lo <= a <= hi for a in averages) / steps,
                     "poses_within_bound_pct": 100.0 * sum(v <= bound for v in poses) / len(poses)}
