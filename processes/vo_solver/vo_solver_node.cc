@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/channels.h"
+#include "processes/vo_solver/delta_uncertainty.h"
 
 namespace nadir {
 
@@ -127,7 +128,8 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
     pair.prev_norm.push_back(p);
     pair.curr_norm.push_back(c);
   }
-  const vo::Estimate est = vo::solve(pair, options_.solver);
+  vo::Estimate est = vo::solve(pair, options_.solver);
+  vo::add_sensor_uncertainty(pair, options_.solver, options_.uncertainty, &est);  // INS and altimeter errors
   out.dx = est.translation.x();
   out.dy = est.translation.y();
   out.dz = est.translation.z();

@@ -61,6 +61,8 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   }
   s.dyaw_start_from_ins = dyaw_start == "ins";
 
+  o.uncertainty = vo::UncertaintyOptions::from_config(c);
+
   const Config y = c.section_or_empty("sync");
   auto& t = o.sync;
   const std::string attitude_policy = y.get<std::string>("attitude_policy", "interpolate");

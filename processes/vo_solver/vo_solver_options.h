@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include "common/config.h"
+#include "processes/vo_solver/delta_uncertainty.h"
 #include "processes/vo_solver/frame_sync.h"
 #include "processes/vo_solver/translation_solver.h"
 
@@ -13,6 +14,7 @@ namespace nadir {
 struct VoSolverOptions {
   vo::SolverOptions solver;
   vo::SyncOptions sync;
+  vo::UncertaintyOptions uncertainty;  // `vo_solver.uncertainty:`: INS/altimeter errors in VO_DELTA's covariance
   Eigen::Matrix3d body_from_camera = Eigen::Matrix3d::Identity();
   Eigen::Vector3d default_beam_body = Eigen::Vector3d::UnitZ();
 

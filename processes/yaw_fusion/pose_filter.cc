@@ -13,6 +13,11 @@ void PoseFilter::initialise(double yaw, double yaw_variance) {
   p_(kYaw, kYaw) = yaw_variance;
   initialised_ = true;
   terrain_initialised_ = false;
+  have_origin_levelling_ = false;
+  origin_levelling_variance_ = frame_levelling_variance_ = 0.0;
+  displacement_.setZero();
+  range_scale_variance_ = 0.0;
+  yaw_bias_variance_ = 0.0;
 }
 
 void PoseFilter::restore(const Eigen::Vector3d& position, const Eigen::Matrix3d& position_covariance, double yaw,
@@ -54,6 +59,28 @@ void PoseFilter::propagate_without_vo(const Eigen::Vector3d& displacement_ned,
   x_.head<3>() += displacement_ned;
   for (int i = 0; i < 3; ++i) p_(i, i) += position_variance_added(i);
   p_(kYaw, kYaw) += yaw_variance_added;
+}
+
+void PoseFilter::add_shared_errors(double prev_levelling_variance, double curr_levelling_variance,
+                                   const Eigen::Vector3d& world_translation, double range_scale_variance,
+                                   double yaw_bias_variance_added) {
+  if (!have_origin_levelling_) {
+    origin_levelling_variance_ = prev_levelling_variance;
+    have_origin_levelling_ = true;
+  }
+  frame_levelling_variance_ = curr_levelling_variance;
+  displacement_ += world_translation;
+  range_scale_variance_ = range_scale_variance;
+  yaw_bias_variance_ += yaw_bias_variance_added;
+}
+
+Eigen::Matrix3d PoseFilter::reported_position_covariance() const {
+  Eigen::Matrix3d p = position_covariance();
+  const double levelling = origin_levelling_variance_ + frame_levelling_variance_;
+  p(0, 0) += levelling;
+  p(1, 1) += levelling;
+  p += range_scale_variance_ * displacement_ * displacement_.transpose();
+  return p;
 }
 
 void PoseFilter::joseph_update(const Vector& k, const Eigen::Matrix<double, 1, kSize>& h, double r) {

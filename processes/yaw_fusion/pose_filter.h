@@ -62,6 +62,23 @@ class PoseFilter {
   UpdateResult update_height_agl(double height_agl, double variance, double gate_sigma);
   double terrain_down() const { return x_(kTerrain); }
 
+  // Errors shared between deltas, kept beside the state (README § Consistency).
+  // Each VO delta's levelling error is h_{k-1} eps_{k-1} - h_k eps_k: summed
+  // over the deltas it telescopes to the origin frame's and the current
+  // frame's terms, so the filter integrates each delta without its levelling
+  // part and the reported covariance adds those two frames' variances once.
+  // An altimeter scale error s moves the position by s times the displacement
+  // since the origin; an INS yaw bias walk stays in the fused yaw.
+  // `prev/curr_levelling_variance`: m^2 per horizontal axis (height^2 sigma^2).
+  void add_shared_errors(double prev_levelling_variance, double curr_levelling_variance,
+                         const Eigen::Vector3d& world_translation, double range_scale_variance,
+                         double yaw_bias_variance_added);
+  // False until the first add_shared_errors after initialise / restore.
+  bool has_shared_origin() const { return have_origin_levelling_; }
+  // Position covariance and yaw variance with the shared errors.
+  Eigen::Matrix3d reported_position_covariance() const;
+  double reported_yaw_variance() const { return p_(kYaw, kYaw) + yaw_bias_variance_; }
+
   Eigen::Vector3d position() const { return x_.head<3>(); }
   double yaw() const { return x_(kYaw); }
   double yaw_variance() const { return p_(kYaw, kYaw); }
@@ -77,6 +94,12 @@ class PoseFilter {
   Vector x_ = Vector::Zero();
   Matrix p_ = Matrix::Zero();
   double last_yaw_innovation_ = 0.0;
+  // Shared errors (add_shared_errors).
+  bool have_origin_levelling_ = false;
+  double origin_levelling_variance_ = 0.0, frame_levelling_variance_ = 0.0;
+  Eigen::Vector3d displacement_ = Eigen::Vector3d::Zero();  // integrated VO, world
+  double range_scale_variance_ = 0.0;
+  double yaw_bias_variance_ = 0.0;
 };
 
 }  // namespace nadir

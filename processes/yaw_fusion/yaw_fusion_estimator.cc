@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/geometry.h"
+#include "processes/yaw_fusion/delta_integration.h"
 
 namespace nadir {
 
@@ -382,8 +383,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   for (int i = 0; i < 3; ++i) cov(i, i) = std::max(cov(i, i), square(options_.min_translation_stddev_m));
   cov(3, 3) = std::max(cov(3, 3), square(deg_to_rad(options_.min_dyaw_stddev_deg)));
 
-  const Eigen::Vector3d world =
-      filter_.predict_with_delta(Eigen::Vector3d(delta.dx, delta.dy, delta.dz), delta.dyaw, cov);
+  const Eigen::Vector3d world = integrate_delta(&filter_, delta, cov, options_);
   const double dt = static_cast<double>(delta.utime - delta.prev_utime) * 1e-6;
   last_velocity_ = world / dt;
   recent_positions_.emplace_back(delta.utime, filter_.position());
@@ -518,7 +518,7 @@ pose_t YawFusionEstimator::make_pose(int64_t utime, int32_t flags) const {
   pose_t pose{};
   pose.utime = utime;
   const Eigen::Vector3d p = filter_.position();
-  const Eigen::Matrix3d pc = filter_.position_covariance();
+  const Eigen::Matrix3d pc = filter_.reported_position_covariance();
   for (int i = 0; i < 3; ++i) {
     pose.position_ned[i] = p(i);
     pose.velocity_ned[i] = velocity_out_(i);
@@ -531,8 +531,10 @@ pose_t YawFusionEstimator::make_pose(int64_t utime, int32_t flags) const {
   // it): an unknown height is -1 and flagged.
   pose.height_agl_m = have_height_ ? height_agl_ : -1.0;
   if (!have_height_) flags |= pose_t::FLAG_NO_ALTIMETER;
-  pose.yaw_variance = filter_.yaw_variance();
+  pose.yaw_variance = filter_.reported_yaw_variance();
   pose.flags = flags | (yaw_from_ins_ ? 0 : pose_t::FLAG_INITIALIZING);
+  pose.horizontal_protection_level_m =
+      horizontal_protection_level(pc.topLeftCorner<2, 2>(), pose.flags, options_.protection_level);
   pose.frames = frames_;
   return pose;
 }

@@ -65,6 +65,14 @@ YawFusionOptions YawFusionOptions::from_config(const Config& root) {
   o.gap_yaw_rate_stddev_dps = gap.get_in_range("yaw_rate_stddev_dps", o.gap_yaw_rate_stddev_dps, 0.0, 180.0);
   o.gap_max_propagation_s = gap.get_in_range("max_propagation_s", o.gap_max_propagation_s, 0.0, 3600.0);
   o.gap_max_duration_s = gap.get_in_range("max_duration_s", o.gap_max_duration_s, 0.0, 36000.0);
+  o.ins_yaw_bias_stddev_deg = c.get_in_range("ins_yaw_bias_stddev_deg", o.ins_yaw_bias_stddev_deg, 0.0, 30.0);
+  o.ins_yaw_bias_walk_deg_per_sqrt_s =
+      c.get_in_range("ins_yaw_bias_walk_deg_per_sqrt_s", o.ins_yaw_bias_walk_deg_per_sqrt_s, 0.0, 10.0);
+  const Config pl = c.section_or_empty("protection_level");
+  o.protection_level.probability = pl.get_in_range("probability", o.protection_level.probability, 0.5, 1.0 - 1e-12);
+  o.protection_level.flagged_inflation =
+      pl.get_in_range("flagged_inflation", o.protection_level.flagged_inflation, 1.0, 1000.0);
+  o.sensor_uncertainty = vo::UncertaintyOptions::from_config(root.section_or_empty("vo_solver"));
   o.calibration = SensorCalibration::from_config(root);
   o.Check();
   return o;
@@ -94,6 +102,12 @@ void YawFusionOptions::Check() const {
   check(gap_yaw_rate_stddev_dps >= 0.0, "gap.yaw_rate_stddev_dps", "must be >= 0");
   check(gap_max_propagation_s >= 0.0, "gap.max_propagation_s", "must be >= 0");
   check(gap_max_duration_s >= 0.0, "gap.max_duration_s", "must be >= 0");
+  check(ins_yaw_bias_stddev_deg >= 0.0, "ins_yaw_bias_stddev_deg", "must be >= 0");
+  check(ins_yaw_bias_walk_deg_per_sqrt_s >= 0.0, "ins_yaw_bias_walk_deg_per_sqrt_s", "must be >= 0");
+  check(protection_level.probability >= 0.5 && protection_level.probability < 1.0, "protection_level.probability",
+        "must be in [0.5, 1)");
+  check(protection_level.flagged_inflation >= 1.0, "protection_level.flagged_inflation", "must be >= 1");
+  sensor_uncertainty.Check();
   calibration.Check();
 }
 

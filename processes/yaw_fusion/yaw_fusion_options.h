@@ -9,6 +9,8 @@
 #include "common/attitude_propagation.h"
 #include "common/config.h"
 #include "common/sensor_calibration.h"
+#include "processes/vo_solver/delta_uncertainty.h"
+#include "processes/yaw_fusion/protection_level.h"
 
 namespace nadir {
 
@@ -30,8 +32,10 @@ struct YawFusionOptions {
   double ins_min_interval_s = 0.009;     // propagate: INS samples are never closer
 
   // VO delta use.
-  double min_translation_stddev_m = 0.01;  // floor on dx/dy/dz stddev (solver covariance may be 0)
-  double min_dyaw_stddev_deg = 0.01;       // floor on dyaw stddev
+  // Numerical floors only (a covariance that is exactly 0): VO_DELTA's
+  // covariance carries the image, INS, altimeter and model errors (vo_solver.uncertainty).
+  double min_translation_stddev_m = 0.001;  // floor on dx/dy/dz stddev
+  double min_dyaw_stddev_deg = 0.0001;      // floor on dyaw stddev
   // TOO_FEW_FEATURES | NO_ALTIMETER | NOT_CONVERGED | NO_ATTITUDE: no translation in those.
   int32_t reject_quality_mask = 1 | 2 | 8 | 16;
   double max_delta_interval_s = 5.0;     // longer deltas are invalid
@@ -65,6 +69,17 @@ struct YawFusionOptions {
   double gap_yaw_rate_stddev_dps = 2.0;    // unknown yaw rate during a gap
   double gap_max_propagation_s = 5.0;      // dead-reckon with the last velocity this long, then hold
   double gap_max_duration_s = 30.0;        // stop publishing gap poses after this long without VO
+
+  // Errors shared between deltas (processes/yaw_fusion/README.md § Consistency):
+  // the INS levelling and altimeter scale parts of each VO_DELTA covariance,
+  // read from `vo_solver.uncertainty:` (the same keys the solver uses).
+  vo::UncertaintyOptions sensor_uncertainty;
+  // INS yaw error that the filter cannot average away: a random walk (and an
+  // initial offset) under the white noise. Defaults: the `standard` sensor set.
+  double ins_yaw_bias_stddev_deg = 0.0;             // at the start
+  double ins_yaw_bias_walk_deg_per_sqrt_s = 0.004;  // random walk
+  // POSE.horizontal_protection_level_m (integrity.h).
+  ProtectionLevelOptions protection_level;
 
   // camera.time_offset_us (INS and altimeter read at a frame's exposure time,
   // stamp + offset; poses keep the stamp), altimeter.range_scale/range_bias_m

@@ -15,7 +15,7 @@ SIM_KEYS = {"duration_s": "--duration", "roll_pitch_noise_deg": "--roll-pitch-no
             "yaw_noise_deg": "--yaw-noise-deg", "altimeter_noise_pct": "--altimeter-noise-pct"}
 METRIC_KEYS = ("error_pct_3d", "rms_error_pct_3d", "error_pct_h", "error_pct_v", "final_error_3d_m",
                "rms_error_3d_m", "rms_yaw_error_deg", "nees_h_mean", "nees_h_within_95_pct", "nees_yaw_mean",
-               "nees_yaw_within_95_pct")
+               "nees_yaw_within_95_pct", "pl_exceeded_pct")
 EVALUATE_DEFAULTS = {"metrics": ["error_pct_3d", "rms_error_pct_3d"], "divergence_error_pct": 5.0,
                      "bootstrap_samples": 2000, "bootstrap_seed": 1, "confidence": 0.95}
 SLURM_DEFAULTS = {"concurrency": 4, "cpus_per_task": 1, "time_limit": "01:00:00", "partition": None}

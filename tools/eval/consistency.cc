@@ -1,5 +1,7 @@
 #include "tools/eval/consistency.h"
 
+#include <cmath>
+
 namespace nadir {
 
 double horizontal_nees(double error_n, double error_e, double p_nn, double p_ne, double p_ee) {
@@ -16,6 +18,15 @@ void NeesSummary::add(double nees) {
   ++n_;
   sum_ += nees;
   if (nees <= chi2_95_) ++within_;
+}
+
+void ProtectionLevelSummary::add(double error_h_m, double protection_level_m) {
+  if (!(protection_level_m >= 0.0) || !std::isfinite(error_h_m)) {
+    ++unavailable_;
+    return;
+  }
+  ++n_;
+  if (error_h_m > protection_level_m) ++exceeded_;
 }
 
 }  // namespace nadir

@@ -36,4 +36,18 @@ class NeesSummary {
   double sum_ = 0.0;
 };
 
+// How often the true horizontal error exceeded the published protection
+// level (pose_t.horizontal_protection_level_m; < 0 = unavailable, not counted).
+class ProtectionLevelSummary {
+ public:
+  void add(double error_h_m, double protection_level_m);
+  int64_t samples() const { return n_; }
+  int64_t exceeded() const { return exceeded_; }
+  int64_t unavailable() const { return unavailable_; }
+  double exceeded_pct() const { return n_ > 0 ? 100.0 * static_cast<double>(exceeded_) / static_cast<double>(n_) : 0.0; }
+
+ private:
+  int64_t n_ = 0, exceeded_ = 0, unavailable_ = 0;
+};
+
 }  // namespace nadir

@@ -68,10 +68,20 @@ def main() -> int:
 
     if "sigma_n_m" in rows[0]:
         t = col("t_s")
-        fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+        has_pl = "protection_level_m" in rows[0]
+        fig, axes = plt.subplots(4 if has_pl else 3, 1, figsize=(8, 10.5 if has_pl else 8), sharex=True)
         series = (("north", [r["est_n"] - r["true_n"] for r in rows], col("sigma_n_m"), "m"),
                   ("east", [r["est_e"] - r["true_e"] for r in rows], col("sigma_e_m"), "m"),
                   ("yaw", col("yaw_error_deg"), col("sigma_yaw_deg"), "deg"))
+        if has_pl:
+            pl = [r["protection_level_m"] if r["protection_level_m"] >= 0 else float("nan") for r in rows]
+            axes[3].fill_between(t, 0, pl, color="tab:orange", alpha=0.25, label="protection level (99 %)")
+            axes[3].plot(t, col("error_h_m"), color="tab:blue", lw=1, label="horizontal error")
+            axes[3].set_ylabel("horizontal [m]")
+            axes[3].grid(True, alpha=0.3)
+            axes[3].legend(loc="upper left", fontsize=8)
+            axes[3].set_title(f"true error above the protection level at {m.get('pl_exceeded_pct', 0):.2f} % "
+                              "of the poses (stated: 1 %)", fontsize=9)
         for ax, (name, err, sigma, unit) in zip(axes, series):
             ax.fill_between(t, [-3 * v for v in sigma], [3 * v for v in sigma], color="tab:green", alpha=0.25,
                             label="reported ±3σ")

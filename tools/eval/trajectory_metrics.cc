@@ -23,6 +23,7 @@ EvalResult evaluate(const EvalData& data) {
   double sum_v2 = 0, sum_yaw2 = 0, sum_e2_h = 0, sum_e2_v = 0;
   std::vector<float> latencies;
   NeesSummary nees_h(kChi2Dof2Pct95), nees_yaw(kChi2Dof1Pct95);
+  ProtectionLevelSummary protection;
   for (size_t i = 0; i < data.poses.size(); ++i) {
     const pose_t& p = data.poses[i];
     TruthAt t{};
@@ -60,7 +61,9 @@ EvalResult evaluate(const EvalData& data) {
       s.nees_yaw = scalar_nees(deg_to_rad(s.yaw_error_deg), p.yaw_variance);
       nees_h.add(s.nees_h);
       nees_yaw.add(s.nees_yaw);
+      protection.add(s.error_h_m, p.horizontal_protection_level_m);
     }
+    s.protection_level_m = p.horizontal_protection_level_m;
     const double v_h = std::hypot(s.velocity_error[0], s.velocity_error[1]);
     sum_v2 += v_h * v_h;
     sum_yaw2 += s.yaw_error_deg * s.yaw_error_deg;
@@ -106,6 +109,9 @@ EvalResult evaluate(const EvalData& data) {
   m.nees_h_within_95_pct = nees_h.within_95_pct();
   m.nees_yaw_mean = nees_yaw.mean();
   m.nees_yaw_within_95_pct = nees_yaw.within_95_pct();
+  m.pl_exceeded_pct = protection.exceeded_pct();
+  m.pl_samples = protection.samples();
+  m.pl_unavailable = protection.unavailable();
   m.capture_missing = data.accounting.missing_total();
   for (const ChannelAccount& c : data.accounting.channels) m.capture_unaccounted += c.unaccounted();
   m.udp_rx_drops = data.accounting.udp_rx_drops;
@@ -160,6 +166,8 @@ std::string metrics_json(const EvalMetrics& m) {
   j.field("nees_samples", m.nees_samples).field("nees_h_mean", m.nees_h_mean);
   j.field("nees_h_within_95_pct", m.nees_h_within_95_pct).field("nees_yaw_mean", m.nees_yaw_mean);
   j.field("nees_yaw_within_95_pct", m.nees_yaw_within_95_pct);
+  j.field("pl_exceeded_pct", m.pl_exceeded_pct).field("pl_samples", m.pl_samples);
+  j.field("pl_unavailable", m.pl_unavailable);
   j.field("capture_missing", m.capture_missing).field("capture_unaccounted", m.capture_unaccounted);
   j.key("processes").begin_object();
   for (const auto& [name, c] : m.process_counts) {

@@ -29,6 +29,7 @@ struct EvalSample {
   double sigma_yaw_deg = 0;            // reported: sqrt of the yaw variance
   double nees_h = -1;                  // horizontal NEES (chi-square, 2 dof); < 0: undefined
   double nees_yaw = -1;                // yaw NEES (1 dof)
+  double protection_level_m = -1;      // reported horizontal protection level; < 0: unavailable
 };
 
 struct EvalMetrics {
@@ -60,6 +61,10 @@ struct EvalMetrics {
   int64_t nees_samples = 0;
   double nees_h_mean = 0, nees_h_within_95_pct = 0;      // consistent: ~2 and ~95
   double nees_yaw_mean = 0, nees_yaw_within_95_pct = 0;  // consistent: ~1 and ~95
+  // Horizontal protection level: share of poses whose true error exceeded it
+  // (its stated probability is 99 %: ~1 % expected), and poses without one.
+  double pl_exceeded_pct = 0;
+  int64_t pl_samples = 0, pl_unavailable = 0;
   int64_t capture_missing = 0;       // published (per the publishers' STATUS) but not in the capture
   int64_t capture_unaccounted = 0;   // in the capture but counted by no publisher (a second publisher?)
   std::map<std::string, int64_t> udp_rx_drops;  // per process: datagrams its kernel dropped

@@ -113,12 +113,13 @@ const std::vector<DumpType>& dump_types() {
       make_type<pose_t>(
           "nadir.pose_t",
           {"utime", "north", "east", "down", "velocity_n", "velocity_e", "velocity_d", "roll", "pitch", "yaw",
-           "height_agl_m", "var_north", "var_east", "var_down", "yaw_variance", "flags", "frames"},
+           "height_agl_m", "var_north", "var_east", "var_down", "yaw_variance", "protection_level_h",
+           "flags", "frames"},
           [](const pose_t& m, std::vector<Row>* rows) {
             rows->push_back({m.utime, m.position_ned[0], m.position_ned[1], m.position_ned[2], m.velocity_ned[0],
                              m.velocity_ned[1], m.velocity_ned[2], m.roll, m.pitch, m.yaw, m.height_agl_m,
                              m.position_covariance[0][0], m.position_covariance[1][1], m.position_covariance[2][2],
-                             m.yaw_variance, int64_t{m.flags}, m.frames});
+                             m.yaw_variance, m.horizontal_protection_level_m, int64_t{m.flags}, m.frames});
           }),
       make_type<ground_truth_t>(
           "nadir.ground_truth_t",

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/geometry.h"
+#include "processes/vo_solver/delta_uncertainty.h"
 #include "processes/vo_solver/translation_solver.h"
 #include "tests/processes/vo_solver/synthetic_scene.h"
 
@@ -56,6 +57,20 @@ void run(benchmark::State& state, Variant variant, double noise_px, double outli
   state.counters["lm_iterations"] = static_cast<double>(iterations) / std::max<int64_t>(1, frames);
 }
 
+// The node's per-frame hook after the solve: VO_DELTA's INS/altimeter covariance.
+void BM_SensorUncertainty(benchmark::State& state) {
+  const std::vector<FramePair> pairs = make_pairs(0.5, 0.3);
+  const SolverOptions options;
+  std::vector<Estimate> estimates;
+  for (const FramePair& p : pairs) estimates.push_back(solve(p, options));
+  const UncertaintyOptions uncertainty;
+  size_t i = 0;
+  for (auto _ : state) {
+    const size_t k = i++ % pairs.size();
+    benchmark::DoNotOptimize(sensor_covariance(pairs[k], estimates[k], options, uncertainty));
+  }
+}
+
 void BM_Paper_NoiseFree(benchmark::State& s) { run(s, Variant::kPaper, 0.0, 0.0); }
 void BM_Paper_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kPaper, 0.5, 0.3); }
 // Without the time-reversed solve of the symmetric dz: what it costs.
@@ -66,6 +81,7 @@ void BM_LevelGround_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::
 void BM_Homography_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kHomography, 0.5, 0.3); }
 void BM_Flow_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kFlow, 0.5, 0.3); }
 
+BENCHMARK(BM_SensorUncertainty)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Paper_NoiseFree)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Paper_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Paper_Noise05px_Outliers30_ForwardDz)->Unit(benchmark::kMicrosecond);

@@ -192,12 +192,34 @@ TEST(YawFusionEstimator, FusedYawIsLessNoisyThanInsYaw) {
   EXPECT_LT(reported_deg, rms_deg * 2.0);
 }
 
+TEST(YawFusionEstimator, InsYawBiasWalkAddsToTheReportedYawVariance) {
+  FlightSpec spec;
+  spec.frames = 500;
+  const SyntheticFlight flight = test::make_flight(spec);
+  YawFusionOptions white_only, walking;
+  white_only.ins_yaw_bias_walk_deg_per_sqrt_s = 0.0;
+  walking.ins_yaw_bias_walk_deg_per_sqrt_s = 0.01;
+  walking.ins_yaw_bias_stddev_deg = 0.02;
+  const auto a = run_flight(flight, white_only);
+  const auto b = run_flight(flight, walking);
+  ASSERT_EQ(a.size(), b.size());
+  // The same yaw (the walk is not a state: it cannot be observed), its variance
+  // larger by the initial bias variance plus the walk over the flight's time.
+  const double t = static_cast<double>(b.back().utime - b.front().utime) * 1e-6;
+  const double added = std::pow(deg_to_rad(0.02), 2) + std::pow(deg_to_rad(0.01), 2) * t;
+  EXPECT_EQ(a.back().yaw, b.back().yaw);
+  EXPECT_NEAR(b.back().yaw_variance - a.back().yaw_variance, added, 0.02 * added);
+}
+
 TEST(YawFusionEstimator, YawVarianceBoundedWithInsAndGrowingWithout) {
   FlightSpec spec;
   spec.frames = 500;
   SyntheticFlight flight = test::make_flight(spec);
   {
-    const auto poses = run_flight(flight, YawFusionOptions{});
+    // The synthetic INS yaw has white noise only: no bias walk to report.
+    YawFusionOptions white_only;
+    white_only.ins_yaw_bias_walk_deg_per_sqrt_s = 0.0;
+    const auto poses = run_flight(flight, white_only);
     const double ins_var = std::pow(deg_to_rad(spec.reported_ins_yaw_stddev_deg), 2);
     for (const pose_t& p : poses) EXPECT_LE(p.yaw_variance, ins_var * (1.0 + 1e-9));
     EXPECT_NEAR(poses[300].yaw_variance, poses.back().yaw_variance, 1e-3 * ins_var);  // steady state

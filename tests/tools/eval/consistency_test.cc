@@ -46,5 +46,19 @@ TEST(Consistency, ErrorsDrawnFromTheReportedCovarianceAreConsistent) {
   EXPECT_NEAR(over.mean(), 9.0, 0.3);
 }
 
+TEST(Consistency, ProtectionLevelExceedanceCountsOnlyAvailableLevels) {
+  ProtectionLevelSummary s;
+  s.add(1.0, 2.0);   // inside
+  s.add(3.0, 2.0);   // exceeded
+  s.add(2.0, 2.0);   // on the bound: inside
+  s.add(5.0, -1.0);  // unavailable
+  s.add(std::nan(""), 2.0);  // no error: no statement
+  EXPECT_EQ(s.samples(), 3);
+  EXPECT_EQ(s.exceeded(), 1);
+  EXPECT_EQ(s.unavailable(), 2);
+  EXPECT_NEAR(s.exceeded_pct(), 100.0 / 3.0, 1e-12);
+  EXPECT_EQ(ProtectionLevelSummary().exceeded_pct(), 0.0);
+}
+
 }  // namespace
 }  // namespace nadir

@@ -47,6 +47,9 @@ void write_flight(const std::string& path, bool with_truth, bool hole = false) {
       p.position_ned[1] = 0.5 * (t - 1.0) / 99.0;
       p.velocity_ned[0] = 20.2;
       p.yaw = 0.01;
+      // Protection level, by pose number k: unavailable, 0 (always exceeded), 1 km (never).
+      const int k = (i - 105) / 7;
+      p.horizontal_protection_level_m = k % 4 == 0 ? -1.0 : (k % 4 == 1 ? 0.0 : 1000.0);
       put(w, channels::kPose, p);
     }
   }
@@ -75,6 +78,20 @@ TEST(Eval, MetricsMatchAKnownError) {
   EXPECT_NEAR(m.rms_error_3d_m, expected_rms, 1e-6);
   EXPECT_NEAR(m.rms_error_pct_3d, 100.0 * expected_rms / flown, 1e-6);
   EXPECT_LT(m.rms_error_h_m, m.final_error_h_m);  // the error grows linearly: its rms is below its end
+  // Protection level: the first pose (the origin) has no statement; of the
+  // others every fourth is unavailable, one in three of the rest exceeded.
+  const int64_t poses = static_cast<int64_t>(r.samples.size());
+  int64_t unavailable = 0, exceeded = 0;
+  for (int64_t k = 1; k < poses; ++k) {
+    unavailable += k % 4 == 0;
+    exceeded += k % 4 == 1;
+  }
+  EXPECT_EQ(m.pl_unavailable, unavailable);
+  EXPECT_EQ(m.pl_samples, poses - 1 - unavailable);
+  EXPECT_NEAR(m.pl_exceeded_pct, 100.0 * static_cast<double>(exceeded) / static_cast<double>(poses - 1 - unavailable),
+              1e-9);
+  EXPECT_EQ(r.samples[1].protection_level_m, 0.0);
+  EXPECT_EQ(r.samples[2].protection_level_m, 1000.0);
 }
 
 TEST(Eval, TruthFromASeparateLog) {

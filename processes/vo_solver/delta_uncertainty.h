@@ -1,0 +1,108 @@
+#pragma once
+// What the image residual does not see: the uncertainty of VO_DELTA's
+// (dx, dy, dz, dyaw) from the INS attitude and the altimeter range that every
+// solve takes as exact. The solver's covariance, sigma^2 (J^T W J)^-1, is the
+// image noise only; a levelling error of the INS shifts the whole ground
+// footprint by ~h * epsilon and a range error scales the whole motion, and
+// neither leaves a residual.
+//
+// Propagated to first order: central finite differences of a cheap model of
+// the solve (delta_model below) with respect to the two frames' roll and
+// pitch, the two ranges and a common range scale factor, times the sensor
+// variances of `vo_solver.uncertainty:`. The model: a level ground plane at
+// the height the altimeter gives, nine rays of a grid over the image, the
+// prev rays levelled with prev's attitude and intersected with the plane, the
+// curr rays levelled with curr's attitude and fitted to those points by a 2-D
+// similarity (translation, heading, height). It is not the solver: it only has
+// to move as the solver moves when an attitude or a range is wrong, which the
+// unit tests check against Monte Carlo runs of the real solver.
+
+#include <Eigen/Core>
+
+#include "common/config.h"
+#include "processes/vo_solver/translation_solver.h"
+
+namespace nadir::vo {
+
+// Sensor uncertainty of the inputs every solve takes as exact. Defaults: the
+// `standard` sensor set of config/sim_sensors.yaml (documented there).
+struct UncertaintyOptions {
+  bool enabled = true;                       // false: VO_DELTA carries the image covariance only
+  double roll_pitch_stddev_deg = 0.05;       // INS roll/pitch white noise per sample
+  double yaw_stddev_deg = 0.1;               // INS yaw white noise (enters the `flow` variant's dyaw only)
+  double altimeter_stddev_m = 0.1;           // range noise, constant part ...
+  double altimeter_stddev_fraction = 0.001;  // ... plus this fraction of the range
+  double range_scale_stddev = 0.0;           // systematic range scale error (1 sigma, fraction)
+  // Model error, independent between deltas: the ground in the footprint is
+  // not the one plane through the altimeter spot (relief), so each delta's
+  // scale is off by this fraction (along its translation) and its heading
+  // change by this angle. Measured on the simulated flights of seed 2401
+  // (test1-3, 60 s; never used as evidence): after the levelling telescopes,
+  // sums of 20-400 deltas grow like a random walk of ~3 % of a step along
+  // track (the long-term rate of an error correlated over ~20 frames) and
+  // ~0.005 deg in heading. With 3 % those flights' horizontal NEES averaged
+  // ~2.5 (1.8 % : 5, 0 : 28). README § "Does the reported covariance mean anything?".
+  double relief_scale_stddev = 0.03;
+  double dyaw_model_stddev_deg = 0.005;
+
+  // Reads `vo_solver.uncertainty:` (keys as the fields, missing = default).
+  static UncertaintyOptions from_config(const Config& vo_solver_section);
+  // Throws std::invalid_argument naming the field and its allowed range.
+  void Check() const;
+  double range_stddev(double range_m) const { return altimeter_stddev_m + altimeter_stddev_fraction * range_m; }
+};
+
+// The sensor inputs of delta_model, in this order.
+enum SensorInput : int {
+  kPrevRoll = 0,
+  kPrevPitch,
+  kCurrRoll,
+  kCurrPitch,
+  kPrevRange,
+  kCurrRange,
+  kRangeScale,  // relative: both ranges times (1 + s)
+  kSensorInputs
+};
+using SensorVector = Eigen::Matrix<double, kSensorInputs, 1>;
+using SensorJacobian = Eigen::Matrix<double, 4, kSensorInputs>;
+
+// The pair's sensor inputs as measured (range scale 0).
+SensorVector measured_inputs(const FramePair& pair);
+
+// The cheap model of the solve for the scene that `est` describes (motion
+// est.translation / est.dyaw, level ground est.altitude_m below prev), seen
+// with the sensor inputs `inputs`: (dx, dy, dz, dyaw). With symmetric_dz the
+// dz is the mean of the forward and the time-reversed fit, as the solver does.
+Eigen::Vector4d delta_model(const FramePair& pair, const Estimate& est, bool symmetric_dz,
+                            const SensorVector& inputs);
+
+// d (dx, dy, dz, dyaw) / d inputs at the measured inputs (central differences).
+SensorJacobian sensor_jacobian(const FramePair& pair, const Estimate& est, bool symmetric_dz);
+
+// Diagonal covariance of the sensor inputs of this pair.
+Eigen::Matrix<double, kSensorInputs, kSensorInputs> sensor_input_covariance(const FramePair& pair,
+                                                                             const UncertaintyOptions& options);
+
+// J Sigma J^T over (dx, dy, dz, dyaw), plus the INS heading difference's
+// variance on dyaw for the `flow` variant, plus the model error terms. Zero
+// when the estimate carries no motion (failed solve) or the model is not
+// finite there.
+Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, const SolverOptions& solver,
+                                  const UncertaintyOptions& options);
+
+// Levelling variance (m^2 per horizontal axis) of one frame `height_m` above
+// the ground: a roll/pitch error eps moves the footprint by height * eps (the
+// solver's response, checked by the tests: d dx / d pitch = h within 1 %).
+// sensor_covariance puts exactly prev + curr of these on dx and dy (prev at
+// est.altitude_m, curr at altitude_m - dz), so that yaw fusion, which keeps the
+// levelling error once per frame rather than once per delta, can take
+// exactly that part out again (processes/yaw_fusion/delta_integration.h).
+double levelling_variance_m2(double height_m, double roll_pitch_stddev_rad);
+void frame_levelling_variances(double prev_altitude_m, double dz, double roll_pitch_stddev_rad, double* prev_m2,
+                               double* curr_m2);
+
+// The hook of vo_solver_node: adds sensor_covariance to est->covariance.
+void add_sensor_uncertainty(const FramePair& pair, const SolverOptions& solver, const UncertaintyOptions& options,
+                            Estimate* est);
+
+}  // namespace nadir::vo

@@ -1,0 +1,48 @@
+#include "processes/yaw_fusion/delta_integration.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+
+#include "common/geometry.h"
+
+namespace nadir {
+
+namespace {
+
+// The nearest positive semi-definite matrix (negative eigenvalues to 0): a
+// delta published without the sensor part (uncertainty disabled, an older
+// solver) has less than the shared part to give.
+Eigen::Matrix4d psd_part(const Eigen::Matrix4d& m) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(0.5 * (m + m.transpose()));
+  const Eigen::Vector4d clamped = eig.eigenvalues().cwiseMax(0.0);
+  return eig.eigenvectors() * clamped.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+}  // namespace
+
+Eigen::Vector3d integrate_delta(PoseFilter* filter, const vo_delta_t& delta, const Eigen::Matrix4d& covariance,
+                                const YawFusionOptions& options) {
+  const vo::UncertaintyOptions& u = options.sensor_uncertainty;
+  const Eigen::Vector3d translation(delta.dx, delta.dy, delta.dz);
+  double prev_levelling = 0.0, curr_levelling = 0.0, range_scale_variance = 0.0;
+  if (u.enabled) {
+    // Exactly what vo_solver put on dx, dy (vo::sensor_covariance).
+    vo::frame_levelling_variances(delta.altitude_m, delta.dz, deg_to_rad(u.roll_pitch_stddev_deg), &prev_levelling,
+                                  &curr_levelling);
+    range_scale_variance = u.range_scale_stddev * u.range_scale_stddev;
+  }
+  Eigen::Matrix4d shared = Eigen::Matrix4d::Zero();
+  shared(0, 0) = shared(1, 1) = prev_levelling + curr_levelling;
+  shared.topLeftCorner<3, 3>() += range_scale_variance * translation * translation.transpose();
+  const Eigen::Vector3d world = filter->predict_with_delta(translation, delta.dyaw, psd_part(covariance - shared));
+
+  const double dt = std::max(0.0, static_cast<double>(delta.utime - delta.prev_utime) * 1e-6);
+  const double walk = deg_to_rad(options.ins_yaw_bias_walk_deg_per_sqrt_s);
+  double yaw_bias_added = walk * walk * dt;
+  if (!filter->has_shared_origin()) yaw_bias_added += std::pow(deg_to_rad(options.ins_yaw_bias_stddev_deg), 2);
+  filter->add_shared_errors(prev_levelling, curr_levelling, world, range_scale_variance, yaw_bias_added);
+  return world;
+}
+
+}  // namespace nadir
