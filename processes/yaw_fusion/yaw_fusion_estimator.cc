@@ -36,7 +36,8 @@ YawFusionEstimator::YawFusionEstimator(const YawFusionOptions& options)
       sensor_now_(std::numeric_limits<int64_t>::min()),
       vo_jump_candidate_(std::numeric_limits<int64_t>::min()),
       ins_jump_candidate_(std::numeric_limits<int64_t>::min()),
-      altimeter_jump_candidate_(std::numeric_limits<int64_t>::min()) {
+      altimeter_jump_candidate_(std::numeric_limits<int64_t>::min()),
+      coast_detector_(options.coast) {
   options_.Check();
 }
 
@@ -333,6 +334,12 @@ bool YawFusionEstimator::delta_values_valid(const vo_delta_t& delta, std::string
     *why = "non-finite covariance";
     return false;
   }
+  // Variances of 1e12 (a 1000 km sigma) carry no information and overflow the
+  // filter's products: such a delta is as unusable as a non-finite one.
+  if (cov.cwiseAbs().maxCoeff() > 1e12) {
+    *why = "covariance over (dx, dy, dz, dyaw) larger than 1e12";
+    return false;
+  }
   const Eigen::Matrix4d sym = 0.5 * (cov + cov.transpose());
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(sym, Eigen::EigenvaluesOnly);
   const double largest = std::max(1e-30, eig.eigenvalues().cwiseAbs().maxCoeff());
@@ -356,20 +363,42 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     ++counters_.gap_bridges;
     ++counters_.gap_poses;
   }
+  const double held_height = have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN();
+  // Not integrated: bridged as a VO gap (dead-reckoned, then held).
+  auto publish_gap = [&]() {
+    recent_positions_.clear();
+    flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.utime);
+    flags |= update_height(delta.utime, held_height);
+    out->push_back(make_pose(delta.utime, flags));
+  };
   std::string why;
   const bool valid = delta_values_valid(delta, &why);
+  const bool coast_quality = options_.coast.enabled && (delta.quality & options_.coast.quality_mask) != 0;
   const bool quality_ok = delta_quality_ok(delta);
   if (!valid) {
     ++counters_.vo_deltas_invalid;
     note_problem(utime_label("VO_DELTA", delta.utime) + why);
-  } else if (!quality_ok) {
-    ++counters_.vo_deltas_quality_rejected;
+    publish_gap();
+    return;
   }
-  if (!valid || !quality_ok) {
-    recent_positions_.clear();
-    flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.utime);
-    const double fallback = have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN();
-    flags |= update_height(delta.utime, fallback);
+  if (!quality_ok && !coast_quality) {
+    ++counters_.vo_deltas_quality_rejected;
+    publish_gap();
+    return;
+  }
+  const int32_t reason = coast_reason(delta);
+  if (reason != 0) {
+    ++counters_.vo_deltas_coasted;
+    for (int bit = 0; bit < kCoastReasons; ++bit) {
+      if (reason & (1 << bit)) ++counters_.coast_reasons[bit];
+    }
+    if (static_cast<double>(delta.utime - last_good_utime_) * 1e-6 > options_.coast.max_duration_s) {
+      ++counters_.coast_expired;  // coasted too long: a VO gap as without coasting
+      publish_gap();
+      return;
+    }
+    flags |= pose_t::FLAG_COASTING | coast_to(delta.utime);
+    flags |= update_height(delta.utime, held_height);
     out->push_back(make_pose(delta.utime, flags));
     return;
   }
@@ -382,8 +411,20 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   for (int i = 0; i < 3; ++i) cov(i, i) = std::max(cov(i, i), square(options_.min_translation_stddev_m));
   cov(3, 3) = std::max(cov(3, 3), square(deg_to_rad(options_.min_dyaw_stddev_deg)));
 
+  const PoseFilter before = filter_;
   const Eigen::Vector3d world =
       filter_.predict_with_delta(Eigen::Vector3d(delta.dx, delta.dy, delta.dz), delta.dyaw, cov);
+  if (!world.allFinite() || !filter_.position().allFinite() || !filter_.covariance().allFinite()) {
+    // Finite but extreme values overflowed: nothing non-finite is ever published.
+    filter_ = before;
+    ++counters_.deltas_reverted;
+    ++counters_.vo_deltas_invalid;
+    note_problem(utime_label("VO_DELTA", delta.utime) + "integrating it overflows the state, not used");
+    publish_gap();
+    return;
+  }
+  coasting_ = false;
+  coast_detector_.note_integrated(delta);
   const double dt = static_cast<double>(delta.utime - delta.prev_utime) * 1e-6;
   last_velocity_ = world / dt;
   recent_positions_.emplace_back(delta.utime, filter_.position());
@@ -440,6 +481,48 @@ int32_t YawFusionEstimator::advance_without_vo(int64_t utime) {
   return update_attitude(utime);
 }
 
+int32_t YawFusionEstimator::coast_to(int64_t utime) {
+  if (!coasting_) {
+    // The velocity of the last integrated frames, held in the level vehicle
+    // frame from here on: a turn the INS measures turns it too.
+    coasting_ = true;
+    ++counters_.coast_episodes;
+    recent_positions_.clear();
+    coast_velocity_level_ = rotation_from_rpy(0.0, 0.0, -good_filter_.yaw()) * last_velocity_;
+  }
+  if (utime <= last_frame_utime_) return 0;
+  const double e0 = static_cast<double>(last_frame_utime_ - last_good_utime_) * 1e-6;
+  const double e1 = static_cast<double>(utime - last_good_utime_) * 1e-6;
+  const Eigen::Vector3d velocity = rotation_from_rpy(0.0, 0.0, filter_.yaw()) * coast_velocity_level_;
+  const CoastOptions& c = options_.coast;
+  // Variance grown over [e0, e1] of the coast (coast_position_variance).
+  const double horizontal = coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e1) -
+                            coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e0);
+  const double vertical = coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk, e1) -
+                          coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk, e0);
+  const double yaw_var = square(deg_to_rad(options_.gap_yaw_rate_stddev_dps)) * (e1 * e1 - e0 * e0);
+  filter_.propagate_without_vo(velocity * (e1 - e0), Eigen::Vector3d(horizontal, horizontal, vertical), yaw_var);
+  velocity_out_ = velocity;
+  last_frame_utime_ = utime;
+  yaw_without_vo_ = true;  // as in a gap: the next INS yaw is taken as it is
+  return update_attitude(utime);
+}
+
+double YawFusionEstimator::altimeter_height_at(int64_t utime) const {
+  const auto attitude = ins_attitude_at(utime);
+  const auto height = altimeter_.height_agl(options_.calibration.exposure_utime(utime),
+                                            static_cast<int64_t>(options_.max_altimeter_age_s * 1e6),
+                                            attitude ? attitude->roll : roll_, attitude ? attitude->pitch : pitch_,
+                                            options_.altimeter_interpolate);
+  return height ? *height : std::numeric_limits<double>::quiet_NaN();
+}
+
+int32_t YawFusionEstimator::coast_reason(const vo_delta_t& delta) {
+  if (!options_.coast.enabled) return 0;
+  const double height_change = altimeter_height_at(delta.utime) - last_altimeter_height_;
+  return coast_detector_.classify(delta, height_change, coasting_);
+}
+
 int32_t YawFusionEstimator::update_attitude(int64_t utime) {
   const auto attitude = ins_attitude_at(utime);
   if (!attitude) {
@@ -486,6 +569,7 @@ int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height)
                                             static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_,
                                             options_.altimeter_interpolate);
   const bool level_terrain = options_.altitude_mode == AltitudeMode::kLevelTerrain;
+  last_altimeter_height_ = height ? *height : std::numeric_limits<double>::quiet_NaN();
   if (!height) {
     ++counters_.frames_without_altimeter;
     if (level_terrain && filter_.terrain_initialised()) {

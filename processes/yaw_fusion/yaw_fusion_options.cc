@@ -65,6 +65,7 @@ YawFusionOptions YawFusionOptions::from_config(const Config& root) {
   o.gap_yaw_rate_stddev_dps = gap.get_in_range("yaw_rate_stddev_dps", o.gap_yaw_rate_stddev_dps, 0.0, 180.0);
   o.gap_max_propagation_s = gap.get_in_range("max_propagation_s", o.gap_max_propagation_s, 0.0, 3600.0);
   o.gap_max_duration_s = gap.get_in_range("max_duration_s", o.gap_max_duration_s, 0.0, 36000.0);
+  o.coast = CoastOptions::from_config(c.section_or_empty("coast"));
   o.calibration = SensorCalibration::from_config(root);
   o.Check();
   return o;
@@ -94,6 +95,7 @@ void YawFusionOptions::Check() const {
   check(gap_yaw_rate_stddev_dps >= 0.0, "gap.yaw_rate_stddev_dps", "must be >= 0");
   check(gap_max_propagation_s >= 0.0, "gap.max_propagation_s", "must be >= 0");
   check(gap_max_duration_s >= 0.0, "gap.max_duration_s", "must be >= 0");
+  coast.Check();
   calibration.Check();
 }
 

@@ -9,6 +9,7 @@
 #include "common/attitude_propagation.h"
 #include "common/config.h"
 #include "common/sensor_calibration.h"
+#include "processes/yaw_fusion/coasting.h"
 
 namespace nadir {
 
@@ -65,6 +66,9 @@ struct YawFusionOptions {
   double gap_yaw_rate_stddev_dps = 2.0;    // unknown yaw rate during a gap
   double gap_max_propagation_s = 5.0;      // dead-reckon with the last velocity this long, then hold
   double gap_max_duration_s = 30.0;        // stop publishing gap poses after this long without VO
+
+  // Coasting over deltas whose translation is not trusted (coast: section; coasting.h).
+  CoastOptions coast;
 
   // camera.time_offset_us (INS and altimeter read at a frame's exposure time,
   // stamp + offset; poses keep the stamp), altimeter.range_scale/range_bias_m
