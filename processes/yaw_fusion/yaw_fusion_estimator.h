@@ -19,6 +19,12 @@
 // the delta that ends a gap first gets a pose at its prev_utime; all of these
 // carry FLAG_VO_GAP.
 //
+// Coasting (coasting.h): a delta that comes but whose translation is not
+// trusted (no or stale altimeter, no features, inlier drop, dz against the
+// altimeter, HIGH_RESIDUAL majority) is not integrated; the pose coasts on the
+// last velocity held in the level vehicle frame, flagged FLAG_COASTING, its
+// covariance grown by the coast model, for up to coast.max_duration_s.
+//
 // Start: the pose origin is the first frame of the first usable delta. Deltas
 // before it that cannot be used (flagged, e.g. no altimeter yet) publish no
 // pose: there is no motion to dead-reckon yet, and an origin set there would
