@@ -29,6 +29,8 @@ CoastOptions CoastOptions::from_config(const Config& c) {
   o.high_residual_window = c.get_in_range("high_residual_window", o.high_residual_window, 1, 100000);
   o.high_residual_fraction = c.get_in_range("high_residual_fraction", o.high_residual_fraction, 0.0, 1.0);
   o.resume_good_deltas = c.get_in_range("resume_good_deltas", o.resume_good_deltas, 1, 100000);
+  o.vo_direction = c.get<bool>("vo_direction", o.vo_direction);
+  o.max_climb_ratio = c.get_in_range("max_climb_ratio", o.max_climb_ratio, 0.0, 10.0);
   o.Check();
   return o;
 }
@@ -47,6 +49,7 @@ void CoastOptions::Check() const {
   check(high_residual_fraction >= 0.0 && high_residual_fraction <= 1.0, "high_residual_fraction",
         "must be in [0, 1]");
   check(resume_good_deltas >= 1, "resume_good_deltas", "must be >= 1");
+  check(max_climb_ratio >= 0.0, "max_climb_ratio", "must be >= 0");
 }
 
 double coast_position_variance(double sigma_v, double q, double t) {

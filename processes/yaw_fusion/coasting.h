@@ -42,6 +42,13 @@ struct CoastOptions {
   int high_residual_window = 42;          // deltas (3 s at 14 Hz)
   double high_residual_fraction = 0.5;    // more than this fraction HIGH_RESIDUAL in the window: coast
   int resume_good_deltas = 3;             // clean deltas in a row before integrating again
+  // A delta solved with a stale range (STALE_ALTIMETER its only coasted bit,
+  // no other reason) has the right direction and the wrong scale: coast at
+  // the held horizontal speed along its direction (so a climb that steepens
+  // while coasting is followed), |dz| at most max_climb_ratio of the
+  // horizontal step. false: the held velocity for every coasted delta.
+  bool vo_direction = true;
+  double max_climb_ratio = 0.5;
 
   // Reads yaw_fusion.coast (keys named with their full path on error).
   static CoastOptions from_config(const Config& coast);

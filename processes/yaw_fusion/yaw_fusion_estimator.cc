@@ -397,7 +397,12 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
       publish_gap();
       return;
     }
-    flags |= pose_t::FLAG_COASTING | coast_to(delta.utime);
+    const bool scale_only = reason == kCoastQuality && quality_ok &&
+                            (delta.quality & options_.coast.quality_mask) == vo_delta_t::QUALITY_STALE_ALTIMETER &&
+                            (delta.quality & vo_delta_t::QUALITY_HIGH_RESIDUAL) == 0;
+    const bool continuous = std::abs(delta.prev_utime - last_frame_utime_) <= tolerance;
+    flags |= pose_t::FLAG_COASTING |
+             coast_to(delta.utime, options_.coast.vo_direction && scale_only && continuous ? &delta : nullptr);
     flags |= update_height(delta.utime, held_height);
     out->push_back(make_pose(delta.utime, flags));
     return;
@@ -481,7 +486,7 @@ int32_t YawFusionEstimator::advance_without_vo(int64_t utime) {
   return update_attitude(utime);
 }
 
-int32_t YawFusionEstimator::coast_to(int64_t utime) {
+int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction) {
   if (!coasting_) {
     // The velocity of the last integrated frames, held in the level vehicle
     // frame from here on: a turn the INS measures turns it too.
@@ -493,7 +498,16 @@ int32_t YawFusionEstimator::coast_to(int64_t utime) {
   if (utime <= last_frame_utime_) return 0;
   const double e0 = static_cast<double>(last_frame_utime_ - last_good_utime_) * 1e-6;
   const double e1 = static_cast<double>(utime - last_good_utime_) * 1e-6;
-  const Eigen::Vector3d velocity = rotation_from_rpy(0.0, 0.0, filter_.yaw()) * coast_velocity_level_;
+  Eigen::Vector3d level_velocity = coast_velocity_level_;
+  const double speed = coast_velocity_level_.head<2>().norm();
+  const double step = direction != nullptr ? std::hypot(direction->dx, direction->dy) : 0.0;
+  if (step > 1e-6 && speed > 0.0) {
+    // Right direction, wrong scale (a stale range): the held speed along it.
+    const double climb = std::clamp(direction->dz / step, -options_.coast.max_climb_ratio,
+                                    options_.coast.max_climb_ratio);
+    level_velocity = Eigen::Vector3d(direction->dx / step, direction->dy / step, climb) * speed;
+  }
+  const Eigen::Vector3d velocity = rotation_from_rpy(0.0, 0.0, filter_.yaw()) * level_velocity;
   const CoastOptions& c = options_.coast;
   // Variance grown over [e0, e1] of the coast (coast_position_variance).
   const double horizontal = coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e1) -

@@ -123,8 +123,9 @@ class YawFusionEstimator {
   void process_delta(const vo_delta_t& delta, std::vector<pose_t>* out);
   // Dead-reckons from the last frame to `utime` and updates yaw there; returns pose flags.
   int32_t advance_without_vo(int64_t utime);
-  // Coasts from the last frame to the delta's utime (not integrating it); returns pose flags.
-  int32_t coast_to(int64_t utime);
+  // Coasts from the last frame to `utime` (not integrating a delta); returns
+  // pose flags. `direction`: a delta whose direction (not scale) is used.
+  int32_t coast_to(int64_t utime, const vo_delta_t* direction = nullptr);
   // Reason bits (CoastReason) for coasting over this usable delta; 0 = integrate it.
   int32_t coast_reason(const vo_delta_t& delta);
   // Levelled altimeter height at a frame time, NaN without a fresh range.
