@@ -14,6 +14,7 @@
 #include "common/geometry.h"
 #include "processes/yaw_fusion/coasting.h"
 #include "processes/yaw_fusion/yaw_fusion_estimator.h"
+#include "estimator_runner.h"
 #include "synthetic_flight.h"
 
 namespace nadir {
@@ -23,33 +24,9 @@ using test::FlightSpec;
 using test::SyntheticFlight;
 using test::TimedMessage;
 
-std::vector<pose_t> run_messages(YawFusionEstimator& estimator, const std::vector<TimedMessage>& messages) {
-  std::vector<pose_t> poses;
-  auto append = [&](std::vector<pose_t> more) { poses.insert(poses.end(), more.begin(), more.end()); };
-  for (const TimedMessage& m : messages) {
-    if (m.channel == channels::kVoDelta) {
-      vo_delta_t msg;
-      EXPECT_GT(msg.decode(m.bytes.data(), 0, static_cast<int>(m.bytes.size())), 0);
-      append(estimator.add_vo_delta(msg));
-    } else if (m.channel == channels::kIns) {
-      ins_t msg;
-      EXPECT_GT(msg.decode(m.bytes.data(), 0, static_cast<int>(m.bytes.size())), 0);
-      append(estimator.add_ins(msg));
-    } else if (m.channel == channels::kAltimeter) {
-      altimeter_t msg;
-      EXPECT_GT(msg.decode(m.bytes.data(), 0, static_cast<int>(m.bytes.size())), 0);
-      append(estimator.add_altimeter(msg));
-    }
-  }
-  return poses;
-}
-
 std::vector<pose_t> fly(const SyntheticFlight& flight, const YawFusionOptions& options,
                         YawFusionCounters* counters = nullptr) {
-  YawFusionEstimator estimator(options);
-  auto poses = run_messages(estimator, test::arrival_order(flight, 80'000, 2'000, 5'000));
-  if (counters != nullptr) *counters = estimator.counters();
-  return poses;
+  return test::run_flight(flight, options, counters);
 }
 
 const pose_t* pose_at(const std::vector<pose_t>& poses, int64_t utime) {
