@@ -30,6 +30,7 @@ CoastOptions CoastOptions::from_config(const Config& c) {
   o.high_residual_fraction = c.get_in_range("high_residual_fraction", o.high_residual_fraction, 0.0, 1.0);
   o.resume_good_deltas = c.get_in_range("resume_good_deltas", o.resume_good_deltas, 1, 100000);
   o.vo_direction = c.get<bool>("vo_direction", o.vo_direction);
+  o.speed_window_s = c.get_in_range("speed_window_s", o.speed_window_s, 0.0, 60.0);
   o.max_climb_ratio = c.get_in_range("max_climb_ratio", o.max_climb_ratio, 0.0, 10.0);
   o.Check();
   return o;
@@ -50,6 +51,7 @@ void CoastOptions::Check() const {
         "must be in [0, 1]");
   check(resume_good_deltas >= 1, "resume_good_deltas", "must be >= 1");
   check(max_climb_ratio >= 0.0, "max_climb_ratio", "must be >= 0");
+  check(speed_window_s >= 0.0, "speed_window_s", "must be >= 0");
 }
 
 double coast_position_variance(double sigma_v, double q, double t) {

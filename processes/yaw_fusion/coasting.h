@@ -24,13 +24,13 @@ struct CoastOptions {
   // VO_DELTA quality bits whose translation is coasted over (checked before
   // reject_quality_mask): TOO_FEW_FEATURES | NO_ALTIMETER | STALE_ALTIMETER.
   int32_t quality_mask = 1 | 2 | 4;
-  double max_duration_s = 20.0;  // beyond, the old VO-gap behaviour (hold, FLAG_VO_GAP)
+  double max_duration_s = 30.0;  // beyond, the old VO-gap behaviour (hold, FLAG_VO_GAP)
   // Covariance growth, each horizontal axis: the held velocity is off by a
   // constant error of velocity_stddev_mps plus a random walk of
   // velocity_random_walk_mps_per_sqrt_s (the aircraft's own accelerations),
   //   sigma_p^2(t) = sigma_v^2 t^2 + q^2 t^3 / 3.
-  double velocity_stddev_mps = 1.0;
-  double velocity_random_walk = 0.5;          // m/s per sqrt(s)
+  double velocity_stddev_mps = 0.5;
+  double velocity_random_walk = 0.3;          // m/s per sqrt(s)
   double vertical_velocity_stddev_mps = 0.5;  // the same for down, with the same random walk
   // Texture loss / bad solves.
   double inlier_drop_fraction = 0.25;  // inliers below this fraction of the running median: coast
@@ -42,6 +42,11 @@ struct CoastOptions {
   int high_residual_window = 42;          // deltas (3 s at 14 Hz)
   double high_residual_fraction = 0.5;    // more than this fraction HIGH_RESIDUAL in the window: coast
   int resume_good_deltas = 3;             // clean deltas in a row before integrating again
+  // The held speed (and vertical velocity) is the displacement over this
+  // window of integrated positions: per-frame attitude noise averages out.
+  // Its heading is the published velocity's (velocity_window_s, shorter: a
+  // turn does not lag).
+  double speed_window_s = 3.0;
   // A delta solved with a stale range (STALE_ALTIMETER its only coasted bit,
   // no other reason) has the right direction and the wrong scale: coast at
   // the held horizontal speed along its direction (so a climb that steepens

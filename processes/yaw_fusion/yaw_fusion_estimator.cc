@@ -367,6 +367,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   // Not integrated: bridged as a VO gap (dead-reckoned, then held).
   auto publish_gap = [&]() {
     recent_positions_.clear();
+    coast_positions_.clear();
     flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.utime);
     flags |= update_height(delta.utime, held_height);
     out->push_back(make_pose(delta.utime, flags));
@@ -442,6 +443,11 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     last_velocity_ = (filter_.position() - oldest.second) / (static_cast<double>(delta.utime - oldest.first) * 1e-6);
   }
   velocity_out_ = last_velocity_;
+  coast_positions_.emplace_back(delta.utime, filter_.position());
+  const int64_t coast_window_us = static_cast<int64_t>(options_.coast.speed_window_s * 1e6);
+  while (coast_positions_.size() > 2 && delta.utime - coast_positions_[1].first >= coast_window_us) {
+    coast_positions_.pop_front();
+  }
   last_frame_utime_ = delta.utime;
   last_good_utime_ = delta.utime;
   ++frames_;
@@ -494,6 +500,16 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
     ++counters_.coast_episodes;
     recent_positions_.clear();
     coast_velocity_level_ = rotation_from_rpy(0.0, 0.0, -good_filter_.yaw()) * last_velocity_;
+    if (coast_positions_.size() >= 2) {
+      // Speed and climb over the longer window; heading from the published velocity.
+      const auto& [t0, p0] = coast_positions_.front();
+      const auto& [t1, p1] = coast_positions_.back();
+      const Eigen::Vector3d mean = (p1 - p0) / (static_cast<double>(t1 - t0) * 1e-6);
+      const double heading_speed = coast_velocity_level_.head<2>().norm();
+      if (heading_speed > 1e-3) coast_velocity_level_.head<2>() *= mean.head<2>().norm() / heading_speed;
+      coast_velocity_level_.z() = mean.z();
+    }
+    coast_positions_.clear();
   }
   if (utime <= last_frame_utime_) return 0;
   const double e0 = static_cast<double>(last_frame_utime_ - last_good_utime_) * 1e-6;
