@@ -69,7 +69,10 @@ std::vector<pose_t> YawFusionEstimator::add_vo_delta(const vo_delta_t& delta) {
   std::vector<pose_t> out;
   const int64_t interval = delta.utime - delta.prev_utime;
   if (delta.prev_utime <= 0) return out;  // the first frame: no motion yet, nothing wrong
-  if ( interval <= 0 || interval > static_cast<int64_t>(options_.max_delta_interval_s * 1e6)) {
+  // A delta coasted over (not integrated) may span any time: the tracker
+  // measures from its last good frame while the texture is gone.
+  const bool coasted = options_.coast.enabled && (delta.quality & options_.coast.quality_mask) != 0;
+  if (interval <= 0 || (interval > static_cast<int64_t>(options_.max_delta_interval_s * 1e6) && !coasted)) {
     ++counters_.vo_deltas_invalid;
     note_problem(utime_label("VO_DELTA", delta.utime) + "prev_utime " + std::to_string(delta.prev_utime) +
                  " gives an interval outside (0, max_delta_interval_s]");
@@ -194,7 +197,12 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
         yaw_without_vo_ = false;  // back to the yaw the delta continues from
         ++counters_.gap_poses_superseded;
       }
-      if (started_ && (next.utime <= last_frame_utime_ || next.prev_utime < last_frame_utime_ - tolerance)) {
+      // Texture lost, the tracker keeps measuring from its last good frame:
+      // deltas to be coasted over that start before the last pose still
+      // move time on (coasted to their utime), they are not late.
+      const bool coast_overlap = options_.coast.enabled && (next.quality & options_.coast.quality_mask) != 0;
+      if (started_ && (next.utime <= last_frame_utime_ ||
+                       (next.prev_utime < last_frame_utime_ - tolerance && !coast_overlap))) {
         ++counters_.vo_deltas_late;
         note_problem(utime_label("VO_DELTA", next.utime) + "overlaps poses already published, dropped");
         pending_.erase(pending_.begin());
@@ -356,8 +364,12 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   if (delta.prev_utime > last_frame_utime_ + tolerance) {
     // The delta(s) before this one are missing: dead-reckon to its start so
     // it is registered with the yaw at its own previous frame, and publish
-    // that (real) frame too, flagged.
-    int32_t bridge_flags = pose_t::FLAG_VO_GAP | advance_without_vo(delta.prev_utime);
+    // that (real) frame too, flagged. While coasting (the tracker restarting
+    // after texture loss) the coast goes on over it.
+    const bool coast_on = coasting_ && static_cast<double>(delta.prev_utime - last_good_utime_) * 1e-6 <=
+                                           options_.coast.max_duration_s;
+    int32_t bridge_flags = coast_on ? pose_t::FLAG_COASTING | coast_to(delta.prev_utime)
+                                    : pose_t::FLAG_VO_GAP | advance_without_vo(delta.prev_utime);
     bridge_flags |= update_height(delta.prev_utime, have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN());
     out->push_back(make_pose(delta.prev_utime, bridge_flags));
     ++counters_.gap_bridges;

@@ -223,6 +223,39 @@ TEST(Coasting, InlierDropVerticalJumpAndHighResidualMajorityCoast) {
   }
 }
 
+// Texture gone: the tracker keeps measuring from its last good frame, so the
+// flagged deltas all start there (and span up to 10 s): coasted, not dropped as
+// overlapping or too long; then the tracker restarts (a first frame, a missing delta).
+TEST(Coasting, TextureLossDeltasFromTheLastGoodFrameAreCoasted) {
+  SyntheticFlight flight = test::make_flight(straight_spec());
+  const int64_t kept_prev = flight.deltas[99].utime;
+  for (size_t k = 100; k < 240; ++k) {
+    vo_delta_t& d = flight.deltas[k];
+    d = vo_delta_t{};
+    d.utime = flight.truth[k + 1].utime;
+    d.prev_utime = kept_prev;
+    d.quality = vo_delta_t::QUALITY_TOO_FEW_FEATURES | vo_delta_t::QUALITY_FRAME_GAP;
+    d.variant = "synthetic";
+  }
+  flight.deltas[240].prev_utime = 0;  // the tracker's new first frame: no motion
+  YawFusionCounters counters;
+  const auto poses = fly(flight, YawFusionOptions{}, &counters);
+  EXPECT_EQ(counters.vo_deltas_late, 0);
+  EXPECT_EQ(counters.vo_deltas_invalid, 0);
+  EXPECT_EQ(counters.coast_reasons[0], 140);
+  for (size_t k = 101; k < 241; ++k) {
+    const pose_t* p = pose_at(poses, flight.truth[k].utime);
+    ASSERT_NE(p, nullptr) << "frame " << k;
+    EXPECT_TRUE(p->flags & pose_t::FLAG_COASTING) << "frame " << k;
+    EXPECT_FALSE(p->flags & pose_t::FLAG_VO_GAP) << "frame " << k;
+  }
+  // Frame 241 (the delta after the restart starts there) is coasted over too.
+  EXPECT_TRUE(pose_at(poses, flight.truth[241].utime)->flags & pose_t::FLAG_COASTING);
+  const Eigen::Vector3d truth_end = flight.truth.back().position - flight.truth.front().position;
+  EXPECT_LT((position(poses.back()) - truth_end).norm(), 0.5);
+  EXPECT_EQ(poses.back().flags, 0);
+}
+
 TEST(Coasting, CleanFlightNeverCoasts) {
   FlightSpec spec;
   spec.frames = 600;
