@@ -18,6 +18,7 @@ CoastOptions CoastOptions::from_config(const Config& c) {
   o.enabled = c.get<bool>("enabled", o.enabled);
   o.quality_mask = c.get_in_range("quality_mask", o.quality_mask, 0, 0x7fffffff);
   o.max_duration_s = c.get_in_range("max_duration_s", o.max_duration_s, 0.0, 3600.0);
+  o.max_range_age_s = c.get_in_range("max_range_age_s", o.max_range_age_s, 0.0, 60.0);
   o.velocity_stddev_mps = c.get_in_range("velocity_stddev_mps", o.velocity_stddev_mps, 0.0, 100.0);
   o.velocity_random_walk = c.get_in_range("velocity_random_walk", o.velocity_random_walk, 0.0, 100.0);
   o.vertical_velocity_stddev_mps =
@@ -39,6 +40,7 @@ CoastOptions CoastOptions::from_config(const Config& c) {
 void CoastOptions::Check() const {
   check(quality_mask >= 0, "quality_mask", "must be >= 0");
   check(max_duration_s >= 0.0, "max_duration_s", "must be >= 0");
+  check(max_range_age_s >= 0.0, "max_range_age_s", "must be >= 0");
   check(velocity_stddev_mps >= 0.0, "velocity_stddev_mps", "must be >= 0");
   check(velocity_random_walk >= 0.0, "velocity_random_walk", "must be >= 0");
   check(vertical_velocity_stddev_mps >= 0.0, "vertical_velocity_stddev_mps", "must be >= 0");
@@ -75,7 +77,7 @@ double CoastDetector::inlier_median() const {
   return *mid;
 }
 
-int32_t CoastDetector::classify(const vo_delta_t& delta, double height_change_m, bool coasting) {
+int32_t CoastDetector::classify(const vo_delta_t& delta, int32_t coast_bits, double height_change_m, bool coasting) {
   const bool high = (delta.quality & vo_delta_t::QUALITY_HIGH_RESIDUAL) != 0;
   high_residual_.push_back(high);
   high_residual_count_ += high ? 1 : 0;
@@ -85,7 +87,7 @@ int32_t CoastDetector::classify(const vo_delta_t& delta, double height_change_m,
   }
 
   int32_t reason = 0;
-  if (delta.quality & options_.quality_mask) reason |= kCoastQuality;
+  if (coast_bits != 0) reason |= kCoastQuality;
   const double median = inlier_median();
   if (std::isfinite(median) && delta.inliers < options_.inlier_drop_fraction * median) reason |= kCoastInlierDrop;
   if (std::isfinite(height_change_m)) {

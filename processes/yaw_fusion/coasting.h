@@ -24,6 +24,10 @@ struct CoastOptions {
   // VO_DELTA quality bits whose translation is coasted over (checked before
   // reject_quality_mask): TOO_FEW_FEATURES | NO_ALTIMETER | STALE_ALTIMETER.
   int32_t quality_mask = 1 | 2 | 4;
+  // STALE_ALTIMETER (the solver's nearest range older than its 200 ms) is
+  // coasted only when yaw fusion's own newest valid range is older than this:
+  // one or two missed returns scale the motion with a range that is still right.
+  double max_range_age_s = 0.5;
   double max_duration_s = 30.0;  // beyond, the old VO-gap behaviour (hold, FLAG_VO_GAP)
   // Covariance growth, each horizontal axis: the held velocity is off by a
   // constant error of velocity_stddev_mps plus a random walk of
@@ -81,8 +85,10 @@ class CoastDetector {
  public:
   explicit CoastDetector(const CoastOptions& options) : options_(options) {}
 
+  // `coast_bits`: the delta's quality bits that are coasted over (quality_mask,
+  // less a stale altimeter flag the range age does not confirm);
   // `height_change_m` = h_k - h_{k-1} from the altimeter (NaN when either is unknown).
-  int32_t classify(const vo_delta_t& delta, double height_change_m, bool coasting);
+  int32_t classify(const vo_delta_t& delta, int32_t coast_bits, double height_change_m, bool coasting);
   void note_integrated(const vo_delta_t& delta);
   double inlier_median() const;  // NaN until the window is full
 

@@ -242,7 +242,8 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
     // frame's exposure), so how many frames one call processes -- which depends on
     // arrival order -- cannot change an answer.
     const int64_t last_exposure = options_.calibration.exposure_utime(last_frame_utime_);
-    altimeter_.forget_before(last_exposure - static_cast<int64_t>(options_.max_altimeter_age_s * 1e6));
+    altimeter_.forget_before(last_exposure - static_cast<int64_t>(
+                                                 std::max(options_.max_altimeter_age_s, options_.coast.max_range_age_s) * 1e6));
     ins_.forget_before(last_exposure);
   } else {
     ins_.forget_before(sensor_now_ - kPreStartInsKeepUs);
@@ -386,7 +387,8 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   };
   std::string why;
   const bool valid = delta_values_valid(delta, &why);
-  const bool coast_quality = options_.coast.enabled && (delta.quality & options_.coast.quality_mask) != 0;
+  const int32_t coasted_bits = coast_bits(delta);
+  const bool coast_quality = coasted_bits != 0;
   const bool quality_ok = delta_quality_ok(delta);
   if (!valid) {
     ++counters_.vo_deltas_invalid;
@@ -399,7 +401,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     publish_gap();
     return;
   }
-  const int32_t reason = coast_reason(delta);
+  const int32_t reason = coast_reason(delta, coasted_bits);
   if (reason != 0) {
     ++counters_.vo_deltas_coasted;
     for (int bit = 0; bit < kCoastReasons; ++bit) {
@@ -411,7 +413,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
       return;
     }
     const bool scale_only = reason == kCoastQuality && quality_ok &&
-                            (delta.quality & options_.coast.quality_mask) == vo_delta_t::QUALITY_STALE_ALTIMETER &&
+                            coasted_bits == vo_delta_t::QUALITY_STALE_ALTIMETER &&
                             (delta.quality & vo_delta_t::QUALITY_HIGH_RESIDUAL) == 0;
     const bool continuous = std::abs(delta.prev_utime - last_frame_utime_) <= tolerance;
     flags |= pose_t::FLAG_COASTING |
@@ -559,10 +561,24 @@ double YawFusionEstimator::altimeter_height_at(int64_t utime) const {
   return height ? *height : std::numeric_limits<double>::quiet_NaN();
 }
 
-int32_t YawFusionEstimator::coast_reason(const vo_delta_t& delta) {
+int32_t YawFusionEstimator::coast_bits(const vo_delta_t& delta) const {
+  if (!options_.coast.enabled) return 0;
+  int32_t bits = delta.quality & options_.coast.quality_mask;
+  if (bits & vo_delta_t::QUALITY_STALE_ALTIMETER) {
+    const auto attitude = ins_attitude_at(delta.utime);
+    const auto fresh = altimeter_.height_agl(options_.calibration.exposure_utime(delta.utime),
+                                             static_cast<int64_t>(options_.coast.max_range_age_s * 1e6),
+                                             attitude ? attitude->roll : roll_, attitude ? attitude->pitch : pitch_,
+                                             /*use_later=*/false);
+    if (fresh) bits &= ~vo_delta_t::QUALITY_STALE_ALTIMETER;
+  }
+  return bits;
+}
+
+int32_t YawFusionEstimator::coast_reason(const vo_delta_t& delta, int32_t bits) {
   if (!options_.coast.enabled) return 0;
   const double height_change = altimeter_height_at(delta.utime) - last_altimeter_height_;
-  return coast_detector_.classify(delta, height_change, coasting_);
+  return coast_detector_.classify(delta, bits, height_change, coasting_);
 }
 
 int32_t YawFusionEstimator::update_attitude(int64_t utime) {

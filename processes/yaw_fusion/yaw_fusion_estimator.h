@@ -127,7 +127,10 @@ class YawFusionEstimator {
   // pose flags. `direction`: a delta whose direction (not scale) is used.
   int32_t coast_to(int64_t utime, const vo_delta_t* direction = nullptr);
   // Reason bits (CoastReason) for coasting over this usable delta; 0 = integrate it.
-  int32_t coast_reason(const vo_delta_t& delta);
+  int32_t coast_reason(const vo_delta_t& delta, int32_t coast_bits);
+  // The delta's quality bits coasted over: coast.quality_mask, less
+  // STALE_ALTIMETER when a valid range within coast.max_range_age_s is there.
+  int32_t coast_bits(const vo_delta_t& delta) const;
   // Levelled altimeter height at a frame time, NaN without a fresh range.
   double altimeter_height_at(int64_t utime) const;
   // INS yaw update at `utime`; returns pose flags; fills the attitude used.

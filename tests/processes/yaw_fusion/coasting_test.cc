@@ -46,9 +46,17 @@ FlightSpec straight_spec() {
   return spec;
 }
 
-// Deltas [first, last) get `quality` (the solver's view of an altimeter outage).
+// Deltas [first, last) get `quality` (the solver's view of an altimeter
+// outage); with an altimeter bit the ranges over those frames are removed too.
 void flag_deltas(SyntheticFlight* flight, size_t first, size_t last, int32_t quality) {
   for (size_t k = first; k < last && k < flight->deltas.size(); ++k) flight->deltas[k].quality |= quality;
+  if ((quality & (vo_delta_t::QUALITY_STALE_ALTIMETER | vo_delta_t::QUALITY_NO_ALTIMETER)) == 0) return;
+  const int64_t from = flight->truth[first].utime + 1, to = flight->truth[std::min(last, flight->truth.size() - 1)].utime;
+  std::vector<altimeter_t> kept;
+  for (const altimeter_t& a : flight->altimeter) {
+    if (a.utime < from || a.utime > to) kept.push_back(a);
+  }
+  flight->altimeter = kept;
 }
 
 TEST(CoastPositionVariance, GrowsAsConstantVelocityErrorPlusRandomWalk) {
@@ -85,7 +93,8 @@ TEST(Coasting, StaleAltimeterIsCoastedWithGrowingCovarianceAndResumesWithoutAJum
   }
   flag_deltas(&flight, 100, 240, vo_delta_t::QUALITY_STALE_ALTIMETER);
   YawFusionCounters counters;
-  const YawFusionOptions options;
+  YawFusionOptions options;
+  options.coast.max_range_age_s = 0.06;  // from the first frame without a range (20 Hz altimeter)
   const auto poses = fly(flight, options, &counters);
   ASSERT_EQ(poses.size(), flight.truth.size());
   const Eigen::Vector3d origin = flight.truth.front().position;
@@ -131,6 +140,19 @@ TEST(Coasting, StaleAltimeterIsCoastedWithGrowingCovarianceAndResumesWithoutAJum
   const pose_t& last = poses.back();
   EXPECT_EQ(last.flags, 0);
   EXPECT_LT((position(last) - (flight.truth.back().position - origin)).norm(), 0.3);
+}
+
+// One or two missed returns: the solver flags STALE_ALTIMETER (its nearest
+// range is over 200 ms old) but a range within coast.max_range_age_s is there:
+// integrated as before, not coasted.
+TEST(Coasting, StaleFlagWithARecentRangeIsIntegrated) {
+  SyntheticFlight flight = test::make_flight(straight_spec());
+  for (size_t k = 100; k < 103; ++k) flight.deltas[k].quality |= vo_delta_t::QUALITY_STALE_ALTIMETER;
+  YawFusionCounters counters;
+  const auto poses = fly(flight, YawFusionOptions{}, &counters);
+  EXPECT_EQ(counters.vo_deltas_coasted, 0);
+  EXPECT_EQ(counters.vo_deltas_integrated, static_cast<int64_t>(flight.deltas.size()));
+  for (const pose_t& p : poses) EXPECT_FALSE(p.flags & pose_t::FLAG_COASTING);
 }
 
 TEST(Coasting, HeldVelocityFollowsTheInsHeadingInATurn) {
