@@ -11,6 +11,8 @@
 
 #include <cstdint>
 
+#include "nadir/pose_t.hpp"
+
 namespace nadir {
 
 struct ProtectionLevelOptions {
@@ -20,10 +22,10 @@ struct ProtectionLevelOptions {
   double sigma_factor() const;
 };
 
-// The pose_t flags that inflate the protection level: FLAG_VO_GAP,
-// FLAG_NO_ALTIMETER and FLAG_COASTING (16, issue 23's coasting).
-constexpr int32_t kProtectionLevelInflatingFlags = 1 | 4 | 16;
-constexpr int32_t kProtectionLevelUnavailableFlags = 8;  // FLAG_INITIALIZING
+// The pose_t flags that inflate the protection level, and the one that leaves none.
+constexpr int32_t kProtectionLevelInflatingFlags =
+    pose_t::FLAG_VO_GAP | pose_t::FLAG_NO_ALTIMETER | pose_t::FLAG_COASTING;
+constexpr int32_t kProtectionLevelUnavailableFlags = pose_t::FLAG_INITIALIZING;
 
 // Metres; -1 when unavailable (initialising, or a covariance that is not finite).
 double horizontal_protection_level(const Eigen::Matrix2d& horizontal_covariance, int32_t flags,

@@ -37,7 +37,8 @@ YawFusionEstimator::YawFusionEstimator(const YawFusionOptions& options)
       sensor_now_(std::numeric_limits<int64_t>::min()),
       vo_jump_candidate_(std::numeric_limits<int64_t>::min()),
       ins_jump_candidate_(std::numeric_limits<int64_t>::min()),
-      altimeter_jump_candidate_(std::numeric_limits<int64_t>::min()) {
+      altimeter_jump_candidate_(std::numeric_limits<int64_t>::min()),
+      coast_detector_(options.coast) {
   options_.Check();
 }
 
@@ -69,7 +70,10 @@ std::vector<pose_t> YawFusionEstimator::add_vo_delta(const vo_delta_t& delta) {
   std::vector<pose_t> out;
   const int64_t interval = delta.utime - delta.prev_utime;
   if (delta.prev_utime <= 0) return out;  // the first frame: no motion yet, nothing wrong
-  if ( interval <= 0 || interval > static_cast<int64_t>(options_.max_delta_interval_s * 1e6)) {
+  // A delta coasted over (not integrated) may span any time: the tracker
+  // measures from its last good frame while the texture is gone.
+  const bool coasted = options_.coast.enabled && (delta.quality & options_.coast.quality_mask) != 0;
+  if (interval <= 0 || (interval > static_cast<int64_t>(options_.max_delta_interval_s * 1e6) && !coasted)) {
     ++counters_.vo_deltas_invalid;
     note_problem(utime_label("VO_DELTA", delta.utime) + "prev_utime " + std::to_string(delta.prev_utime) +
                  " gives an interval outside (0, max_delta_interval_s]");
@@ -194,7 +198,12 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
         yaw_without_vo_ = false;  // back to the yaw the delta continues from
         ++counters_.gap_poses_superseded;
       }
-      if (started_ && (next.utime <= last_frame_utime_ || next.prev_utime < last_frame_utime_ - tolerance)) {
+      // Texture lost, the tracker keeps measuring from its last good frame:
+      // deltas to be coasted over that start before the last pose still
+      // move time on (coasted to their utime), they are not late.
+      const bool coast_overlap = options_.coast.enabled && (next.quality & options_.coast.quality_mask) != 0;
+      if (started_ && (next.utime <= last_frame_utime_ ||
+                       (next.prev_utime < last_frame_utime_ - tolerance && !coast_overlap))) {
         ++counters_.vo_deltas_late;
         note_problem(utime_label("VO_DELTA", next.utime) + "overlaps poses already published, dropped");
         pending_.erase(pending_.begin());
@@ -234,7 +243,8 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
     // frame's exposure), so how many frames one call processes -- which depends on
     // arrival order -- cannot change an answer.
     const int64_t last_exposure = options_.calibration.exposure_utime(last_frame_utime_);
-    altimeter_.forget_before(last_exposure - static_cast<int64_t>(options_.max_altimeter_age_s * 1e6));
+    altimeter_.forget_before(last_exposure - static_cast<int64_t>(
+                                                 std::max(options_.max_altimeter_age_s, options_.coast.max_range_age_s) * 1e6));
     ins_.forget_before(last_exposure);
   } else {
     ins_.forget_before(sensor_now_ - kPreStartInsKeepUs);
@@ -334,6 +344,12 @@ bool YawFusionEstimator::delta_values_valid(const vo_delta_t& delta, std::string
     *why = "non-finite covariance";
     return false;
   }
+  // Variances of 1e12 (a 1000 km sigma) carry no information and overflow the
+  // filter's products: such a delta is as unusable as a non-finite one.
+  if (cov.cwiseAbs().maxCoeff() > 1e12) {
+    *why = "covariance over (dx, dy, dz, dyaw) larger than 1e12";
+    return false;
+  }
   const Eigen::Matrix4d sym = 0.5 * (cov + cov.transpose());
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(sym, Eigen::EigenvaluesOnly);
   const double largest = std::max(1e-30, eig.eigenvalues().cwiseAbs().maxCoeff());
@@ -350,27 +366,60 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   if (delta.prev_utime > last_frame_utime_ + tolerance) {
     // The delta(s) before this one are missing: dead-reckon to its start so
     // it is registered with the yaw at its own previous frame, and publish
-    // that (real) frame too, flagged.
-    int32_t bridge_flags = pose_t::FLAG_VO_GAP | advance_without_vo(delta.prev_utime);
+    // that (real) frame too, flagged. While coasting (the tracker restarting
+    // after texture loss) the coast goes on over it.
+    const bool coast_on = coasting_ && static_cast<double>(delta.prev_utime - last_good_utime_) * 1e-6 <=
+                                           options_.coast.max_duration_s;
+    int32_t bridge_flags = coast_on ? pose_t::FLAG_COASTING | coast_to(delta.prev_utime)
+                                    : pose_t::FLAG_VO_GAP | advance_without_vo(delta.prev_utime);
     bridge_flags |= update_height(delta.prev_utime, have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN());
     out->push_back(make_pose(delta.prev_utime, bridge_flags));
     ++counters_.gap_bridges;
     ++counters_.gap_poses;
   }
+  const double held_height = have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN();
+  // Not integrated: bridged as a VO gap (dead-reckoned, then held).
+  auto publish_gap = [&]() {
+    recent_positions_.clear();
+    coast_positions_.clear();
+    flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.utime);
+    flags |= update_height(delta.utime, held_height);
+    out->push_back(make_pose(delta.utime, flags));
+  };
   std::string why;
   const bool valid = delta_values_valid(delta, &why);
+  const int32_t coasted_bits = coast_bits(delta);
+  const bool coast_quality = coasted_bits != 0;
   const bool quality_ok = delta_quality_ok(delta);
   if (!valid) {
     ++counters_.vo_deltas_invalid;
     note_problem(utime_label("VO_DELTA", delta.utime) + why);
-  } else if (!quality_ok) {
-    ++counters_.vo_deltas_quality_rejected;
+    publish_gap();
+    return;
   }
-  if (!valid || !quality_ok) {
-    recent_positions_.clear();
-    flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.utime);
-    const double fallback = have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN();
-    flags |= update_height(delta.utime, fallback);
+  if (!quality_ok && !coast_quality) {
+    ++counters_.vo_deltas_quality_rejected;
+    publish_gap();
+    return;
+  }
+  const int32_t reason = coast_reason(delta, coasted_bits);
+  if (reason != 0) {
+    ++counters_.vo_deltas_coasted;
+    for (int bit = 0; bit < kCoastReasons; ++bit) {
+      if (reason & (1 << bit)) ++counters_.coast_reasons[bit];
+    }
+    if (static_cast<double>(delta.utime - last_good_utime_) * 1e-6 > options_.coast.max_duration_s) {
+      ++counters_.coast_expired;  // coasted too long: a VO gap as without coasting
+      publish_gap();
+      return;
+    }
+    const bool scale_only = reason == kCoastQuality && quality_ok &&
+                            coasted_bits == vo_delta_t::QUALITY_STALE_ALTIMETER &&
+                            (delta.quality & vo_delta_t::QUALITY_HIGH_RESIDUAL) == 0;
+    const bool continuous = std::abs(delta.prev_utime - last_frame_utime_) <= tolerance;
+    flags |= pose_t::FLAG_COASTING |
+             coast_to(delta.utime, options_.coast.vo_direction && scale_only && continuous ? &delta : nullptr);
+    flags |= update_height(delta.utime, held_height);
     out->push_back(make_pose(delta.utime, flags));
     return;
   }
@@ -383,7 +432,19 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   for (int i = 0; i < 3; ++i) cov(i, i) = std::max(cov(i, i), square(options_.min_translation_stddev_m));
   cov(3, 3) = std::max(cov(3, 3), square(deg_to_rad(options_.min_dyaw_stddev_deg)));
 
+  const PoseFilter before = filter_;
   const Eigen::Vector3d world = integrate_delta(&filter_, delta, cov, options_);
+  if (!world.allFinite() || !filter_.position().allFinite() || !filter_.covariance().allFinite()) {
+    // Finite but extreme values overflowed: nothing non-finite is ever published.
+    filter_ = before;
+    ++counters_.deltas_reverted;
+    ++counters_.vo_deltas_invalid;
+    note_problem(utime_label("VO_DELTA", delta.utime) + "integrating it overflows the state, not used");
+    publish_gap();
+    return;
+  }
+  coasting_ = false;
+  coast_detector_.note_integrated(delta);
   const double dt = static_cast<double>(delta.utime - delta.prev_utime) * 1e-6;
   last_velocity_ = world / dt;
   recent_positions_.emplace_back(delta.utime, filter_.position());
@@ -396,6 +457,11 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     last_velocity_ = (filter_.position() - oldest.second) / (static_cast<double>(delta.utime - oldest.first) * 1e-6);
   }
   velocity_out_ = last_velocity_;
+  coast_positions_.emplace_back(delta.utime, filter_.position());
+  const int64_t coast_window_us = static_cast<int64_t>(options_.coast.speed_window_s * 1e6);
+  while (coast_positions_.size() > 2 && delta.utime - coast_positions_[1].first >= coast_window_us) {
+    coast_positions_.pop_front();
+  }
   last_frame_utime_ = delta.utime;
   last_good_utime_ = delta.utime;
   ++frames_;
@@ -438,6 +504,81 @@ int32_t YawFusionEstimator::advance_without_vo(int64_t utime) {
   // the INS yaw outside the gate for max_consecutive_yaw_rejections updates.
   yaw_without_vo_ = true;
   return update_attitude(utime);
+}
+
+int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction) {
+  if (!coasting_) {
+    // The velocity of the last integrated frames, held in the level vehicle
+    // frame from here on: a turn the INS measures turns it too.
+    coasting_ = true;
+    ++counters_.coast_episodes;
+    recent_positions_.clear();
+    coast_velocity_level_ = rotation_from_rpy(0.0, 0.0, -good_filter_.yaw()) * last_velocity_;
+    if (coast_positions_.size() >= 2) {
+      // Speed and climb over the longer window; heading from the published velocity.
+      const auto& [t0, p0] = coast_positions_.front();
+      const auto& [t1, p1] = coast_positions_.back();
+      const Eigen::Vector3d mean = (p1 - p0) / (static_cast<double>(t1 - t0) * 1e-6);
+      const double heading_speed = coast_velocity_level_.head<2>().norm();
+      if (heading_speed > 1e-3) coast_velocity_level_.head<2>() *= mean.head<2>().norm() / heading_speed;
+      coast_velocity_level_.z() = mean.z();
+    }
+    coast_positions_.clear();
+  }
+  if (utime <= last_frame_utime_) return 0;
+  const double e0 = static_cast<double>(last_frame_utime_ - last_good_utime_) * 1e-6;
+  const double e1 = static_cast<double>(utime - last_good_utime_) * 1e-6;
+  Eigen::Vector3d level_velocity = coast_velocity_level_;
+  const double speed = coast_velocity_level_.head<2>().norm();
+  const double step = direction != nullptr ? std::hypot(direction->dx, direction->dy) : 0.0;
+  if (step > 1e-6 && speed > 0.0) {
+    // Right direction, wrong scale (a stale range): the held speed along it.
+    const double climb = std::clamp(direction->dz / step, -options_.coast.max_climb_ratio,
+                                    options_.coast.max_climb_ratio);
+    level_velocity = Eigen::Vector3d(direction->dx / step, direction->dy / step, climb) * speed;
+  }
+  const Eigen::Vector3d velocity = rotation_from_rpy(0.0, 0.0, filter_.yaw()) * level_velocity;
+  const CoastOptions& c = options_.coast;
+  // Variance grown over [e0, e1] of the coast (coast_position_variance).
+  const double horizontal = coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e1) -
+                            coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e0);
+  const double vertical = coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk, e1) -
+                          coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk, e0);
+  const double yaw_var = square(deg_to_rad(options_.gap_yaw_rate_stddev_dps)) * (e1 * e1 - e0 * e0);
+  filter_.propagate_without_vo(velocity * (e1 - e0), Eigen::Vector3d(horizontal, horizontal, vertical), yaw_var);
+  velocity_out_ = velocity;
+  last_frame_utime_ = utime;
+  yaw_without_vo_ = true;  // as in a gap: the next INS yaw is taken as it is
+  return update_attitude(utime);
+}
+
+double YawFusionEstimator::altimeter_height_at(int64_t utime) const {
+  const auto attitude = ins_attitude_at(utime);
+  const auto height = altimeter_.height_agl(options_.calibration.exposure_utime(utime),
+                                            static_cast<int64_t>(options_.max_altimeter_age_s * 1e6),
+                                            attitude ? attitude->roll : roll_, attitude ? attitude->pitch : pitch_,
+                                            options_.altimeter_interpolate);
+  return height ? *height : std::numeric_limits<double>::quiet_NaN();
+}
+
+int32_t YawFusionEstimator::coast_bits(const vo_delta_t& delta) const {
+  if (!options_.coast.enabled) return 0;
+  int32_t bits = delta.quality & options_.coast.quality_mask;
+  if (bits & vo_delta_t::QUALITY_STALE_ALTIMETER) {
+    const auto attitude = ins_attitude_at(delta.utime);
+    const auto fresh = altimeter_.height_agl(options_.calibration.exposure_utime(delta.utime),
+                                             static_cast<int64_t>(options_.coast.max_range_age_s * 1e6),
+                                             attitude ? attitude->roll : roll_, attitude ? attitude->pitch : pitch_,
+                                             /*use_later=*/false);
+    if (fresh) bits &= ~vo_delta_t::QUALITY_STALE_ALTIMETER;
+  }
+  return bits;
+}
+
+int32_t YawFusionEstimator::coast_reason(const vo_delta_t& delta, int32_t bits) {
+  if (!options_.coast.enabled) return 0;
+  const double height_change = altimeter_height_at(delta.utime) - last_altimeter_height_;
+  return coast_detector_.classify(delta, bits, height_change, coasting_);
 }
 
 int32_t YawFusionEstimator::update_attitude(int64_t utime) {
@@ -486,6 +627,7 @@ int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height)
                                             static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_,
                                             options_.altimeter_interpolate);
   const bool level_terrain = options_.altitude_mode == AltitudeMode::kLevelTerrain;
+  last_altimeter_height_ = height ? *height : std::numeric_limits<double>::quiet_NaN();
   if (!height) {
     ++counters_.frames_without_altimeter;
     if (level_terrain && filter_.terrain_initialised()) {

@@ -19,6 +19,12 @@
 // the delta that ends a gap first gets a pose at its prev_utime; all of these
 // carry FLAG_VO_GAP.
 //
+// Coasting (coasting.h): a delta that comes but whose translation is not
+// trusted (no or stale altimeter, no features, inlier drop, dz against the
+// altimeter, HIGH_RESIDUAL majority) is not integrated; the pose coasts on the
+// last velocity held in the level vehicle frame, flagged FLAG_COASTING, its
+// covariance grown by the coast model, for up to coast.max_duration_s.
+//
 // Start: the pose origin is the first frame of the first usable delta. Deltas
 // before it that cannot be used (flagged, e.g. no altimeter yet) publish no
 // pose: there is no motion to dead-reckon yet, and an origin set there would
@@ -28,6 +34,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -37,6 +44,7 @@
 #include "nadir/ins_t.hpp"
 #include "nadir/pose_t.hpp"
 #include "nadir/vo_delta_t.hpp"
+#include "processes/yaw_fusion/coasting.h"
 #include "processes/yaw_fusion/pose_filter.h"
 #include "processes/yaw_fusion/sensor_history.h"
 #include "processes/yaw_fusion/yaw_fusion_options.h"
@@ -68,8 +76,13 @@ struct YawFusionCounters {
   int64_t gap_poses = 0;                   // poses without VO: at the camera rate in a gap, and at
                                            // the first frame of the delta that closes it
   int64_t gap_poses_superseded = 0;        // gaps whose dead-reckoned poses a late continuous delta replaced
-  int64_t time_jumps_dropped = 0;
-  int64_t resumed = 0;                     // 1 when the run continued from a checkpoint          // messages far ahead of all sensor time (see max_time_jump_s)
+  int64_t time_jumps_dropped = 0;         // messages far ahead of all sensor time (see max_time_jump_s)
+  int64_t resumed = 0;                     // 1 when the run continued from a checkpoint
+  int64_t vo_deltas_coasted = 0;           // deltas whose translation was not integrated (coasting)
+  int64_t coast_reasons[kCoastReasons] = {};  // per CoastReason bit (coast_reason_name)
+  int64_t coast_episodes = 0;
+  int64_t coast_expired = 0;               // deltas after coast.max_duration_s (VO gap instead)
+  int64_t deltas_reverted = 0;             // integrating would have made the state non-finite
   int64_t poses = 0;
   std::string last_problem;                // names the channel, utime and reason
 };
@@ -110,15 +123,27 @@ class YawFusionEstimator {
   void process_delta(const vo_delta_t& delta, std::vector<pose_t>* out);
   // Dead-reckons from the last frame to `utime` and updates yaw there; returns pose flags.
   int32_t advance_without_vo(int64_t utime);
+  // Coasts from the last frame to `utime` (not integrating a delta); returns
+  // pose flags. `direction`: a delta whose direction (not scale) is used.
+  int32_t coast_to(int64_t utime, const vo_delta_t* direction = nullptr);
+  // Reason bits (CoastReason) for coasting over this usable delta; 0 = integrate it.
+  int32_t coast_reason(const vo_delta_t& delta, int32_t coast_bits);
+  // The delta's quality bits coasted over: coast.quality_mask, less
+  // STALE_ALTIMETER when a valid range within coast.max_range_age_s is there.
+  int32_t coast_bits(const vo_delta_t& delta) const;
+  // Levelled altimeter height at a frame time, NaN without a fresh range.
+  double altimeter_height_at(int64_t utime) const;
   // INS yaw update at `utime`; returns pose flags; fills the attitude used.
   int32_t update_attitude(int64_t utime);
   int32_t update_height(int64_t utime, double fallback_height);
   pose_t make_pose(int64_t utime, int32_t flags) const;
   bool delta_values_valid(const vo_delta_t& delta, std::string* why) const;
   bool delta_quality_ok(const vo_delta_t& delta) const { return (delta.quality & options_.reject_quality_mask) == 0; }
+  // Usable to start from: not rejected, and not one coasting would skip.
   bool delta_usable(const vo_delta_t& delta) const {
     std::string why;
-    return delta_quality_ok(delta) && delta_values_valid(delta, &why);
+    const bool coast = options_.coast.enabled && (delta.quality & options_.coast.quality_mask) != 0;
+    return delta_quality_ok(delta) && !coast && delta_values_valid(delta, &why);
   }
   void note_problem(const std::string& text) { counters_.last_problem = text; }
   // False for a utime far ahead of all sensor time seen, unless the previous
@@ -156,6 +181,13 @@ class YawFusionEstimator {
   int consecutive_yaw_rejections_ = 0;
   int64_t frames_ = 0;
   std::optional<pose_t> resume_;
+  // Coasting: the velocity held in the level vehicle frame (x forward, y right,
+  // z down) at the last integrated frame, whose time starts the coast.
+  CoastDetector coast_detector_;
+  std::deque<std::pair<int64_t, Eigen::Vector3d>> coast_positions_;  // integrated, over coast.speed_window_s
+  bool coasting_ = false;
+  Eigen::Vector3d coast_velocity_level_ = Eigen::Vector3d::Zero();
+  double last_altimeter_height_ = std::numeric_limits<double>::quiet_NaN();  // at the last frame
 };
 
 }  // namespace nadir

@@ -85,6 +85,14 @@ class YawFusionNode : public Node {
          f.initialised() ? std::sqrt(f.position_covariance()(0, 0) + f.position_covariance()(1, 1)) : 0.0},
     };
     report.counters.emplace_back("resumed_from_checkpoint", static_cast<double>(c.resumed));
+    report.counters.emplace_back("vo_deltas_coasted", static_cast<double>(c.vo_deltas_coasted));
+    report.counters.emplace_back("coast_episodes", static_cast<double>(c.coast_episodes));
+    report.counters.emplace_back("coast_expired", static_cast<double>(c.coast_expired));
+    report.counters.emplace_back("deltas_reverted", static_cast<double>(c.deltas_reverted));
+    for (int bit = 0; bit < kCoastReasons; ++bit) {
+      report.counters.emplace_back(std::string("coast_") + coast_reason_name(bit),
+                                   static_cast<double>(c.coast_reasons[bit]));
+    }
     if (checkpoint_) {
       report.counters.emplace_back("checkpoint_saves", static_cast<double>(checkpoint_->saves()));
       report.counters.emplace_back("checkpoint_errors", static_cast<double>(checkpoint_->save_errors()));

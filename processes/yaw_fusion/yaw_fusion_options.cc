@@ -73,6 +73,7 @@ YawFusionOptions YawFusionOptions::from_config(const Config& root) {
   o.protection_level.flagged_inflation =
       pl.get_in_range("flagged_inflation", o.protection_level.flagged_inflation, 1.0, 1000.0);
   o.sensor_uncertainty = vo::UncertaintyOptions::from_config(root.section_or_empty("vo_solver"));
+  o.coast = CoastOptions::from_config(c.section_or_empty("coast"));
   o.calibration = SensorCalibration::from_config(root);
   o.Check();
   return o;
@@ -108,6 +109,7 @@ void YawFusionOptions::Check() const {
         "must be in [0.5, 1)");
   check(protection_level.flagged_inflation >= 1.0, "protection_level.flagged_inflation", "must be >= 1");
   sensor_uncertainty.Check();
+  coast.Check();
   calibration.Check();
 }
 

@@ -11,6 +11,7 @@
 #include "common/sensor_calibration.h"
 #include "processes/vo_solver/delta_uncertainty.h"
 #include "processes/yaw_fusion/protection_level.h"
+#include "processes/yaw_fusion/coasting.h"
 
 namespace nadir {
 
@@ -80,6 +81,8 @@ struct YawFusionOptions {
   double ins_yaw_bias_walk_deg_per_sqrt_s = 0.004;  // random walk
   // POSE.horizontal_protection_level_m (integrity.h).
   ProtectionLevelOptions protection_level;
+  // Coasting over deltas whose translation is not trusted (coast: section; coasting.h).
+  CoastOptions coast;
 
   // camera.time_offset_us (INS and altimeter read at a frame's exposure time,
   // stamp + offset; poses keep the stamp), altimeter.range_scale/range_bias_m

@@ -1,0 +1,103 @@
+#pragma once
+// Coasting (issue 23): when the VO deltas are there but their translation
+// cannot be trusted -- the altimeter range that scales them is missing or
+// stale, the ground has no texture, the solve is bad -- yaw fusion does not
+// integrate them. It coasts: the last good velocity, held in the level
+// vehicle frame (so it follows the heading the INS measures), for at most
+// coast.max_duration_s; the position covariance grows with the model below.
+//
+// This file holds the pieces without state of the filter: the options, the
+// covariance growth model and the detector that decides, delta by delta,
+// whether to coast. The estimator (yaw_fusion_estimator.cc) does the rest.
+
+#include <cstdint>
+#include <deque>
+#include <string>
+
+#include "common/config.h"
+#include "nadir/vo_delta_t.hpp"
+
+namespace nadir {
+
+struct CoastOptions {
+  bool enabled = true;
+  // VO_DELTA quality bits whose translation is coasted over (checked before
+  // reject_quality_mask): TOO_FEW_FEATURES | NO_ALTIMETER | STALE_ALTIMETER.
+  int32_t quality_mask = 1 | 2 | 4;
+  // STALE_ALTIMETER (the solver's nearest range older than its 200 ms) is
+  // coasted only when yaw fusion's own newest valid range is older than this:
+  // one or two missed returns scale the motion with a range that is still right.
+  double max_range_age_s = 0.5;
+  double max_duration_s = 30.0;  // beyond, the old VO-gap behaviour (hold, FLAG_VO_GAP)
+  // Covariance growth, each horizontal axis: the held velocity is off by a
+  // constant error of velocity_stddev_mps plus a random walk of
+  // velocity_random_walk_mps_per_sqrt_s (the aircraft's own accelerations),
+  //   sigma_p^2(t) = sigma_v^2 t^2 + q^2 t^3 / 3.
+  double velocity_stddev_mps = 0.5;
+  double velocity_random_walk = 0.3;          // m/s per sqrt(s)
+  double vertical_velocity_stddev_mps = 0.5;  // the same for down, with the same random walk
+  // Texture loss / bad solves.
+  double inlier_drop_fraction = 0.25;  // inliers below this fraction of the running median: coast
+  int inlier_median_window = 50;       // integrated deltas in the running median (full before it is used)
+  // dz against the altimeter: the ground under the vehicle moved by dz + (h_k - h_{k-1}) (down);
+  // more than vertical_gate_m + vertical_gate_slope * horizontal step is not the ground: coast.
+  double vertical_gate_m = 3.0;
+  double vertical_gate_slope = 1.0;
+  int high_residual_window = 42;          // deltas (3 s at 14 Hz)
+  double high_residual_fraction = 0.5;    // more than this fraction HIGH_RESIDUAL in the window: coast
+  int resume_good_deltas = 3;             // clean deltas in a row before integrating again
+  // The held speed (and vertical velocity) is the displacement over this
+  // window of integrated positions: per-frame attitude noise averages out.
+  // Its heading is the published velocity's (velocity_window_s, shorter: a
+  // turn does not lag).
+  double speed_window_s = 3.0;
+  // A delta solved with a stale range (STALE_ALTIMETER its only coasted bit,
+  // no other reason) has the right direction and the wrong scale: coast at
+  // the held horizontal speed along its direction (so a climb that steepens
+  // while coasting is followed), |dz| at most max_climb_ratio of the
+  // horizontal step. false: the held velocity for every coasted delta.
+  bool vo_direction = true;
+  double max_climb_ratio = 0.5;
+
+  // Reads yaw_fusion.coast (keys named with their full path on error).
+  static CoastOptions from_config(const Config& coast);
+  void Check() const;
+};
+
+// Position variance (m^2, one axis) after coasting t seconds with velocity
+// error sigma_v (m/s) and random walk q (m/s per sqrt s). 0 for t <= 0.
+double coast_position_variance(double sigma_v, double q, double t);
+
+// Why a delta is coasted over (bitmask; 0 = integrate it).
+enum CoastReason : int32_t {
+  kCoastQuality = 1,       // a bit of quality_mask (no/stale altimeter, no features)
+  kCoastInlierDrop = 2,
+  kCoastVertical = 4,      // dz inconsistent with the altimeter
+  kCoastHighResidual = 8,  // HIGH_RESIDUAL majority over the window
+  kCoastResuming = 16,     // clean, but fewer than resume_good_deltas in a row yet
+};
+inline constexpr int kCoastReasons = 5;
+const char* coast_reason_name(int bit);
+
+// Decides per delta whether to coast. Feed every delta that reaches the
+// filter in order; note_integrated() the ones that were integrated.
+class CoastDetector {
+ public:
+  explicit CoastDetector(const CoastOptions& options) : options_(options) {}
+
+  // `coast_bits`: the delta's quality bits that are coasted over (quality_mask,
+  // less a stale altimeter flag the range age does not confirm);
+  // `height_change_m` = h_k - h_{k-1} from the altimeter (NaN when either is unknown).
+  int32_t classify(const vo_delta_t& delta, int32_t coast_bits, double height_change_m, bool coasting);
+  void note_integrated(const vo_delta_t& delta);
+  double inlier_median() const;  // NaN until the window is full
+
+ private:
+  CoastOptions options_;
+  std::deque<int> inliers_;          // of integrated deltas
+  std::deque<bool> high_residual_;   // of all classified deltas
+  int high_residual_count_ = 0;
+  int good_streak_ = 0;
+};
+
+}  // namespace nadir

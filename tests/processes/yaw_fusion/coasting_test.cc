@@ -1,0 +1,377 @@
+// Coasting (issue 23): deltas whose translation cannot be trusted are not
+// integrated; the pose coasts on the last velocity, flagged, with a growing
+// covariance, and resumes without a jump. Also: nothing non-finite is ever
+// published whatever the VO_DELTA holds.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <set>
+
+#include "common/channels.h"
+#include "common/geometry.h"
+#include "processes/yaw_fusion/coasting.h"
+#include "processes/yaw_fusion/yaw_fusion_estimator.h"
+#include "estimator_runner.h"
+#include "synthetic_flight.h"
+
+namespace nadir {
+namespace {
+
+using test::FlightSpec;
+using test::SyntheticFlight;
+using test::TimedMessage;
+
+std::vector<pose_t> fly(const SyntheticFlight& flight, const YawFusionOptions& options,
+                        YawFusionCounters* counters = nullptr) {
+  return test::run_flight(flight, options, counters);
+}
+
+const pose_t* pose_at(const std::vector<pose_t>& poses, int64_t utime) {
+  for (const pose_t& p : poses) {
+    if (p.utime == utime) return &p;
+  }
+  return nullptr;
+}
+
+Eigen::Vector3d position(const pose_t& p) { return {p.position_ned[0], p.position_ned[1], p.position_ned[2]}; }
+
+FlightSpec straight_spec() {
+  FlightSpec spec;
+  spec.frames = 400;
+  spec.turn_rate_dps = 0.0;
+  spec.climb_rate_mps = 0.0;
+  return spec;
+}
+
+// Deltas [first, last) get `quality` (the solver's view of an altimeter
+// outage); with an altimeter bit the ranges over those frames are removed too.
+void flag_deltas(SyntheticFlight* flight, size_t first, size_t last, int32_t quality) {
+  for (size_t k = first; k < last && k < flight->deltas.size(); ++k) flight->deltas[k].quality |= quality;
+  if ((quality & (vo_delta_t::QUALITY_STALE_ALTIMETER | vo_delta_t::QUALITY_NO_ALTIMETER)) == 0) return;
+  const int64_t from = flight->truth[first].utime + 1, to = flight->truth[std::min(last, flight->truth.size() - 1)].utime;
+  std::vector<altimeter_t> kept;
+  for (const altimeter_t& a : flight->altimeter) {
+    if (a.utime < from || a.utime > to) kept.push_back(a);
+  }
+  flight->altimeter = kept;
+}
+
+TEST(CoastPositionVariance, GrowsAsConstantVelocityErrorPlusRandomWalk) {
+  EXPECT_EQ(coast_position_variance(1.0, 0.5, 0.0), 0.0);
+  EXPECT_EQ(coast_position_variance(1.0, 0.5, -3.0), 0.0);
+  EXPECT_EQ(coast_position_variance(1.0, 0.5, std::numeric_limits<double>::quiet_NaN()), 0.0);
+  // sigma_v^2 t^2 + q^2 t^3 / 3.
+  EXPECT_NEAR(coast_position_variance(1.0, 0.0, 10.0), 100.0, 1e-12);
+  EXPECT_NEAR(coast_position_variance(0.0, 0.5, 10.0), 0.25 * 1000.0 / 3.0, 1e-9);
+  EXPECT_NEAR(coast_position_variance(2.0, 0.5, 4.0), 4.0 * 16.0 + 0.25 * 64.0 / 3.0, 1e-9);
+  // The random-walk part is what a simulated random walk of the velocity gives.
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  const double q = 0.7, dt = 0.01, t = 5.0;
+  double sum_sq = 0.0;
+  const int runs = 4000;
+  for (int r = 0; r < runs; ++r) {
+    double v = 0.0, p = 0.0;
+    for (int i = 0; i < static_cast<int>(t / dt); ++i) {
+      v += q * std::sqrt(dt) * normal(rng);
+      p += v * dt;
+    }
+    sum_sq += p * p;
+  }
+  EXPECT_NEAR(sum_sq / runs, coast_position_variance(0.0, q, t), 0.08 * coast_position_variance(0.0, q, t));
+}
+
+TEST(Coasting, StaleAltimeterIsCoastedWithGrowingCovarianceAndResumesWithoutAJump) {
+  SyntheticFlight flight = test::make_flight(straight_spec());
+  // 10 s of stale ranges (140 deltas at 14 Hz): the solver mis-scales them by 30 %.
+  for (size_t k = 100; k < 240; ++k) {
+    flight.deltas[k].dx *= 1.3;
+    flight.deltas[k].dy *= 1.3;
+  }
+  flag_deltas(&flight, 100, 240, vo_delta_t::QUALITY_STALE_ALTIMETER);
+  YawFusionCounters counters;
+  YawFusionOptions options;
+  options.coast.max_range_age_s = 0.06;  // from the first frame without a range (20 Hz altimeter)
+  const auto poses = fly(flight, options, &counters);
+  ASSERT_EQ(poses.size(), flight.truth.size());
+  const Eigen::Vector3d origin = flight.truth.front().position;
+
+  // The poses of the stale frames (and the resuming ones) are flagged coasting, no others.
+  const int resume = options.coast.resume_good_deltas - 1;  // clean deltas still coasted
+  for (size_t k = 1; k < flight.truth.size(); ++k) {
+    const bool coasted = k >= 101 && k < 241 + static_cast<size_t>(resume);
+    const pose_t* p = pose_at(poses, flight.truth[k].utime);
+    ASSERT_NE(p, nullptr);
+    EXPECT_EQ((p->flags & pose_t::FLAG_COASTING) != 0, coasted) << "frame " << k;
+    EXPECT_FALSE(p->flags & pose_t::FLAG_VO_GAP) << "frame " << k;
+  }
+  EXPECT_EQ(counters.vo_deltas_coasted, 140 + resume);
+  EXPECT_EQ(counters.coast_reasons[0], 140);  // kCoastQuality
+  EXPECT_EQ(counters.coast_reasons[4], resume);  // kCoastResuming
+  EXPECT_EQ(counters.coast_episodes, 1);
+
+  // Covariance: the coast model on top of what the last integrated frame had.
+  const pose_t* before = pose_at(poses, flight.truth[100].utime);
+  const pose_t* end = pose_at(poses, flight.truth[240].utime);
+  const double t = static_cast<double>(end->utime - before->utime) * 1e-6;
+  const double grown = coast_position_variance(options.coast.velocity_stddev_mps,
+                                               options.coast.velocity_random_walk, t);
+  EXPECT_NEAR(end->position_covariance[0][0] - before->position_covariance[0][0], grown, 1e-6 * grown);
+  EXPECT_NEAR(end->position_covariance[1][1] - before->position_covariance[1][1], grown, 1e-6 * grown);
+  const double grown_down = coast_position_variance(options.coast.vertical_velocity_stddev_mps,
+                                                    options.coast.velocity_random_walk, t);
+  EXPECT_NEAR(end->position_covariance[2][2] - before->position_covariance[2][2], grown_down, 1e-6 * grown_down);
+  // Straight and level: the held velocity is right, the mis-scaled motion is not taken.
+  const Eigen::Vector3d truth_end = flight.truth[240].position - origin;
+  EXPECT_LT((position(*end) - truth_end).norm(), 0.3);
+  EXPECT_LT((position(*end) - truth_end).norm(), 3.0 * std::sqrt(end->position_covariance[0][0]));
+
+  // No jump when integration resumes: each step is one frame's motion.
+  for (size_t k = 230; k < 260; ++k) {
+    const pose_t* a = pose_at(poses, flight.truth[k].utime);
+    const pose_t* b = pose_at(poses, flight.truth[k + 1].utime);
+    const double step = (position(*b) - position(*a)).norm();
+    const double truth_step = (flight.truth[k + 1].position - flight.truth[k].position).norm();
+    EXPECT_NEAR(step, truth_step, 0.05) << "frame " << k;
+  }
+  const pose_t& last = poses.back();
+  EXPECT_EQ(last.flags, 0);
+  EXPECT_LT((position(last) - (flight.truth.back().position - origin)).norm(), 0.3);
+}
+
+// One or two missed returns: the solver flags STALE_ALTIMETER (its nearest
+// range is over 200 ms old) but a range within coast.max_range_age_s is there:
+// integrated as before, not coasted.
+TEST(Coasting, StaleFlagWithARecentRangeIsIntegrated) {
+  SyntheticFlight flight = test::make_flight(straight_spec());
+  for (size_t k = 100; k < 103; ++k) flight.deltas[k].quality |= vo_delta_t::QUALITY_STALE_ALTIMETER;
+  YawFusionCounters counters;
+  const auto poses = fly(flight, YawFusionOptions{}, &counters);
+  EXPECT_EQ(counters.vo_deltas_coasted, 0);
+  EXPECT_EQ(counters.vo_deltas_integrated, static_cast<int64_t>(flight.deltas.size()));
+  for (const pose_t& p : poses) EXPECT_FALSE(p.flags & pose_t::FLAG_COASTING);
+}
+
+TEST(Coasting, HeldVelocityFollowsTheInsHeadingInATurn) {
+  FlightSpec spec = straight_spec();
+  spec.turn_rate_dps = 6.0;
+  SyntheticFlight flight = test::make_flight(spec);
+  flag_deltas(&flight, 100, 240, vo_delta_t::QUALITY_NO_ALTIMETER);
+  YawFusionOptions options;
+  const auto poses = fly(flight, options);
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  const pose_t* end = pose_at(poses, flight.truth[240].utime);
+  ASSERT_NE(end, nullptr);
+  EXPECT_TRUE(end->flags & pose_t::FLAG_COASTING);
+  const double coasted_error = (position(*end) - (flight.truth[240].position - origin)).norm();
+  // The same coast with the velocity held in the world (what a VO gap does) is far off in a turn.
+  const Eigen::Vector3d start = flight.truth[100].position;
+  const Eigen::Vector3d v_world = (flight.truth[100].position - flight.truth[86].position) /
+                                  (static_cast<double>(flight.truth[100].utime - flight.truth[86].utime) * 1e-6);
+  const Eigen::Vector3d world_held =
+      start + v_world * (static_cast<double>(flight.truth[240].utime - flight.truth[100].utime) * 1e-6);
+  const double world_held_error = (world_held - flight.truth[240].position).norm();
+  EXPECT_LT(coasted_error, 0.5 * world_held_error);
+  EXPECT_LT(coasted_error, 3.0 * std::sqrt(end->position_covariance[0][0] + end->position_covariance[1][1]));
+}
+
+TEST(Coasting, BeyondMaxDurationItIsAVoGap) {
+  SyntheticFlight flight = test::make_flight(straight_spec());
+  flag_deltas(&flight, 100, 240, vo_delta_t::QUALITY_STALE_ALTIMETER);
+  YawFusionOptions options;
+  options.coast.max_duration_s = 4.0;
+  YawFusionCounters counters;
+  const auto poses = fly(flight, options, &counters);
+  const pose_t* early = pose_at(poses, flight.truth[140].utime);   // ~2.9 s into it
+  const pose_t* late = pose_at(poses, flight.truth[200].utime);    // ~7 s
+  ASSERT_NE(early, nullptr);
+  ASSERT_NE(late, nullptr);
+  EXPECT_TRUE(early->flags & pose_t::FLAG_COASTING);
+  EXPECT_FALSE(early->flags & pose_t::FLAG_VO_GAP);
+  EXPECT_TRUE(late->flags & pose_t::FLAG_VO_GAP);
+  EXPECT_FALSE(late->flags & pose_t::FLAG_COASTING);
+  EXPECT_GT(counters.coast_expired, 80);
+  EXPECT_EQ(poses.back().flags, 0);
+}
+
+TEST(Coasting, DisabledKeepsTheOldBehaviour) {
+  SyntheticFlight flight = test::make_flight(straight_spec());
+  for (size_t k = 100; k < 240; ++k) flight.deltas[k].dx *= 1.3;
+  flag_deltas(&flight, 100, 240, vo_delta_t::QUALITY_STALE_ALTIMETER);
+  YawFusionOptions options;
+  options.coast.enabled = false;
+  YawFusionCounters counters;
+  const auto poses = fly(flight, options, &counters);
+  EXPECT_EQ(counters.vo_deltas_coasted, 0);
+  for (const pose_t& p : poses) EXPECT_FALSE(p.flags & pose_t::FLAG_COASTING);
+  // The mis-scaled motion is integrated: 30 % of 10 s at 30 m/s.
+  const Eigen::Vector3d truth_end = flight.truth.back().position - flight.truth.front().position;
+  EXPECT_GT((position(poses.back()) - truth_end).norm(), 50.0);
+}
+
+TEST(Coasting, InlierDropVerticalJumpAndHighResidualMajorityCoast) {
+  SyntheticFlight flight = test::make_flight(straight_spec());
+  // Near-featureless ground: a few deltas still solve, with few inliers and a wild dz.
+  for (size_t k = 100; k < 104; ++k) {
+    flight.deltas[k].inliers = 30;
+    flight.deltas[k].dz += 2.5;
+  }
+  // A vertical jump the altimeter does not see, with normal inliers.
+  flight.deltas[150].dz += 6.0;
+  // HIGH_RESIDUAL on 30 of 40 deltas.
+  for (size_t k = 200; k < 240; ++k) {
+    if (k % 4 != 0) flight.deltas[k].quality |= vo_delta_t::QUALITY_HIGH_RESIDUAL;
+  }
+  YawFusionCounters counters;
+  const YawFusionOptions options;
+  const auto poses = fly(flight, options, &counters);
+  EXPECT_EQ(counters.coast_reasons[1], 4);  // kCoastInlierDrop
+  EXPECT_GE(counters.coast_reasons[2], 1);  // kCoastVertical (the 2.5 m ones too)
+  EXPECT_GT(counters.coast_reasons[3], 0);  // kCoastHighResidual
+  EXPECT_TRUE(pose_at(poses, flight.truth[101].utime)->flags & pose_t::FLAG_COASTING);
+  EXPECT_TRUE(pose_at(poses, flight.truth[151].utime)->flags & pose_t::FLAG_COASTING);
+  EXPECT_TRUE(pose_at(poses, flight.truth[240].utime)->flags & pose_t::FLAG_COASTING);
+  // None of the bad vertical motion got in.
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  for (const pose_t& p : poses) {
+    for (size_t k = 0; k < flight.truth.size(); ++k) {
+      if (flight.truth[k].utime == p.utime) {
+        EXPECT_NEAR(p.position_ned[2], flight.truth[k].position.z() - origin.z(), 0.2) << "frame " << k;
+      }
+    }
+  }
+}
+
+// Texture gone: the tracker keeps measuring from its last good frame, so the
+// flagged deltas all start there (and span up to 10 s): coasted, not dropped as
+// overlapping or too long; then the tracker restarts (a first frame, a missing delta).
+TEST(Coasting, TextureLossDeltasFromTheLastGoodFrameAreCoasted) {
+  SyntheticFlight flight = test::make_flight(straight_spec());
+  const int64_t kept_prev = flight.deltas[99].utime;
+  for (size_t k = 100; k < 240; ++k) {
+    vo_delta_t& d = flight.deltas[k];
+    d = vo_delta_t{};
+    d.utime = flight.truth[k + 1].utime;
+    d.prev_utime = kept_prev;
+    d.quality = vo_delta_t::QUALITY_TOO_FEW_FEATURES | vo_delta_t::QUALITY_FRAME_GAP;
+    d.variant = "synthetic";
+  }
+  flight.deltas[240].prev_utime = 0;  // the tracker's new first frame: no motion
+  YawFusionCounters counters;
+  const auto poses = fly(flight, YawFusionOptions{}, &counters);
+  EXPECT_EQ(counters.vo_deltas_late, 0);
+  EXPECT_EQ(counters.vo_deltas_invalid, 0);
+  EXPECT_EQ(counters.coast_reasons[0], 140);
+  for (size_t k = 101; k < 241; ++k) {
+    const pose_t* p = pose_at(poses, flight.truth[k].utime);
+    ASSERT_NE(p, nullptr) << "frame " << k;
+    EXPECT_TRUE(p->flags & pose_t::FLAG_COASTING) << "frame " << k;
+    EXPECT_FALSE(p->flags & pose_t::FLAG_VO_GAP) << "frame " << k;
+  }
+  // Frame 241 (the delta after the restart starts there) is coasted over too.
+  EXPECT_TRUE(pose_at(poses, flight.truth[241].utime)->flags & pose_t::FLAG_COASTING);
+  const Eigen::Vector3d truth_end = flight.truth.back().position - flight.truth.front().position;
+  EXPECT_LT((position(poses.back()) - truth_end).norm(), 0.5);
+  EXPECT_EQ(poses.back().flags, 0);
+}
+
+TEST(Coasting, CleanFlightNeverCoasts) {
+  FlightSpec spec;
+  spec.frames = 600;
+  spec.translation_stddev_m = 0.05;
+  spec.dz_stddev_m = 0.05;
+  spec.dyaw_stddev_deg = 0.02;
+  spec.ins_yaw_stddev_deg = 0.3;
+  YawFusionCounters counters;
+  const auto poses = fly(test::make_flight(spec), YawFusionOptions{}, &counters);
+  EXPECT_EQ(counters.vo_deltas_coasted, 0);
+  for (const pose_t& p : poses) EXPECT_FALSE(p.flags & pose_t::FLAG_COASTING);
+}
+
+bool pose_finite(const pose_t& p) {
+  bool ok = std::isfinite(p.roll) && std::isfinite(p.pitch) && std::isfinite(p.yaw) && std::isfinite(p.height_agl_m) &&
+            std::isfinite(p.yaw_variance);
+  for (int i = 0; i < 3; ++i) {
+    ok = ok && std::isfinite(p.position_ned[i]) && std::isfinite(p.velocity_ned[i]);
+    for (int j = 0; j < 3; ++j) ok = ok && std::isfinite(p.position_covariance[i][j]);
+  }
+  return ok;
+}
+
+// Degenerate VO_DELTAs: huge, zero, negative, non-finite covariances and
+// values, every quality bit, time jumps back and forth: every POSE field
+// stays finite, and poses of deltas not integrated are flagged.
+TEST(YawFusionFuzz, DegenerateDeltasNeverPublishNonFinitePoses) {
+  const double kBad[] = {0.0,  -1.0, 1e-300, 1e300, -1e300, std::numeric_limits<double>::infinity(),
+                         std::numeric_limits<double>::quiet_NaN(), 1e12, 1e155, 1.0};
+  int64_t reverted = 0;
+  for (uint32_t seed = 1; seed <= 6; ++seed) {
+    FlightSpec spec;
+    spec.frames = 400;
+    spec.seed = seed;
+    SyntheticFlight flight = test::make_flight(spec);
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> pick(0, static_cast<int>(std::size(kBad)) - 1);
+    std::uniform_int_distribution<int> what(0, 9);
+    std::set<int64_t> corrupted;
+    for (size_t k = 20; k < flight.deltas.size(); ++k) {
+      vo_delta_t& d = flight.deltas[k];
+      const int w = what(rng);
+      if (w > 5) continue;
+      corrupted.insert(d.utime);
+      if (w == 0) {
+        for (int r = 0; r < 6; ++r)
+          for (int c = 0; c < 6; ++c) d.covariance[r][c] = kBad[pick(rng)];
+      } else if (w == 1) {
+        const double v = kBad[pick(rng)];
+        for (int r = 0; r < 6; ++r) d.covariance[r][r] = v;
+      } else if (w == 2) {
+        d.dx = kBad[pick(rng)];
+        d.dz = kBad[pick(rng)];
+        d.dyaw = kBad[pick(rng)];
+      } else if (w == 3) {
+        d.quality = 0xff;
+      } else if (w == 4) {
+        d.altitude_m = kBad[pick(rng)];
+        d.inliers = (k % 2) ? 0 : -5;
+      } else {
+        d.utime += (k % 2) ? 3'600'000'000LL : -50'000;  // a jump ahead, a step back
+      }
+    }
+    YawFusionCounters counters;
+    const auto poses = fly(flight, YawFusionOptions{}, &counters);
+    ASSERT_GT(poses.size(), 100u) << "seed " << seed;
+    for (const pose_t& p : poses) {
+      EXPECT_TRUE(pose_finite(p)) << "seed " << seed << " utime " << p.utime;
+      EXPECT_GE(p.height_agl_m, -1.0);
+    }
+    EXPECT_GT(counters.vo_deltas_invalid + counters.vo_deltas_coasted + counters.vo_deltas_quality_rejected, 0);
+    reverted += counters.deltas_reverted;
+  }
+  EXPECT_GT(reverted, 0);  // finite values that overflow the state were met and undone
+}
+
+TEST(CoastOptions, ConfigErrorsNameTheKey) {
+  const Config bad = Config::parse("yaw_fusion:\n  coast: {inlier_drop_fraction: 2}\n", "test.yaml");
+  try {
+    YawFusionOptions::from_config(bad);
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("inlier_drop_fraction"), std::string::npos) << e.what();
+  }
+  const Config ok = Config::parse("yaw_fusion:\n  coast: {enabled: false, max_duration_s: 12}\n", "test.yaml");
+  const YawFusionOptions o = YawFusionOptions::from_config(ok);
+  EXPECT_FALSE(o.coast.enabled);
+  EXPECT_EQ(o.coast.max_duration_s, 12.0);
+  const Config root = Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml");
+  const YawFusionOptions d = YawFusionOptions::from_config(root);
+  EXPECT_TRUE(d.coast.enabled);
+  EXPECT_EQ(d.coast.quality_mask, CoastOptions{}.quality_mask);
+  EXPECT_EQ(d.coast.max_duration_s, CoastOptions{}.max_duration_s);
+}
+
+}  // namespace
+}  // namespace nadir
