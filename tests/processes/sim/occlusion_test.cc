@@ -25,11 +25,22 @@ double brute_force_first_hit(const Terrain& terrain, const Eigen::Vector3d& o, c
   return -1.0;
 }
 
-TEST(Occlusion, ObliqueRaysHitTheFirstSurface) {
+// The roughest relief: slopes oblique rays can graze.
+Terrain steep_terrain(uint64_t seed) {
   TerrainOptions options;
-  options.seed = 17;
-  options.relief_scale = 3.0;  // steep relief: slopes the rays can graze
-  const Terrain terrain(options);
+  options.seed = seed;
+  options.relief_scale = 3.0;
+  return Terrain(options);
+}
+
+RendererOptions noiseless() {
+  RendererOptions options;
+  options.pixel_noise_dn = 0.0;
+  return options;
+}
+
+TEST(Occlusion, ObliqueRaysHitTheFirstSurface) {
+  const Terrain terrain = steep_terrain(17);
   int marched = 0, checked = 0;
   for (int i = 0; i < 40; ++i) {
     const double azimuth = i * 0.61, elevation_from_nadir = 0.9 + 0.015 * i;  // 52..86 degrees off nadir
@@ -55,13 +66,8 @@ TEST(Occlusion, ObliqueRaysHitTheFirstSurface) {
 TEST(Occlusion, RendererUsesTheSafePathForGrazingViews) {
   SimCamera camera = testing::default_camera();
   camera.body_from_camera = (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY())).toRotationMatrix();  // looking forward-down
-  TerrainOptions options;
-  options.seed = 17;
-  options.relief_scale = 3.0;
-  const Terrain terrain(options);
-  RendererOptions render_options;
-  render_options.pixel_noise_dn = 0.0;
-  Renderer renderer(camera, terrain, render_options);
+  const Terrain terrain = steep_terrain(17);
+  Renderer renderer(camera, terrain, noiseless());
   const Eigen::Vector3d origin(0, 0, -60.0);
   std::vector<uint8_t> image;
   renderer.render(origin, camera.body_from_camera, 1, &image);
@@ -82,14 +88,9 @@ TEST(Occlusion, RendererUsesTheSafePathForGrazingViews) {
 // locally monotone Newton path where their block's slope bound allows, the
 // march elsewhere: every depth it rendered is the first hit.
 TEST(Occlusion, LocalSlopeBoundsKeepTheFirstHit) {
-  SimCamera camera = testing::default_camera();
-  TerrainOptions options;
-  options.seed = 5;
-  options.relief_scale = 3.0;
-  const Terrain terrain(options);
-  RendererOptions render_options;
-  render_options.pixel_noise_dn = 0.0;
-  Renderer renderer(camera, terrain, render_options);
+  const SimCamera camera = testing::default_camera();
+  const Terrain terrain = steep_terrain(5);
+  Renderer renderer(camera, terrain, noiseless());
   std::vector<float> depth;
   renderer.set_depth_output(&depth);
   // 120 m above the ground, banked 14 degrees and pitched 4 degrees down.
@@ -117,10 +118,7 @@ TEST(Occlusion, LocalSlopeBoundsKeepTheFirstHit) {
 
 // The per-tile bounds hold for the surface everyone samples.
 TEST(Occlusion, TileBoundsHoldTheSampledSurface) {
-  TerrainOptions options;
-  options.seed = 9;
-  options.relief_scale = 3.0;
-  const Terrain terrain(options);
+  const Terrain terrain = steep_terrain(9);
   const HeightBounds b = terrain.bounds(-100.0, 90.0, 30.0, 200.0);  // 4 x 4 tiles
   EXPECT_LE(b.max_slope, terrain.max_slope());
   EXPECT_LT(b.max_slope, 0.8 * terrain.max_slope());  // tighter than the analytic bound: why it pays
