@@ -95,10 +95,14 @@ double Renderer::block_slope(int gx, int gy, int gw, const Eigen::Vector3d& orig
     sn1 += margin_n;
     se0 -= margin_e;
     se1 += margin_e;
-    const HeightBounds bounds =
-        terrain_.bounds(origin.x() + std::min(0.0, k_end * sn0), origin.x() + std::max(0.0, k_end * sn1),
-                        origin.y() + std::min(0.0, k_end * se0), origin.y() + std::max(0.0, k_end * se1));
-    slope = std::min(slope, bounds.max_slope);
+    const double n0 = origin.x() + std::min(0.0, k_end * sn0), n1 = origin.x() + std::max(0.0, k_end * sn1);
+    const double e0 = origin.y() + std::min(0.0, k_end * se0), e1 = origin.y() + std::max(0.0, k_end * se1);
+    // Flying high, a block's region covers many tiles: more to make and
+    // scan than marching its pixels costs, so those keep the global bound.
+    constexpr double kMaxRegionTiles = 100.0;
+    const double tile = Terrain::kBoundsTileM;
+    if ((n1 - n0 + tile) * (e1 - e0 + tile) <= kMaxRegionTiles * tile * tile)
+      slope = std::min(slope, terrain_.bounds(n0, n1, e0, e1).max_slope);
   }
   block_slope_[b] = slope;
   return slope;
