@@ -150,7 +150,7 @@ void Renderer::render(const Eigen::Vector3d& origin, const Eigen::Matrix3d& worl
   // Rays steeper than the local slope bound meet the ground once even where
   // the global bound says they could be occluded; they end where the block's
   // bound region does (beyond it the ray is below all ground).
-  const double t_region_end_dz = altitude - terrain_.min_height() + 1.0;
+  const double region_end_depth = altitude - terrain_.min_height() + 1.0;
   const double noise_scale = options_.pixel_noise_dn / 147.80;  // sigma of a sum of 4 uniform bytes
   const float gain = static_cast<float>(options_.gain);
 
@@ -200,7 +200,7 @@ void Renderer::render(const Eigen::Vector3d& origin, const Eigen::Matrix3d& worl
           const double df = -dz - gn * d.x() - ge * d.y();
           const double dt = -f / df;
           // Locally monotone: only from a point inside the bounded region.
-          if (locally_monotone && !(tn >= 0.0 && tn * dz <= t_region_end_dz)) break;
+          if (locally_monotone && !(tn >= 0.0 && tn * dz <= region_end_depth)) break;
           tn += dt;
           if (std::fabs(dt) < 0.05) {
             t = tn;
