@@ -1,5 +1,6 @@
 // Rendered frames per second at 612x512 on one core, along the test profiles
-// (successive frames at 14 Hz, so texture tiles are generated as in a run).
+// and the rough ones (successive frames at 14 Hz, so texture tiles are
+// generated as in a run).
 #include <benchmark/benchmark.h>
 #include <opencv2/core.hpp>
 
@@ -10,13 +11,15 @@
 
 namespace {
 
-void render_along(benchmark::State& state, const char* profile_name) {
+// relief_scale < 0: the profile's own relief.
+void render_along(benchmark::State& state, const char* profile_name, double relief_scale = -1.0) {
   cv::setNumThreads(1);
   const std::string root = NADIR_SOURCE_DIR;
   const auto camera = nadir::sim::SimCamera::from_config(nadir::Config::load_file(root + "/config/default.yaml"));
   const auto profile = nadir::sim::FlightProfile::load(root + "/config/profiles/" + profile_name + ".yaml");
   nadir::sim::TerrainOptions terrain_options = profile.terrain;
   terrain_options.seed = 7;
+  if (relief_scale >= 0.0) terrain_options.relief_scale = relief_scale;
   const nadir::sim::Terrain terrain(terrain_options);
   const nadir::sim::Trajectory trajectory(profile, 7);
   nadir::sim::Renderer renderer(camera, terrain, nadir::sim::RendererOptions{});
@@ -29,13 +32,14 @@ void render_along(benchmark::State& state, const char* profile_name) {
   }
   const int64_t tiles0 = renderer.texture().tiles_generated();
   int64_t k = 1;
-  int64_t marched = 0, full = 0;
+  int64_t marched = 0, full = 0, local = 0;
   for (auto _ : state) {
     const double t = std::fmod(k / camera.rate_hz, trajectory.duration_s());
     const nadir::sim::TruthState s = trajectory.at(t);
     renderer.render(s.position_ned, s.world_from_body() * camera.body_from_camera, static_cast<uint64_t>(k), &image);
     marched += renderer.last_stats().marched_pixels;
     full += renderer.last_stats().full_solves;
+    local += renderer.last_stats().local_bound_pixels;
     benchmark::DoNotOptimize(image.data());
     ++k;
   }
@@ -45,6 +49,7 @@ void render_along(benchmark::State& state, const char* profile_name) {
   state.counters["tiles_per_frame"] =
       static_cast<double>(renderer.texture().tiles_generated() - tiles0) / std::max<int64_t>(1, k - 1);
   state.counters["marched_px_per_frame"] = static_cast<double>(marched) / std::max<int64_t>(1, k - 1);
+  state.counters["local_bound_px_per_frame"] = static_cast<double>(local) / std::max<int64_t>(1, k - 1);
 }
 
 void BM_RenderTest1(benchmark::State& state) { render_along(state, "test1"); }
@@ -70,5 +75,15 @@ BENCHMARK(BM_RenderStatic)->Unit(benchmark::kMillisecond);
 void BM_RenderTest2(benchmark::State& state) { render_along(state, "test2"); }
 BENCHMARK(BM_RenderTest1)->Unit(benchmark::kMillisecond)->MinTime(5.0);
 BENCHMARK(BM_RenderTest2)->Unit(benchmark::kMillisecond)->MinTime(5.0);
+// Issue 16: the rough profiles over their own relief and over flat ground
+// (the same flight); the renderer should cost about the same on both.
+void BM_RenderRough120Flat(benchmark::State& state) { render_along(state, "rough_120", 0.0); }
+void BM_RenderRough120Relief3(benchmark::State& state) { render_along(state, "rough_120", 3.0); }
+void BM_RenderRough250Flat(benchmark::State& state) { render_along(state, "rough_250", 0.0); }
+void BM_RenderRough250Relief(benchmark::State& state) { render_along(state, "rough_250"); }
+BENCHMARK(BM_RenderRough120Flat)->Unit(benchmark::kMillisecond)->MinTime(5.0);
+BENCHMARK(BM_RenderRough120Relief3)->Unit(benchmark::kMillisecond)->MinTime(5.0);
+BENCHMARK(BM_RenderRough250Flat)->Unit(benchmark::kMillisecond)->MinTime(5.0);
+BENCHMARK(BM_RenderRough250Relief)->Unit(benchmark::kMillisecond)->MinTime(5.0);
 
 }  // namespace

@@ -5,6 +5,8 @@
 #include <random>
 #include <sstream>
 
+#include <yaml-cpp/yaml.h>
+
 #include "common/paths.h"
 #include "processes/sim/sim_rotation.h"
 
@@ -43,6 +45,21 @@ std::string FlightProfile::resolve(const std::string& name_or_path) {
       (name_or_path.size() > 5 && name_or_path.compare(name_or_path.size() - 5, 5, ".yaml") == 0))
     return name_or_path;
   return checkout_root() + "/config/profiles/" + name_or_path + ".yaml";
+}
+
+void FlightProfile::override_relief_scale(double relief_scale) {
+  if (!(relief_scale >= 0.0 && relief_scale <= 3.0)) {
+    std::ostringstream text;
+    text << source << ": terrain.relief_scale override " << relief_scale << " outside [0, 3]";
+    throw ConfigError(text.str());
+  }
+  terrain.relief_scale = relief_scale;
+  YAML::Node node = YAML::Load(yaml);
+  node["terrain"]["relief_scale"] = relief_scale;
+  YAML::Emitter out;
+  out << node;
+  yaml = std::string(out.c_str()) + "\n";
+  overrides.push_back("terrain.relief_scale");
 }
 
 FlightProfile FlightProfile::load(const std::string& path) {

@@ -40,12 +40,18 @@ struct FlightProfile {
   double reference_height_m = 300.0;  // ellipsoidal height of the datum
   TerrainOptions terrain;
   std::vector<FlightLeg> legs;
+  // Keys changed after loading (e.g. "terrain.relief_scale"), for CONFIG.
+  std::vector<std::string> overrides;
 
   // Parses and checks a profile; errors name the file and key (legs[2].angle_deg).
   static FlightProfile load(const std::string& path);
   static FlightProfile parse(const std::string& yaml_text, const std::string& source);
   // NAME -> <checkout>/config/profiles/NAME.yaml; anything with '/' or '.yaml' is a path.
   static std::string resolve(const std::string& name_or_path);
+  // Replaces terrain.relief_scale (the same flight over other relief): the
+  // YAML text follows, and the key is listed in `overrides`. Throws
+  // ConfigError naming the key when outside [0, 3].
+  void override_relief_scale(double relief_scale);
 };
 
 struct TruthState {

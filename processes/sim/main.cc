@@ -44,6 +44,7 @@ struct Arguments {
   std::string config_path;
   std::string sensors_path;
   std::string sensor_set = "standard";
+  std::optional<double> relief_scale;
   std::optional<double> roll_pitch_noise_deg, yaw_noise_deg, altimeter_noise_pct;
   std::vector<std::string> outages;
   bool json = false;
@@ -204,6 +205,9 @@ int main(int argc, char** argv) {
   app.add_option("--config", args.config_path, "config with the camera: section (default: config/default.yaml)");
   app.add_option("--sensors", args.sensors_path, "sensor model file (default: config/sim_sensors.yaml)");
   app.add_option("--sensor-set", args.sensor_set, "sensor set in that file (default: standard)");
+  app.add_option("--relief-scale", args.relief_scale,
+                 "override the profile's terrain.relief_scale (0 = flat ground .. 3); the same flight and seed "
+                 "over other relief. Recorded in CONFIG (profile.terrain, profile_overrides)");
   app.add_option("--roll-pitch-noise-deg", args.roll_pitch_noise_deg, "override INS roll/pitch white noise sigma");
   app.add_option("--yaw-noise-deg", args.yaw_noise_deg, "override INS yaw white noise sigma");
   app.add_option("--altimeter-noise-pct", args.altimeter_noise_pct, "override altimeter noise, percent of range");
@@ -244,6 +248,7 @@ int main(int argc, char** argv) {
     // and seed give the same log bytes in any checkout.
     const std::string root = nadir::checkout_root() + "/";
     if (profile.source.compare(0, root.size(), root) == 0) profile.source = profile.source.substr(root.size());
+    if (args.relief_scale) profile.override_relief_scale(*args.relief_scale);
 
     nadir::sim::SimulatorOptions options;
     options.seed = args.seed;

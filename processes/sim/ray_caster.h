@@ -3,8 +3,10 @@
 // f(t) = altitude of the ray point - terrain height below it. When the ray is
 // steeper than the terrain can ever be (dz > max_slope * |d_horizontal|), f is
 // strictly decreasing, the root is unique and a safeguarded Newton solve finds
-// it. Otherwise relief can occlude: the ray is sphere-traced with steps that
-// cannot pass a surface (f / (dz + max_slope * |d_h|)), so the first hit wins.
+// it. Otherwise relief can occlude: the ray walks the terrain's 64 m tiles,
+// skipping those whose highest point stays below it and sphere-tracing the
+// others with steps that cannot pass a surface under the tile's own slope
+// bound (f / (dz + slope_tile * |d_h|)), so the first hit wins.
 
 #include <Eigen/Core>
 

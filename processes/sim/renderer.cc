@@ -66,10 +66,53 @@ Eigen::Vector3d Renderer::pixel_ray(int u, int v) const {
   return Eigen::Vector3d(ray_x_[i], ray_y_[i], ray_z_[i]);
 }
 
+double Renderer::block_slope(int gx, int gy, int gw, const Eigen::Vector3d& origin) {
+  const int gh = static_cast<int>(coarse_dir_.size()) / gw;
+  const size_t b = static_cast<size_t>(gy) * gw + gx;
+  if (block_slope_[b] >= 0.0) return block_slope_[b];
+  // The block's pixel rays lie within its four corner rays (up to the bow of
+  // the lens distortion over 16 pixels: the margin). A ray's ground point at
+  // depth k below the aircraft is origin + k * d_h / dz, so all the ground
+  // they can cross for k in [0, k_end] lies in the box spanned by the
+  // aircraft's nadir point and the corners' points at k_end.
+  const int gx1 = std::min(gx + 1, gw - 1), gy1 = std::min(gy + 1, gh - 1);
+  double sn0 = 1e18, sn1 = -1e18, se0 = 1e18, se1 = -1e18;
+  bool downward = true;
+  for (const int y : {gy, gy1})
+    for (const int x : {gx, gx1}) {
+      const Eigen::Vector3d& d = coarse_dir_[static_cast<size_t>(y) * gw + x];
+      if (d.z() < 0.05) downward = false;
+      sn0 = std::min(sn0, d.x() / d.z());
+      sn1 = std::max(sn1, d.x() / d.z());
+      se0 = std::min(se0, d.y() / d.z());
+      se1 = std::max(se1, d.y() / d.z());
+    }
+  const double k_end = -origin.z() - terrain_.min_height() + 1.0;
+  double slope = terrain_.max_slope();
+  if (downward && k_end > 0.0) {
+    const double margin_n = 0.05 * (sn1 - sn0) + 2e-3, margin_e = 0.05 * (se1 - se0) + 2e-3;
+    sn0 -= margin_n;
+    sn1 += margin_n;
+    se0 -= margin_e;
+    se1 += margin_e;
+    const double n0 = origin.x() + std::min(0.0, k_end * sn0), n1 = origin.x() + std::max(0.0, k_end * sn1);
+    const double e0 = origin.y() + std::min(0.0, k_end * se0), e1 = origin.y() + std::max(0.0, k_end * se1);
+    // Flying high, a block's region covers many tiles: more to make and
+    // scan than marching its pixels costs, so those keep the global bound.
+    constexpr double kMaxRegionTiles = 100.0;
+    const double tile = Terrain::kBoundsTileM;
+    if ((n1 - n0 + tile) * (e1 - e0 + tile) <= kMaxRegionTiles * tile * tile)
+      slope = std::min(slope, terrain_.bounds(n0, n1, e0, e1).max_slope);
+  }
+  block_slope_[b] = slope;
+  return slope;
+}
+
 void Renderer::render(const Eigen::Vector3d& origin, const Eigen::Matrix3d& world_from_camera, uint64_t noise_key,
                       std::vector<uint8_t>* image) {
   const int w = camera_.width, h = camera_.height;
   image->assign(static_cast<size_t>(w) * h, 0);
+  if (depth_out_) depth_out_->assign(static_cast<size_t>(w) * h, -1.0f);
   stats_ = RenderStats{};
   ++frame_;
 
@@ -78,11 +121,14 @@ void Renderer::render(const Eigen::Vector3d& origin, const Eigen::Matrix3d& worl
   const int step = options_.coarse_step_px;
   const int gw = (w - 1 + step - 1) / step + 1, gh = (h - 1 + step - 1) / step + 1;
   coarse_t_.assign(static_cast<size_t>(gw) * gh, kNoHit);
+  coarse_dir_.resize(static_cast<size_t>(gw) * gh);
+  block_slope_.assign(static_cast<size_t>(gw) * gh, -1.0);
   double n0 = 1e18, n1 = -1e18, e0 = 1e18, e1 = -1e18;
   for (int gy = 0; gy < gh; ++gy)
     for (int gx = 0; gx < gw; ++gx) {
       const int u = std::min(gx * step, w - 1), v = std::min(gy * step, h - 1);
       const Eigen::Vector3d d = world_from_camera * pixel_ray(u, v);
+      coarse_dir_[static_cast<size_t>(gy) * gw + gx] = d;
       RayHit hit;
       if (!cast_ray(terrain_, origin, d, -1.0, &hit)) continue;
       const Eigen::Vector3d p = origin + hit.t * d;
@@ -101,6 +147,10 @@ void Renderer::render(const Eigen::Vector3d& origin, const Eigen::Matrix3d& worl
   const double r20 = world_from_camera(2, 0), r21 = world_from_camera(2, 1), r22 = world_from_camera(2, 2);
   const double altitude = -origin.z();
   const double slope = terrain_.max_slope();
+  // Rays steeper than the local slope bound meet the ground once even where
+  // the global bound says they could be occluded; they end where the block's
+  // bound region does (beyond it the ray is below all ground).
+  const double region_end_depth = altitude - terrain_.min_height() + 1.0;
   const double noise_scale = options_.pixel_noise_dn / 147.80;  // sigma of a sum of 4 uniform bytes
   const float gain = static_cast<float>(options_.gain);
 
@@ -131,8 +181,16 @@ void Renderer::render(const Eigen::Vector3d& origin, const Eigen::Matrix3d& worl
 
       const double dxy = std::sqrt(d.x() * d.x() + d.y() * d.y());
       double t = -1.0, gn = 0.0, ge = 0.0;
-      if (t_guess > 0 && dz > 1e-6 && slope * dxy < dz) {
-        // Monotone ray: one Newton step from a good seed usually lands within
+      // Monotone ray: f(t) = ray altitude - ground height strictly decreases
+      // wherever the ray can meet the ground, so its one root is the first
+      // hit. Globally (steeper than any slope anywhere), or locally (steeper
+      // than every slope in the ground this block's rays cross from the
+      // aircraft down to below the lowest ground).
+      const bool monotone = slope * dxy < dz;
+      const bool locally_monotone =
+          !monotone && dz > 1e-6 && t_guess > 0 && block_slope(gx, gy, gw, origin) * dxy < dz;
+      if (t_guess > 0 && dz > 1e-6 && (monotone || locally_monotone)) {
+        // One Newton step from a good seed usually lands within
         // micrometres; otherwise fall back to the full safeguarded solve.
         // Up to three Newton steps; a step under 5 cm leaves an error of
         // ~curvature * dt^2: micrometres.
@@ -141,9 +199,17 @@ void Renderer::render(const Eigen::Vector3d& origin, const Eigen::Matrix3d& worl
           const double f = altitude - tn * dz - terrain_.height(origin.x() + tn * d.x(), origin.y() + tn * d.y(), &gn, &ge);
           const double df = -dz - gn * d.x() - ge * d.y();
           const double dt = -f / df;
+          // Locally monotone: only from a point inside the bounded region.
+          if (locally_monotone && !(tn >= 0.0 && tn * dz <= region_end_depth)) break;
           tn += dt;
           if (std::fabs(dt) < 0.05) {
             t = tn;
+            if (locally_monotone) {
+              // Shade with the gradient at the hit, as the marching path
+              // does (the bilinear surface's gradient jumps across cells).
+              terrain_.height(origin.x() + tn * d.x(), origin.y() + tn * d.y(), &gn, &ge);
+              ++stats_.local_bound_pixels;
+            }
             break;
           }
         }
@@ -158,6 +224,7 @@ void Renderer::render(const Eigen::Vector3d& origin, const Eigen::Matrix3d& worl
           if (hit.marched) ++stats_.marched_pixels;
         }
       }
+      if (depth_out_) (*depth_out_)[i] = static_cast<float>(t < 0 ? -1.0 : t);
       float value;
       if (t < 0) {
         ++stats_.sky_pixels;

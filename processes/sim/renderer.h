@@ -30,6 +30,7 @@ struct GroundMarker {
 
 struct RenderStats {
   int64_t marched_pixels = 0;  // pixels that took the occlusion-safe path
+  int64_t local_bound_pixels = 0;  // oblique pixels found monotone by their block's local slope bound
   int64_t sky_pixels = 0;      // rays that missed the ground
   int64_t full_solves = 0;     // pixels whose one-step Newton seed was not good enough
 };
@@ -45,6 +46,9 @@ class Renderer {
               uint64_t noise_key, std::vector<uint8_t>* image);
 
   void set_markers(std::vector<GroundMarker> markers) { markers_ = std::move(markers); }
+  // When set, each render() also writes every pixel's hit distance along its
+  // unit ray (m; -1 where the ray misses the ground): true depth for tests.
+  void set_depth_output(std::vector<float>* depth) { depth_out_ = depth; }
   const RenderStats& last_stats() const { return stats_; }
   const SimCamera& camera() const { return camera_; }
   // Unit ray of pixel (u, v) in the camera frame.
@@ -58,8 +62,14 @@ class Renderer {
   TextureCache texture_;
   std::vector<float> ray_x_, ray_y_, ray_z_, pixel_angle_;  // per pixel
   std::vector<GroundMarker> markers_;
+  std::vector<float>* depth_out_ = nullptr;
   RenderStats stats_;
+  // Slope bound over the ground the rays of one coarse block can cross
+  // (computed on demand; < 0: not yet this frame).
+  double block_slope(int gx, int gy, int gw, const Eigen::Vector3d& origin);
   std::vector<double> coarse_t_;
+  std::vector<Eigen::Vector3d> coarse_dir_;  // world direction of each coarse-grid ray
+  std::vector<double> block_slope_;
   int64_t frame_ = 0;
 };
 

@@ -102,6 +102,7 @@ Simulator::Simulator(const FlightProfile& profile, const SimCamera& camera, cons
   root["seed"] = static_cast<unsigned long long>(options.seed);
   root["duration_s"] = duration_s_;
   root["profile"] = YAML::Load(profile.yaml);
+  for (const std::string& key : profile.overrides) root["profile_overrides"].push_back(key);
   root["sensors"] = YAML::Load(sensors_.to_yaml());
   if (!options.camera_yaml.empty()) root["camera"] = YAML::Load(options.camera_yaml);
   for (const SensorOutage& o : options.outages) {

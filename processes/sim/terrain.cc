@@ -27,6 +27,29 @@ enum Layer : uint32_t {
   kLayerGrain0, kLayerGrain1, kLayerGrain2, kLayerPatch, kLayerCount
 };
 
+constexpr int kTileSide = 64;
+constexpr int kTileRow = kTileSide + 1;
+
+// Bounds of the bilinear surface through a tile's (side + 1)^2 samples.
+HeightBounds sample_bounds(const float* h) {
+  float lo = h[0], hi = h[0], dn = 0.0f, de = 0.0f;
+  for (int i = 0; i <= kTileSide; ++i)
+    for (int j = 0; j <= kTileSide; ++j) {
+      const float v = h[i * kTileRow + j];
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+      if (i < kTileSide) dn = std::max(dn, std::fabs(h[(i + 1) * kTileRow + j] - v));
+      if (j < kTileSide) de = std::max(de, std::fabs(h[i * kTileRow + j + 1] - v));
+    }
+  HeightBounds b;
+  // Heights are read back as the floats stored, so the float bounds are exact;
+  // the slope gets a relative hair for the double arithmetic of height().
+  b.min_height = lo;
+  b.max_height = hi;
+  b.max_slope = std::hypot(static_cast<double>(dn), static_cast<double>(de)) * (1.0 + 1e-6);
+  return b;
+}
+
 float clamp_albedo(double v) { return static_cast<float>(std::min(250.0, std::max(8.0, v))); }
 
 }  // namespace
@@ -92,11 +115,28 @@ const Terrain::HeightTile* Terrain::height_tile(int32_t tx, int32_t ty) const {
         tile->h[i * (kHeightTile + 1) + j] = static_cast<float>(
             raw_height(static_cast<double>(tx) * kHeightTile + i, static_cast<double>(ty) * kHeightTile + j, nullptr,
                        nullptr) - datum_);
+    tile->bounds = sample_bounds(tile->h);
     it = height_tiles_.emplace(key, std::move(tile)).first;
   }
   last_key_ = key;
   last_tile_ = it->second.get();
   return last_tile_;
+}
+
+HeightBounds Terrain::bounds(double north0, double north1, double east0, double east1) const {
+  const int32_t tx0 = static_cast<int32_t>(std::floor(north0)) >> kHeightTileLog2;
+  const int32_t tx1 = static_cast<int32_t>(std::floor(north1)) >> kHeightTileLog2;
+  const int32_t ty0 = static_cast<int32_t>(std::floor(east0)) >> kHeightTileLog2;
+  const int32_t ty1 = static_cast<int32_t>(std::floor(east1)) >> kHeightTileLog2;
+  HeightBounds b = tile_bounds(tx0, ty0);
+  for (int32_t tx = tx0; tx <= tx1; ++tx)
+    for (int32_t ty = ty0; ty <= ty1; ++ty) {
+      const HeightBounds t = tile_bounds(tx, ty);
+      b.min_height = std::min(b.min_height, t.min_height);
+      b.max_height = std::max(b.max_height, t.max_height);
+      b.max_slope = std::max(b.max_slope, t.max_slope);
+    }
+  return b;
 }
 
 float Terrain::albedo(double north, double east) const {

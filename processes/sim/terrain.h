@@ -20,6 +20,14 @@
 
 namespace nadir::sim {
 
+// Bounds of the sampled (bilinear) surface over a region: exact for it (a
+// bilinear cell lies between its corner samples, and its gradient components
+// between its edge differences), so a ray caster may skip empty space with them.
+struct HeightBounds {
+  double min_height = 0.0, max_height = 0.0;
+  double max_slope = 0.0;  // >= |grad h| anywhere in the region
+};
+
 struct TerrainOptions {
   uint64_t seed = 1;
   double relief_scale = 1.0;   // multiplies every height octave; 0 = flat
@@ -56,6 +64,13 @@ class Terrain {
   double max_slope() const { return max_slope_; }
   double max_height() const { return max_height_; }
   double min_height() const { return min_height_; }
+  // Side (m) of the square tiles the sampled surface is cached in; tile
+  // (tx, ty) covers north [tx, tx + 1) * side, east [ty, ty + 1) * side.
+  static constexpr double kBoundsTileM = 64.0;
+  // Bounds over one tile (made on demand), and over the tiles covering
+  // [north0, north1] x [east0, east1].
+  HeightBounds tile_bounds(int32_t tx, int32_t ty) const { return height_tile(tx, ty)->bounds; }
+  HeightBounds bounds(double north0, double north1, double east0, double east1) const;
 
   // Ground albedo 0..255 at a point (point-sampled; the texture cache
   // prefilters it for the renderer).
@@ -68,8 +83,10 @@ class Terrain {
 
   static constexpr int kHeightTileLog2 = 6;
   static constexpr int kHeightTile = 1 << kHeightTileLog2;  // samples per tile side (1 m spacing), plus one shared edge
+  static_assert(kHeightTile == 64, "kBoundsTileM is the tile side");
   struct HeightTile {
     float h[(kHeightTile + 1) * (kHeightTile + 1)];
+    HeightBounds bounds;
   };
   const HeightTile* height_tile(int32_t tx, int32_t ty) const;
 

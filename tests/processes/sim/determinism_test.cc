@@ -8,6 +8,7 @@
 #include <map>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <vector>
 
 #include "common/channels.h"
 #include "common/bus.h"
@@ -100,6 +101,50 @@ TEST(LogMode, SameSeedGivesByteIdenticalLog) {
   EXPECT_EQ(count[channels::kAltimeter], 16);
   EXPECT_EQ(count[channels::kGroundTruth], 151 + 22);
   EXPECT_NE(slurp(dir.file("a.err")).find("rendered frames/s"), std::string::npos);
+}
+
+// The first message of a log.
+config_t first_config(const std::string& log) {
+  LogReader reader(log);
+  LogEvent e;
+  config_t c;
+  if (reader.next(&e) && e.channel == channels::kConfig) c.decode(e.data, 0, static_cast<int>(e.size));
+  return c;
+}
+
+// Every payload of one channel, in order.
+std::vector<std::string> channel_payloads(const std::string& log, const std::string& channel) {
+  LogReader reader(log);
+  LogEvent e;
+  std::vector<std::string> out;
+  while (reader.next(&e))
+    if (e.channel == channel) out.emplace_back(reinterpret_cast<const char*>(e.data), e.size);
+  return out;
+}
+
+// --relief-scale: the same flight (INS, triggers) over other ground, and
+// CONFIG says what was flown and that it was overridden.
+TEST(LogMode, ReliefScaleOverrideFliesTheSameFlightOverOtherGround) {
+  nadir::testing::TempDir dir("sim_relief_override");
+  const std::string common = "--profile rough_120 --duration 0.5 --seed 3 ";
+  ASSERT_EQ(run(common + "--out " + dir.file("rough.lcmlog"), dir.file("rough.err")), 0) << slurp(dir.file("rough.err"));
+  ASSERT_EQ(run(common + "--relief-scale 0 --out " + dir.file("flat.lcmlog"), dir.file("flat.err")), 0)
+      << slurp(dir.file("flat.err"));
+  const config_t rough = first_config(dir.file("rough.lcmlog")), flat = first_config(dir.file("flat.lcmlog"));
+  EXPECT_NE(rough.yaml.find("relief_scale: 3.0"), std::string::npos) << rough.yaml;
+  EXPECT_EQ(rough.yaml.find("profile_overrides"), std::string::npos) << rough.yaml;
+  EXPECT_NE(flat.yaml.find("relief_scale: 0"), std::string::npos) << flat.yaml;
+  EXPECT_NE(flat.yaml.find("profile_overrides:\n  - terrain.relief_scale"), std::string::npos) << flat.yaml;
+  for (const std::string& channel : {std::string(channels::kIns), std::string(channels::kCameraTrigger)}) {
+    const auto a = channel_payloads(dir.file("rough.lcmlog"), channel);
+    EXPECT_FALSE(a.empty()) << channel;
+    EXPECT_TRUE(a == channel_payloads(dir.file("flat.lcmlog"), channel)) << channel;
+  }
+  // The images are not: relief is there.
+  EXPECT_FALSE(channel_payloads(dir.file("rough.lcmlog"), channels::kCameraImage) ==
+               channel_payloads(dir.file("flat.lcmlog"), channels::kCameraImage));
+  EXPECT_EQ(run(common + "--relief-scale 3.5 --out " + dir.file("bad.lcmlog"), dir.file("bad.err")), 1);
+  EXPECT_NE(slurp(dir.file("bad.err")).find("terrain.relief_scale"), std::string::npos) << slurp(dir.file("bad.err"));
 }
 
 TEST(LogMode, BadProfileIsRejectedNamingTheKey) {
