@@ -139,10 +139,15 @@ double accumulate(const PaperProblem& problem, const Params& params, const std::
     if (h) {
       row *= sc;
       const JacobianRow weighted = w[i] * row;
-      h->noalias() += weighted.transpose() * row;  // fixed 5x5: unrolled, faster than rankUpdate here
+      // Lower triangle only (what LDLT reads), mirrored below: the same
+      // products in the same order as the full outer product, in 15 of 25.
+      for (int c = 0; c < 5; ++c) {
+        for (int k = c; k < 5; ++k) (*h)(k, c) += weighted(k) * row(c);
+      }
       *g += r * weighted.transpose();
     }
   }
+  if (h) h->triangularView<Eigen::StrictlyUpper>() = h->transpose();
   return cost;
 }
 
@@ -261,14 +266,20 @@ int levenberg_marquardt(PaperProblem* problem, Params* params, const std::vector
       problem->plane.relevel = ground_relevel(problem->plane, trial(3), trial(4));
       trial(3) = trial(4) = 0;
     }
-    const double trial_cost = accumulate(*problem, trial, w, nullptr, nullptr);
+    // The normal equations at the trial too: most steps are accepted, and
+    // then they are the next step's (the cost is the same sum either way).
+    Eigen::Matrix<double, 5, 5> trial_h;
+    Eigen::Matrix<double, 5, 1> trial_g;
+    const double trial_cost = accumulate(*problem, trial, w, &trial_h, &trial_g);
     if (trial_cost <= cost) {
       *params = trial;
       ++iterations;
       lambda = std::max(lambda * 0.1, 1e-12);
       const double change = std::max(step.head<2>().cwiseAbs().maxCoeff() / problem->height,
                                      step.tail(np - 2).cwiseAbs().maxCoeff());
-      cost = accumulate(*problem, *params, w, &h, &g);
+      cost = trial_cost;
+      h = trial_h;
+      g = trial_g;
       if (change < 0.1 * options.convergence_tolerance) break;
     } else {
       problem->plane = saved;
