@@ -19,7 +19,9 @@ Variant variant_from_name(const std::string& name) {
   if (name == "level_ground") return Variant::kLevelGround;
   if (name == "homography") return Variant::kHomography;
   if (name == "flow") return Variant::kFlow;
-  throw std::invalid_argument("unknown solver variant '" + name + "' (allowed: paper, level_ground, homography, flow)");
+  if (name == "feature_depth") return Variant::kFeatureDepth;
+  throw std::invalid_argument("unknown solver variant '" + name +
+                              "' (allowed: paper, level_ground, homography, flow, feature_depth)");
 }
 
 std::string variant_name(Variant variant) {
@@ -28,6 +30,7 @@ std::string variant_name(Variant variant) {
     case Variant::kLevelGround: return "level_ground";
     case Variant::kHomography: return "homography";
     case Variant::kFlow: return "flow";
+    case Variant::kFeatureDepth: return "feature_depth";
   }
   return "unknown";
 }
@@ -53,6 +56,7 @@ void SolverOptions::Check() const {
   require(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, "min_inlier_fraction", "in [0, 1]");
   require(homography_ransac_px > 0 && homography_ransac_px <= 100, "homography_ransac_px", "in (0, 100]");
   layers.Check();
+  feature_depth.Check();
 }
 
 double SolverOptions::pixel_scale() const { return std::max(1.0, focal_px / threshold_focal_px); }
@@ -89,6 +93,7 @@ Estimate solve_variant(const FramePair& pair, const SolverOptions& options) {
     case Variant::kLevelGround: return solve_paper(pair, options, false);
     case Variant::kHomography: return solve_homography(pair, options);
     case Variant::kFlow: return solve_flow(pair, options);
+    case Variant::kFeatureDepth: return solve_feature_depth(pair, options);
   }
   return solve_paper(pair, options, true);
 }
@@ -572,6 +577,9 @@ FramePair reversed_in_time(const FramePair& pair) {
   std::swap(r.prev_yaw, r.curr_yaw);
   std::swap(r.prev_range_m, r.curr_range_m);
   std::swap(r.prev_beam_body, r.curr_beam_body);
+  // Own depths are in the level frame of prev: they do not describe the reversed pair.
+  r.prev_depth_m.clear();
+  r.prev_depth_sigma_m.clear();
   return r;
 }
 
