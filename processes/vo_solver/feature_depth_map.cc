@@ -92,6 +92,14 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
         prior_sigma = prior * std::sqrt(rel * rel + o.relative_process_noise * o.relative_process_noise);
       }
     }
+    // The carried depth and this pair's disagree beyond their noise: the
+    // surface under the track changed (a cliff edge). Start again from this pair.
+    if (std::isfinite(tri) && std::isfinite(prior) &&
+        std::abs(tri - prior) > o.max_depth_jump_sigma * std::hypot(tri_sigma, prior_sigma)) {
+      prior = std::numeric_limits<double>::quiet_NaN();
+      prior_ok = false;
+      ++rejected_;
+    }
     const auto old = depths_.find(ids[i]);
     const int seen = prior_ok && old != depths_.end() ? old->second.observations : 0;
     Entry e;

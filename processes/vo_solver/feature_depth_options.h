@@ -30,6 +30,9 @@ struct FeatureDepthOptions {
   double min_parallax_rad = 1e-3;
   double relative_process_noise = 0.002;
   double max_epipolar_px = 2.0;
+  // A pair's triangulated depth this many combined sigmas from the carried
+  // one: the surface under the track changed (cliff edge); restart from the pair.
+  double max_depth_jump_sigma = 5.0;
   // Throws std::invalid_argument naming the field and the allowed range.
   void Check() const;
 };

@@ -31,6 +31,7 @@ void FeatureDepthOptions::Check() const {
   require(min_parallax_rad > 0 && min_parallax_rad <= 0.5, "min_parallax_rad", "in (0, 0.5]");
   require(relative_process_noise >= 0 && relative_process_noise <= 1, "relative_process_noise", "in [0, 1]");
   require(max_epipolar_px > 0 && max_epipolar_px <= 100, "max_epipolar_px", "in (0, 100]");
+  require(max_depth_jump_sigma >= 1 && max_depth_jump_sigma <= 100, "max_depth_jump_sigma", "in [1, 100]");
 }
 
 namespace {
