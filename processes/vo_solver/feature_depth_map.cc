@@ -74,11 +74,14 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
       const Eigen::Vector3d gap = lambda * a + t - mu * u;
       if (lambda > 0 && mu > 0) {
         if (gap.norm() / (lambda * std::sqrt(aa)) > max_epipolar) {
+          // Not a static point under this motion (a mismatch this frame, a
+          // moving object): no depth from this pair. A carried depth stays
+          // only if the fit did not reject it (above).
           ++off_epipolar_;
-          continue;  // not a static point under this motion: no depth at all
+        } else {
+          tri = lambda;
+          tri_sigma = lambda * ray_sigma / std::sin(parallax);
         }
-        tri = lambda;
-        tri_sigma = lambda * ray_sigma / std::sin(parallax);
       }
     }
     // The previous depth carried into curr, re-anchored on this pair's altimeter.

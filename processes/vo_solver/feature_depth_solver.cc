@@ -143,13 +143,6 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   // Too few own depths (the start of a track set, a hover, after a gap): the paper's model alone.
   if (own_count < o.min_own_depth_features || pair.curr_norm.size() != n) return solve_paper(pair, options, true);
 
-  // The patch: ground attitude, young features' depths, the start and the fallback.
-  SolverOptions forward = options;
-  forward.symmetric_dz = false;
-  const Estimate patch = solve_paper(pair, forward, true);
-  constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
-  if (patch.quality & kFailed) return solve_paper(pair, options, true);
-
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d prev_level = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
   const Eigen::Matrix3d curr_level = level_from_camera(pair.curr_roll, pair.curr_pitch, pair.body_from_camera);
@@ -176,6 +169,13 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
       !anchor_scale(features, prev_beam, pair.prev_range_m, o, &scale, &scale_sigma)) {
     return solve_paper(pair, options, true);
   }
+  // The patch: ground attitude, young features' depths, the start and the fallback.
+  SolverOptions forward = options;
+  forward.symmetric_dz = false;
+  const Estimate patch = solve_paper(pair, forward, true);
+  constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
+  if (patch.quality & kFailed) return solve_paper(pair, options, true);
+
   // Young features: depth on the patch (through the curr altimeter spot),
   // seen from prev: n' . X = n . A + n' . t with n' = Rz(dyaw) n.
   const Eigen::Vector3d normal = normal_from_tilt(patch.ground_roll, patch.ground_pitch);
