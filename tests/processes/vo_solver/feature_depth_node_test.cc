@@ -121,7 +121,10 @@ TEST(FeatureDepthNode, ExactOverReliefAndClearedByAFrameGap) {
     EXPECT_EQ(d.variant, "feature_depth");
     EXPECT_EQ(d.quality, 0) << "frame " << k;
     // Through the node it settles at ~1e-4 m, not the 1e-6 of the direct
-    // solver+map run (feature_depth_test.cc); not yet explained.
+    // solver+map run (feature_depth_test.cc): the paper variant's node output
+    // differs from its direct solve of the same pair by as much (1.5e-4 m at
+    // frame 30), so the node's synchronised inputs (INS/altimeter as fed
+    // here) are not bit-identical to the pair's; not yet traced.
     EXPECT_NEAR(d.dx, truth.translation.x(), 1e-3) << "frame " << k;
     EXPECT_NEAR(d.dy, truth.translation.y(), 1e-3) << "frame " << k;
     EXPECT_NEAR(d.dz, truth.translation.z(), 1e-3) << "frame " << k;
