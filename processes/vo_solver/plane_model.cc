@@ -37,11 +37,7 @@ Eigen::Vector3d ground_normal(const PlaneGeometry& plane, double d_roll, double 
 bool ground_point(const PlaneGeometry& plane, const Eigen::Vector3d& normal, const Eigen::Vector3d& v,
                   Eigen::Vector3d* point) {
   // Plane: n . X = n . A with A = range * beam; ray X = lambda v.
-  const double n_v = normal.dot(v);
-  const double plane_distance = plane.range_m * normal.dot(plane.beam);
-  if (!(n_v > 1e-9) || !(plane_distance > 0)) return false;
-  *point = (plane_distance / n_v) * v;
-  return true;
+  return ground_point_at(plane.range_m * normal.dot(plane.beam), normal, v, point);
 }
 
 ModelEval make_model_eval(const PlaneGeometry& plane, const Params& p) {
@@ -57,29 +53,6 @@ ModelEval make_model_eval(const PlaneGeometry& plane, const Params& p) {
   e.cos_yaw = std::cos(p(2));
   e.sin_yaw = std::sin(p(2));
   return e;
-}
-
-double model_residual(const LevelFeature& f, const ModelEval& e, const Params& p, JacobianRow* jacobian) {
-  // Depth of the ground point seen along v (v.z = 1) in V^k: X = lambda v, n . X = n . A.
-  const double n_v = e.normal.dot(f.v);
-  if (!(n_v > 1e-9) || !(e.plane_offset > 0)) return std::numeric_limits<double>::quiet_NaN();
-  const double lambda = e.plane_offset / n_v;
-  // r_v = Rz(dyaw) v; q = lambda r_v is the ground point rotated into V^{k-1} axes.
-  const double rvx = e.cos_yaw * f.v.x() - e.sin_yaw * f.v.y();
-  const double rvy = e.sin_yaw * f.v.x() + e.cos_yaw * f.v.y();
-  const double qx = lambda * rvx, qy = lambda * rvy;
-  const double residual = f.u.x() * (qy + p(1)) - f.u.y() * (qx + p(0));
-  if (jacobian) {
-    (*jacobian)(0) = -f.u.y();
-    (*jacobian)(1) = f.u.x();
-    // d(Rz v)/d yaw = (-rvy, rvx, 0).
-    (*jacobian)(2) = f.u.x() * qx + f.u.y() * qy;
-    // d lambda = (d offset - lambda (dn . v)) / (n . v).
-    const double cross = f.u.x() * rvy - f.u.y() * rvx;  // d residual / d lambda
-    (*jacobian)(3) = cross * (e.offset_droll - lambda * e.dn_droll.dot(f.v)) / n_v;
-    (*jacobian)(4) = cross * (e.offset_dpitch - lambda * e.dn_dpitch.dot(f.v)) / n_v;
-  }
-  return residual;
 }
 
 double plane_residual(const LevelFeature& f, const PlaneGeometry& plane, const Params& p, JacobianRow* jacobian) {

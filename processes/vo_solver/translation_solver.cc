@@ -19,7 +19,9 @@ Variant variant_from_name(const std::string& name) {
   if (name == "level_ground") return Variant::kLevelGround;
   if (name == "homography") return Variant::kHomography;
   if (name == "flow") return Variant::kFlow;
-  throw std::invalid_argument("unknown solver variant '" + name + "' (allowed: paper, level_ground, homography, flow)");
+  if (name == "feature_depth") return Variant::kFeatureDepth;
+  throw std::invalid_argument("unknown solver variant '" + name +
+                              "' (allowed: paper, level_ground, homography, flow, feature_depth)");
 }
 
 std::string variant_name(Variant variant) {
@@ -28,6 +30,7 @@ std::string variant_name(Variant variant) {
     case Variant::kLevelGround: return "level_ground";
     case Variant::kHomography: return "homography";
     case Variant::kFlow: return "flow";
+    case Variant::kFeatureDepth: return "feature_depth";
   }
   return "unknown";
 }
@@ -53,6 +56,7 @@ void SolverOptions::Check() const {
   require(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, "min_inlier_fraction", "in [0, 1]");
   require(homography_ransac_px > 0 && homography_ransac_px <= 100, "homography_ransac_px", "in (0, 100]");
   layers.Check();
+  feature_depth.Check();
 }
 
 double SolverOptions::pixel_scale() const { return std::max(1.0, focal_px / threshold_focal_px); }
@@ -89,6 +93,7 @@ Estimate solve_variant(const FramePair& pair, const SolverOptions& options) {
     case Variant::kLevelGround: return solve_paper(pair, options, false);
     case Variant::kHomography: return solve_homography(pair, options);
     case Variant::kFlow: return solve_flow(pair, options);
+    case Variant::kFeatureDepth: return solve_feature_depth(pair, options);
   }
   return solve_paper(pair, options, true);
 }
@@ -139,10 +144,15 @@ double accumulate(const PaperProblem& problem, const Params& params, const std::
     if (h) {
       row *= sc;
       const JacobianRow weighted = w[i] * row;
-      h->noalias() += weighted.transpose() * row;  // fixed 5x5: unrolled, faster than rankUpdate here
+      // Lower triangle only (what LDLT reads), mirrored below: the same
+      // products in the same order as the full outer product, in 15 of 25.
+      for (int c = 0; c < 5; ++c) {
+        for (int k = c; k < 5; ++k) (*h)(k, c) += weighted(k) * row(c);
+      }
       *g += r * weighted.transpose();
     }
   }
+  if (h) h->triangularView<Eigen::StrictlyUpper>() = h->transpose();
   return cost;
 }
 
@@ -152,6 +162,7 @@ double accumulate(const PaperProblem& problem, const Params& params, const std::
 double estimate_dz(const PaperProblem& problem, const Params& p, const std::vector<double>& w, double* variance) {
   const Eigen::Matrix3d rz = rot_z(p(2));
   const Eigen::Vector3d normal = ground_normal(problem.plane, p(3), p(4));
+  const double plane_distance = problem.plane.range_m * normal.dot(problem.plane.beam);
   double sum_v = 0, sum_vz = 0;
   std::vector<std::pair<double, double>> samples;
   if (variance) samples.reserve(problem.features.size());
@@ -159,7 +170,7 @@ double estimate_dz(const PaperProblem& problem, const Params& p, const std::vect
     if (w[i] <= 0) continue;
     const LevelFeature& f = problem.features[i];
     Eigen::Vector3d point;
-    if (!ground_point(problem.plane, normal, f.v, &point)) continue;
+    if (!ground_point_at(plane_distance, normal, f.v, &point)) continue;
     const Eigen::Vector3d q = rz * point;
     const double ux = f.u.x(), uy = f.u.y();
     const double uu = ux * ux + uy * uy;
@@ -194,10 +205,11 @@ void reprojection_errors(const PaperProblem& problem, const Params& p, double dz
   const Eigen::Matrix3d rotation = camera_from_level * rot_z(p(2));
   const Eigen::Vector3d shift = camera_from_level * Eigen::Vector3d(p(0), p(1), dz);
   const Eigen::Vector3d normal = ground_normal(problem.plane, p(3), p(4));
+  const double plane_distance = problem.plane.range_m * normal.dot(problem.plane.beam);
   for (size_t i = 0; i < problem.features.size(); ++i) {
     Eigen::Vector3d point;
     (*ire)[i] = std::numeric_limits<double>::infinity();
-    if (!ground_point(problem.plane, normal, problem.features[i].v, &point)) continue;
+    if (!ground_point_at(plane_distance, normal, problem.features[i].v, &point)) continue;
     (*ire)[i] = image_error_px(rotation * point + shift, problem.prev_measured[i], focal_px);
   }
 }
@@ -261,14 +273,20 @@ int levenberg_marquardt(PaperProblem* problem, Params* params, const std::vector
       problem->plane.relevel = ground_relevel(problem->plane, trial(3), trial(4));
       trial(3) = trial(4) = 0;
     }
-    const double trial_cost = accumulate(*problem, trial, w, nullptr, nullptr);
+    // The normal equations at the trial too: most steps are accepted, and
+    // then they are the next step's (the cost is the same sum either way).
+    Eigen::Matrix<double, 5, 5> trial_h;
+    Eigen::Matrix<double, 5, 1> trial_g;
+    const double trial_cost = accumulate(*problem, trial, w, &trial_h, &trial_g);
     if (trial_cost <= cost) {
       *params = trial;
       ++iterations;
       lambda = std::max(lambda * 0.1, 1e-12);
       const double change = std::max(step.head<2>().cwiseAbs().maxCoeff() / problem->height,
                                      step.tail(np - 2).cwiseAbs().maxCoeff());
-      cost = accumulate(*problem, *params, w, &h, &g);
+      cost = trial_cost;
+      h = trial_h;
+      g = trial_g;
       if (change < 0.1 * options.convergence_tolerance) break;
     } else {
       problem->plane = saved;
@@ -389,37 +407,26 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
 // dy, dyaw, tilt with dz from eq. (7) (or `published_dz` when the dz mode
 // combines two solves). Altitude, covariance, residual, inlier counts and
 // quality bits all describe that estimate.
-enum class Scoring { kPublished, kIntermediate };
+// Covariance of a fit's (dx, dy, dz, dyaw, tilt): sigma^2 (J^T W J)^-1 for
+// the fitted unknowns, mapped to the output order; dz from the spread of its
+// weighted mean. It depends on the fit and its inlier count only, not on the
+// published dz, so the symmetric mode computes it once for the forward fit.
+struct FitCovariance {
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  bool degenerate = false;
+};
 
-Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOptions& options,
-                      const double* published_dz, Scoring scoring) {
-  if (!fit.ok) return fit.failed;
-  Estimate est = fit.failed;
+FitCovariance fit_covariance(const PaperFit& fit, int inliers) {
+  FitCovariance out;
   const PaperProblem& problem = fit.problem;
   const Params& params = fit.params;
   const std::vector<double>& w = fit.w;
   const int m = static_cast<int>(problem.features.size());
-  est.iterations = fit.iterations;
-  bool degenerate = fit.degenerate;
-  double dz_variance = 0;
-  const double fitted_dz = estimate_dz(problem, params, w, &dz_variance);
-  for (int i = 0; i < m; ++i) est.weights[problem.index[i]] = w[i];
-  est.translation = Eigen::Vector3d(params(0), params(1), published_dz ? *published_dz : fitted_dz);
-  // The fit's own heading change (started at the INS one), wrapped to (-pi, pi].
-  est.dyaw = wrap_angle(params(2));
-  const Eigen::Vector3d normal = ground_normal(problem.plane, 0, 0);
-  tilt_from_normal(normal, &est.ground_roll, &est.ground_pitch);
-  est.altitude_m = prev_vertical_height(normal, problem.plane.range_m * normal.dot(problem.plane.beam), est.dyaw,
-                                        est.translation);
   const int np = problem.num_params;
-  if (scoring == Scoring::kPublished) {
-    score_estimate(pair, options, std::max(options.min_features, np), &est);
-  } else {
-    // An intermediate solve of the symmetric mode: only its dz, sigma and failure bits are used.
-    est.inliers = static_cast<int>(std::count_if(w.begin(), w.end(), [](double wi) { return wi > 0; }));
-    if (est.inliers < std::max(options.min_features, np)) est.quality |= kTooFewFeatures;
-  }
-
+  bool& degenerate = out.degenerate;
+  double dz_variance = 0;
+  estimate_dz(problem, params, w, &dz_variance);
+  const Eigen::Vector3d normal = ground_normal(problem.plane, 0, 0);
   // Covariance: sigma^2 (J^T W J)^-1 for the fitted unknowns, mapped to the
   // output order; dz from the spread of its weighted mean.
   Eigen::Matrix<double, 5, 5> h;
@@ -428,10 +435,10 @@ Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOp
   double sum_w = 0;
   for (double wi : w) sum_w += wi;
   Eigen::MatrixXd cov_p = Eigen::MatrixXd::Zero(np, np);
-  if (est.inliers > np) {
+  if (inliers > np) {
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(h.topLeftCorner(np, np));
     if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
-      const double sigma2 = cost / sum_w * est.inliers / (est.inliers - np);
+      const double sigma2 = cost / sum_w * inliers / (inliers - np);
       cov_p = sigma2 * ldlt.solve(Eigen::MatrixXd::Identity(np, np));
     } else {
       degenerate = true;
@@ -471,9 +478,45 @@ Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOp
     minus(j) -= step;
     map(2, j) = (estimate_dz(problem, plus, w, nullptr) - estimate_dz(problem, minus, w, nullptr)) / (2 * step);
   }
-  est.covariance = map.leftCols(np) * cov_p * map.leftCols(np).transpose();
-  est.covariance(2, 2) += dz_variance;
+  out.covariance = map.leftCols(np) * cov_p * map.leftCols(np).transpose();
+  out.covariance(2, 2) += dz_variance;
 
+  return out;
+}
+
+enum class Scoring { kPublished, kIntermediate };
+
+Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOptions& options,
+                      const double* published_dz, Scoring scoring, const FitCovariance* cached = nullptr) {
+  if (!fit.ok) return fit.failed;
+  Estimate est = fit.failed;
+  const PaperProblem& problem = fit.problem;
+  const Params& params = fit.params;
+  const std::vector<double>& w = fit.w;
+  const int m = static_cast<int>(problem.features.size());
+  est.iterations = fit.iterations;
+  bool degenerate = fit.degenerate;
+  const double fitted_dz = estimate_dz(problem, params, w, nullptr);
+  for (int i = 0; i < m; ++i) est.weights[problem.index[i]] = w[i];
+  est.translation = Eigen::Vector3d(params(0), params(1), published_dz ? *published_dz : fitted_dz);
+  // The fit's own heading change (started at the INS one), wrapped to (-pi, pi].
+  est.dyaw = wrap_angle(params(2));
+  const Eigen::Vector3d normal = ground_normal(problem.plane, 0, 0);
+  tilt_from_normal(normal, &est.ground_roll, &est.ground_pitch);
+  est.altitude_m = prev_vertical_height(normal, problem.plane.range_m * normal.dot(problem.plane.beam), est.dyaw,
+                                        est.translation);
+  const int np = problem.num_params;
+  if (scoring == Scoring::kPublished) {
+    score_estimate(pair, options, std::max(options.min_features, np), &est);
+  } else {
+    // An intermediate solve of the symmetric mode: only its dz, sigma and failure bits are used.
+    est.inliers = static_cast<int>(std::count_if(w.begin(), w.end(), [](double wi) { return wi > 0; }));
+    if (est.inliers < std::max(options.min_features, np)) est.quality |= kTooFewFeatures;
+  }
+
+  const FitCovariance cov = cached ? *cached : fit_covariance(fit, est.inliers);
+  est.covariance = cov.covariance;
+  if (cov.degenerate) degenerate = true;
   if (!fit.converged || degenerate) est.quality |= kNotConverged;
   if (!est.translation.allFinite() || !std::isfinite(est.dyaw)) est.quality |= kNotConverged;
   return est;
@@ -488,8 +531,15 @@ Estimate finish_paper(const PaperFit& fit, const FramePair& pair, const SolverOp
 Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& options, bool estimate_tilt) {
   constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
   const PaperFit forward_fit = fit_paper(pair, options, estimate_tilt, nullptr);
-  const Estimate forward = finish_paper(forward_fit, pair, options, nullptr, Scoring::kIntermediate);
-  const auto forward_alone = [&] { return finish_paper(forward_fit, pair, options, nullptr, Scoring::kPublished); };
+  if (!forward_fit.ok) return forward_fit.failed;
+  const FitCovariance forward_cov = fit_covariance(
+      forward_fit, static_cast<int>(std::count_if(forward_fit.w.begin(), forward_fit.w.end(),
+                                                  [](double wi) { return wi > 0; })));
+  const Estimate forward =
+      finish_paper(forward_fit, pair, options, nullptr, Scoring::kIntermediate, &forward_cov);
+  const auto forward_alone = [&] {
+    return finish_paper(forward_fit, pair, options, nullptr, Scoring::kPublished, &forward_cov);
+  };
   if (forward.quality & kFailed) return forward_alone();
   // Forward: X(k-1) = Rz(dyaw) X(k) + t. Reverse: X(k) = Rz(-dyaw) (X(k-1) - t).
   WarmStart warm;
@@ -505,7 +555,7 @@ Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& optio
                    Scoring::kIntermediate);
   if ((backward.quality & kFailed) || !std::isfinite(backward.translation.z())) return forward_alone();
   const double dz = 0.5 * (forward.translation.z() - backward.translation.z());
-  Estimate published = finish_paper(forward_fit, pair, options, &dz, Scoring::kPublished);
+  Estimate published = finish_paper(forward_fit, pair, options, &dz, Scoring::kPublished, &forward_cov);
   // The two estimates share their data: their dz errors are far from
   // independent, so the variance of the mean is bounded by the mean sigma.
   // Their gap measures what neither sees in its own spread: the step times
@@ -527,6 +577,9 @@ FramePair reversed_in_time(const FramePair& pair) {
   std::swap(r.prev_yaw, r.curr_yaw);
   std::swap(r.prev_range_m, r.curr_range_m);
   std::swap(r.prev_beam_body, r.curr_beam_body);
+  // Own depths are in the level frame of prev: they do not describe the reversed pair.
+  r.prev_depth_m.clear();
+  r.prev_depth_sigma_m.clear();
   return r;
 }
 

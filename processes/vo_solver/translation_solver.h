@@ -10,12 +10,13 @@
 #include <vector>
 
 #include "processes/vo_solver/depth_layers.h"
+#include "processes/vo_solver/feature_depth_options.h"
 
 namespace nadir::vo {
 
-enum class Variant { kPaper, kLevelGround, kHomography, kFlow };
+enum class Variant { kPaper, kLevelGround, kHomography, kFlow, kFeatureDepth };
 
-// "paper", "level_ground", "homography", "flow"; throws std::invalid_argument otherwise.
+// "paper", "level_ground", "homography", "flow", "feature_depth"; throws std::invalid_argument otherwise.
 Variant variant_from_name(const std::string& name);
 std::string variant_name(Variant variant);
 
@@ -41,6 +42,7 @@ struct SolverOptions {
   double min_inlier_fraction = 0.3;    // inlier share below this: QUALITY_HIGH_RESIDUAL
   double homography_ransac_px = 3.0;   // homography variant: RANSAC threshold
   DepthLayerOptions layers;            // QUALITY_DEPTH_LAYERS
+  FeatureDepthOptions feature_depth;   // feature_depth variant (feature_depth.h)
   // paper / level_ground: dz from eq. (7) in the forward pair only, or the
   // mean of the forward and the time-reversed pair, which cancels the
   // second-order dz bias of INS levelling noise (DERIVATION.md section 7a).
@@ -67,6 +69,11 @@ struct FramePair {
   double prev_range_m = 0, curr_range_m = 0;  // altimeter slant ranges along the beam
   Eigen::Vector3d prev_beam_body = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d curr_beam_body = Eigen::Vector3d::UnitZ();
+  // feature_depth variant: each feature's own depth in the level frame of
+  // prev (metres along u with u.z = 1, i.e. vertical depth below the prev
+  // camera) and its standard deviation, from earlier frames of its track
+  // (FeatureDepthMap). Empty, or NaN for a feature: unknown (the patch is used).
+  std::vector<double> prev_depth_m, prev_depth_sigma_m;
 };
 
 // Quality bits, the same values as nadir::vo_delta_t::QUALITY_*.
@@ -97,6 +104,11 @@ struct Estimate {
   int iterations = 0;          // Levenberg-Marquardt iterations (or refinement steps)
   int quality = 0;             // Quality bits; 0 = good
   std::vector<double> weights;  // final robust weight per feature (0 = outlier)
+  // feature_depth variant: the factor that re-anchored the features' own
+  // depths on this pair's altimeter (1 where none was used), and per feature
+  // whether its own depth was used (else the patch's).
+  double depth_scale = 1.0;
+  std::vector<char> used_own_depth;
 };
 
 // The same pair seen backwards in time: curr becomes prev and vice versa
@@ -111,5 +123,8 @@ Estimate solve(const FramePair& pair, const SolverOptions& options);
 Estimate solve_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt);
 Estimate solve_homography(const FramePair& pair, const SolverOptions& options);
 Estimate solve_flow(const FramePair& pair, const SolverOptions& options);
+// feature_depth_solver.cc: the features' own depths where known well enough,
+// the patch elsewhere; without enough of them exactly solve_paper.
+Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options);
 
 }  // namespace nadir::vo

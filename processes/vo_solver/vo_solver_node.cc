@@ -15,7 +15,11 @@ const char* const kQualityNames[VoSolverNode::kQualityBits] = {
 }  // namespace
 
 VoSolverNode::VoSolverNode(const VoSolverOptions& options, Bus& bus, const InputCheckOptions& checks)
-    : options_(options), bus_(bus), sync_(options.sync, options.default_beam_body), gate_(checks) {
+    : options_(options),
+      bus_(bus),
+      sync_(options.sync, options.default_beam_body),
+      depth_map_(options.solver),
+      gate_(checks) {
   bus_.subscribe<tracks_t>(channels::kTracks, [this](const tracks_t& m) { on_tracks(m); });
   bus_.subscribe<ins_t>(channels::kIns, [this](const ins_t& m) { on_ins(m); });
   bus_.subscribe<altimeter_t>(channels::kAltimeter, [this](const altimeter_t& m) { on_altimeter(m); });
@@ -77,6 +81,8 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
       (!first_frame && tracks.utime - tracks.prev_utime > options_.sync.max_frame_interval_us)) {
     quality |= vo::kFrameGap;
   }
+  // Own depths never cross a gap, a tracker reset or a frame without an estimate.
+  if (quality || flush || first_frame) depth_map_.reset();
   if (flush) {
     // Never got its INS: keep the frame's time but say why there is no estimate.
     out.quality = quality | vo::kNoAttitude;
@@ -97,6 +103,7 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
     if (prev.range_stale) quality |= vo::kStaleAltimeter;
   }
   if (quality & (vo::kNoAttitude | vo::kNoAltimeter)) {
+    depth_map_.reset();
     out.quality = quality;
     out.outliers = tracks.num_tracks;
     return out;
@@ -118,6 +125,8 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
                               static_cast<int>(std::min(tracks.prev_norm.size(), tracks.curr_norm.size())));
   pair.prev_norm.reserve(n);
   pair.curr_norm.reserve(n);
+  const bool own_depths = options_.solver.variant == vo::Variant::kFeatureDepth;
+  std::vector<int64_t> ids;
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector2d p(tracks.prev_norm[i][0], tracks.prev_norm[i][1]);
     const Eigen::Vector2d c(tracks.curr_norm[i][0], tracks.curr_norm[i][1]);
@@ -127,8 +136,11 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
     }
     pair.prev_norm.push_back(p);
     pair.curr_norm.push_back(c);
+    if (own_depths) ids.push_back(i < static_cast<int>(tracks.track_id.size()) ? tracks.track_id[i] : -1 - i);
   }
+  if (own_depths) depth_map_.fill(ids, tracks.prev_utime, &pair);
   vo::Estimate est = vo::solve(pair, options_.solver);
+  if (own_depths) depth_map_.update(ids, tracks.utime, pair, est);
   vo::add_sensor_uncertainty(pair, options_.solver, options_.uncertainty, &est);  // INS and altimeter errors
   out.dx = est.translation.x();
   out.dy = est.translation.y();
@@ -187,6 +199,11 @@ StatusReport VoSolverNode::status() const {
                 {"nonfinite_features", static_cast<double>(bad_features_)},
                 {"last_inliers", static_cast<double>(last_inliers_)},
                 {"last_residual_px", last_residual_px_}};
+  if (options_.solver.variant == vo::Variant::kFeatureDepth) {
+    r.counters.insert(r.counters.end(), {{"own_depths", static_cast<double>(depth_map_.size())},
+                                         {"own_depth_resets", static_cast<double>(depth_map_.resets())},
+                                         {"own_depths_rejected", static_cast<double>(depth_map_.rejected_depths())}});
+  }
   for (int bit = 0; bit < kQualityBits; ++bit) {
     r.counters.emplace_back(std::string("quality_") + kQualityNames[bit], static_cast<double>(quality_counts_[bit]));
   }

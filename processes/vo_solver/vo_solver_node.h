@@ -13,6 +13,7 @@
 #include "common/node.h"
 #include "nadir/tracks_t.hpp"
 #include "nadir/vo_delta_t.hpp"
+#include "processes/vo_solver/feature_depth_map.h"
 #include "processes/vo_solver/frame_sync.h"
 #include "processes/vo_solver/vo_solver_options.h"
 
@@ -41,6 +42,7 @@ class VoSolverNode : public Node {
   VoSolverOptions options_;
   Bus& bus_;
   vo::FrameSync sync_;
+  vo::FeatureDepthMap depth_map_;  // feature_depth variant: per-track depths
   InputGate gate_;
   std::map<int64_t, tracks_t> pending_;  // by utime
   int64_t last_published_utime_ = INT64_MIN;

@@ -32,7 +32,7 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   try {
     o.solver.variant = vo::variant_from_name(variant);
   } catch (const std::invalid_argument& e) {
-    throw c.error("variant", "= '" + variant + "' is not one of paper, level_ground, homography, flow");
+    throw c.error("variant", "= '" + variant + "' is not one of paper, level_ground, homography, flow, feature_depth");
   }
   auto& s = o.solver;
   s.threshold_focal_px = c.get_in_range("threshold_focal_px", s.threshold_focal_px, 1.0, 1e5);
@@ -50,6 +50,18 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   s.max_residual_rms_px = c.get_in_range("max_residual_rms_px", s.max_residual_rms_px, 0.01, 100.0);
   s.min_inlier_fraction = c.get_in_range("min_inlier_fraction", s.min_inlier_fraction, 0.0, 1.0);
   s.homography_ransac_px = c.get_in_range("homography_ransac_px", s.homography_ransac_px, 0.01, 100.0);
+  const Config d = c.section_or_empty("feature_depth");
+  auto& fd = s.feature_depth;
+  fd.max_relative_sigma = d.get_in_range("max_relative_sigma", fd.max_relative_sigma, 1e-6, 1.0);
+  fd.min_own_depth_features = d.get_in_range("min_own_depth_features", fd.min_own_depth_features, 5, 10000);
+  fd.anchor_radius = d.get_in_range("anchor_radius", fd.anchor_radius, 1e-3, 2.0);
+  fd.min_anchor_features = d.get_in_range("min_anchor_features", fd.min_anchor_features, 3, 10000);
+  fd.patch_feature_weight = d.get_in_range("patch_feature_weight", fd.patch_feature_weight, 0.0, 1.0);
+  fd.triangulation_noise_px = d.get_in_range("triangulation_noise_px", fd.triangulation_noise_px, 1e-3, 100.0);
+  fd.min_parallax_rad = d.get_in_range("min_parallax_rad", fd.min_parallax_rad, 1e-6, 0.5);
+  fd.relative_process_noise = d.get_in_range("relative_process_noise", fd.relative_process_noise, 0.0, 1.0);
+  fd.max_epipolar_px = d.get_in_range("max_epipolar_px", fd.max_epipolar_px, 1e-3, 100.0);
+  fd.max_depth_jump_sigma = d.get_in_range("max_depth_jump_sigma", fd.max_depth_jump_sigma, 1.0, 100.0);
   const std::string dz_mode = c.get<std::string>("dz_mode", "symmetric");
   if (dz_mode != "symmetric" && dz_mode != "forward") {
     throw c.error("dz_mode", "= '" + dz_mode + "' must be symmetric or forward");

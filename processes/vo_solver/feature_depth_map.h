@@ -1,0 +1,53 @@
+#pragma once
+// Per-track depth for the feature_depth variant (DERIVATION.md section 13):
+// each track's depth in the level frame of the last solved frame, with its
+// standard deviation, refined at every frame by triangulating the pair's two
+// rays with the solved motion and INS attitude (inverse-variance fusion with
+// the previous depth carried over by that motion and re-anchored on the
+// altimeter). Nothing survives a frame that was not solved: a gap, a tracker
+// reset, a time jump or a failed estimate clears the map, so no stale depth
+// is used across it.
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "processes/vo_solver/translation_solver.h"
+
+namespace nadir::vo {
+
+class FeatureDepthMap {
+ public:
+  explicit FeatureDepthMap(const SolverOptions& options) : options_(options) {}
+
+  void reset();
+  // Fills pair->prev_depth_m / prev_depth_sigma_m (NaN: unknown) for the
+  // tracks `ids` (parallel to the pair's points). The stored depths are for
+  // the frame at the utime they were stored at: if that is not prev_utime
+  // (a frame was skipped), the map is cleared first.
+  void fill(const std::vector<int64_t>& ids, int64_t prev_utime, FramePair* pair);
+  // After `pair` (filled by `fill`) was solved into `est`: stores each
+  // track's depth in the level frame of curr (curr_utime). A failed estimate
+  // clears the map.
+  void update(const std::vector<int64_t>& ids, int64_t curr_utime, const FramePair& pair, const Estimate& est);
+
+  size_t size() const { return depths_.size(); }
+  int64_t resets() const { return resets_; }
+  // Tracks whose own depth was used and rejected by the fit (a cliff edge, a
+  // moving object): the depth is dropped, not fused.
+  int64_t rejected_depths() const { return rejected_; }
+  // Tracks off their epipolar line under the solved motion: no depth.
+  int64_t off_epipolar() const { return off_epipolar_; }
+
+ private:
+  struct Entry {
+    double depth = 0, sigma = 0;  // vertical depth below the camera, metres
+    int observations = 0;
+  };
+  SolverOptions options_;
+  std::unordered_map<int64_t, Entry> depths_;
+  int64_t utime_ = INT64_MIN;
+  int64_t resets_ = 0, rejected_ = 0, off_epipolar_ = 0;
+};
+
+}  // namespace nadir::vo

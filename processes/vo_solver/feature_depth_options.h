@@ -1,0 +1,40 @@
+#pragma once
+// Options of the feature_depth solver variant (DERIVATION.md section 13):
+// which own depths are trusted, how they are re-anchored on the altimeter,
+// and how the per-track depth filter (FeatureDepthMap) updates.
+
+namespace nadir::vo {
+
+struct FeatureDepthOptions {
+  // A feature's own depth is used when its standard deviation is below this
+  // share of the depth; else the ground patch gives its depth.
+  double max_relative_sigma = 0.03;
+  // At least this many features with a usable own depth, else the pair is
+  // solved by the paper's model alone (identical to variant paper).
+  int min_own_depth_features = 30;
+  // Altimeter anchor: a plane fitted to the own-depth points whose level rays
+  // lie within this radius (normalized image units, about 0.25 * focal px)
+  // of the altimeter beam gives the structure's range along the beam; the
+  // altimeter's range over it is the scale of every own depth. At least
+  // min_anchor_features of them, else the paper's model alone.
+  double anchor_radius = 0.25;
+  int min_anchor_features = 8;
+  // Weight of a feature on the patch (young) beside one with its own depth.
+  double patch_feature_weight = 0.25;
+  // Depth filter: image noise assumed for triangulation (pixels), the
+  // parallax (rad) below which a pair says nothing about depth (hover), the
+  // growth of each depth's relative sigma per frame (process noise), and the
+  // distance (pixels) of a track from its epipolar line beyond which it is
+  // not on a static surface (moving object, mismatch): its depth is dropped.
+  double triangulation_noise_px = 0.5;
+  double min_parallax_rad = 1e-3;
+  double relative_process_noise = 0.002;
+  double max_epipolar_px = 2.0;
+  // A pair's triangulated depth this many combined sigmas from the carried
+  // one: the surface under the track changed (cliff edge); restart from the pair.
+  double max_depth_jump_sigma = 5.0;
+  // Throws std::invalid_argument naming the field and the allowed range.
+  void Check() const;
+};
+
+}  // namespace nadir::vo

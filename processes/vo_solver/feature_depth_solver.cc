@@ -1,0 +1,342 @@
+// The feature_depth variant (DERIVATION.md section 13): features with their
+// own depth (triangulated over earlier frames of their track, FeatureDepthMap)
+// constrain the motion with that depth, re-anchored on this pair's altimeter;
+// the others with the paper's ground patch.
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include "common/geometry.h"
+#include "processes/vo_solver/plane_model.h"
+#include "processes/vo_solver/solver_support.h"
+#include "processes/vo_solver/translation_solver.h"
+
+namespace nadir::vo {
+
+void FeatureDepthOptions::Check() const {
+  auto require = [](bool ok, const char* field, const char* range) {
+    if (!ok) throw std::invalid_argument(std::string("feature_depth.") + field + " must be " + range);
+  };
+  require(max_relative_sigma > 0 && max_relative_sigma <= 1, "max_relative_sigma", "in (0, 1]");
+  require(min_own_depth_features >= 5 && min_own_depth_features <= 10000, "min_own_depth_features", "in [5, 10000]");
+  require(anchor_radius > 0 && anchor_radius <= 2, "anchor_radius", "in (0, 2]");
+  require(min_anchor_features >= 3 && min_anchor_features <= 10000, "min_anchor_features", "in [3, 10000]");
+  require(patch_feature_weight >= 0 && patch_feature_weight <= 1, "patch_feature_weight", "in [0, 1]");
+  require(triangulation_noise_px > 0 && triangulation_noise_px <= 100, "triangulation_noise_px", "in (0, 100]");
+  require(min_parallax_rad > 0 && min_parallax_rad <= 0.5, "min_parallax_rad", "in (0, 0.5]");
+  require(relative_process_noise >= 0 && relative_process_noise <= 1, "relative_process_noise", "in [0, 1]");
+  require(max_epipolar_px > 0 && max_epipolar_px <= 100, "max_epipolar_px", "in (0, 100]");
+  require(max_depth_jump_sigma >= 1 && max_depth_jump_sigma <= 100, "max_depth_jump_sigma", "in [1, 100]");
+}
+
+namespace {
+
+struct DepthFeature {
+  Eigen::Vector3d u, v;  // level rays of prev and curr, z = 1
+  double depth = 0;      // along u (vertical depth below the prev camera), metres
+  double base_weight = 0;
+  bool own = false;
+  int index = 0;         // in the input pair
+};
+
+// Scale of the own depths from the prev altimeter: a plane z = a + b x + c y
+// fitted (Gaussian weights by distance to the beam, one pass of outlier
+// rejection) to the own-depth points whose rays lie within `radius` of the
+// beam, met by the beam: range_along_beam(structure) * scale = measured range.
+bool anchor_scale(const std::vector<DepthFeature>& features, const Eigen::Vector3d& beam, double range_m,
+                  const FeatureDepthOptions& o, double* scale, double* relative_sigma) {
+  const Eigen::Vector2d beam_xy = beam.head<2>() / beam.z();
+  std::vector<int> near;
+  std::vector<double> weight;
+  for (size_t i = 0; i < features.size(); ++i) {
+    const DepthFeature& f = features[i];
+    const double d = (f.u.head<2>() - beam_xy).norm();
+    if (!f.own || d > o.anchor_radius) continue;
+    near.push_back(static_cast<int>(i));
+    const double sd = 0.5 * o.anchor_radius;
+    weight.push_back(std::exp(-0.5 * d * d / (sd * sd)));
+  }
+  Eigen::Vector3d coef = Eigen::Vector3d::Zero();
+  std::vector<double> residual(near.size(), 0.0);
+  double cut = std::numeric_limits<double>::infinity();
+  double sum_w = 0, sum_w2r2 = 0;
+  int used = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    used = 0;
+    sum_w = 0;
+    for (size_t k = 0; k < near.size(); ++k) {
+      if (!(std::abs(residual[k]) <= cut)) continue;
+      const DepthFeature& f = features[near[k]];
+      const Eigen::Vector3d x(1.0, f.depth * f.u.x(), f.depth * f.u.y());
+      a += weight[k] * x * x.transpose();
+      b += weight[k] * f.depth * x;
+      sum_w += weight[k];
+      ++used;
+    }
+    if (used < o.min_anchor_features) return false;
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(a);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+    coef = ldlt.solve(b);
+    std::vector<double> abs_res;
+    sum_w2r2 = 0;
+    for (size_t k = 0; k < near.size(); ++k) {
+      const DepthFeature& f = features[near[k]];
+      residual[k] = f.depth - coef.dot(Eigen::Vector3d(1.0, f.depth * f.u.x(), f.depth * f.u.y()));
+      abs_res.push_back(std::abs(residual[k]));
+      if (std::abs(residual[k]) <= cut) sum_w2r2 += weight[k] * weight[k] * residual[k] * residual[k];
+    }
+    cut = std::max(1e-9 * coef(0), 3.0 * 1.4826 * median_of(abs_res));
+  }
+  // The beam point lambda * beam on z = a + b x + c y.
+  const double denom = beam.z() - coef(1) * beam.x() - coef(2) * beam.y();
+  const double lambda = denom > 1e-9 ? coef(0) / denom : -1.0;
+  if (!(lambda > 0) || !std::isfinite(lambda)) return false;
+  *scale = range_m / lambda;
+  // Standard deviation of the weighted mean depth near the beam, relative.
+  *relative_sigma = std::sqrt(sum_w2r2) / sum_w / (lambda * beam.z());
+  return std::isfinite(*scale) && *scale > 0;
+}
+
+// Reprojection of feature f into the curr level frame for motion
+// (dx, dy, dz, dyaw): Y = Rz(-dyaw) (depth u - t), error (Y_xy / Y_z - v_xy)
+// in pixels; Jacobian 2 x 4 if asked. False when the point is behind curr.
+using Motion = Eigen::Matrix<double, 4, 1>;
+bool reprojection(const DepthFeature& f, const Motion& m, double focal_px, Eigen::Vector2d* error,
+                  Eigen::Matrix<double, 2, 4>* jacobian) {
+  const double c = std::cos(m(3)), s = std::sin(m(3));
+  const Eigen::Vector3d p = f.depth * f.u - m.head<3>();
+  const Eigen::Vector3d y(c * p.x() + s * p.y(), -s * p.x() + c * p.y(), p.z());
+  if (!(y.z() > 1e-9)) return false;
+  const double iz = 1.0 / y.z();
+  *error = focal_px * Eigen::Vector2d(y.x() * iz - f.v.x(), y.y() * iz - f.v.y());
+  if (jacobian) {
+    Eigen::Matrix<double, 2, 3> dproj;
+    dproj << iz, 0, -y.x() * iz * iz, 0, iz, -y.y() * iz * iz;
+    Eigen::Matrix3d dy_dt;  // -Rz(-dyaw)
+    dy_dt << -c, -s, 0, s, -c, 0, 0, 0, -1;
+    const Eigen::Vector3d dy_dyaw(-s * p.x() + c * p.y(), -c * p.x() - s * p.y(), 0.0);
+    jacobian->leftCols<3>() = focal_px * dproj * dy_dt;
+    jacobian->col(3) = focal_px * dproj * dy_dyaw;
+  }
+  return error->allFinite();
+}
+
+}  // namespace
+
+Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options) {
+  const FeatureDepthOptions& o = options.feature_depth;
+  const size_t n = pair.prev_norm.size();
+  auto own_usable = [&](size_t i) {
+    if (i >= pair.prev_depth_m.size() || i >= pair.prev_depth_sigma_m.size()) return false;
+    const double d = pair.prev_depth_m[i], sd = pair.prev_depth_sigma_m[i];
+    return std::isfinite(d) && std::isfinite(sd) && d > 0 && sd >= 0 && sd <= o.max_relative_sigma * d;
+  };
+  int own_count = 0;
+  for (size_t i = 0; i < n; ++i) own_count += own_usable(i);
+  // Too few own depths (the start of a track set, a hover, after a gap): the paper's model alone.
+  if (own_count < o.min_own_depth_features || pair.curr_norm.size() != n) return solve_paper(pair, options, true);
+
+  const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d prev_level = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
+  const Eigen::Matrix3d curr_level = level_from_camera(pair.curr_roll, pair.curr_pitch, pair.body_from_camera);
+  const Eigen::Vector3d prev_beam =
+      (level_from_camera(pair.prev_roll, pair.prev_pitch, identity) * pair.prev_beam_body).normalized();
+  const Eigen::Vector3d curr_beam =
+      (level_from_camera(pair.curr_roll, pair.curr_pitch, identity) * pair.curr_beam_body).normalized();
+  std::vector<DepthFeature> features;
+  features.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d u = prev_level * pair.prev_norm[i].homogeneous();
+    const Eigen::Vector3d v = curr_level * pair.curr_norm[i].homogeneous();
+    if (!u.allFinite() || !v.allFinite() || u.z() < 1e-6 || v.z() < 1e-6) continue;
+    DepthFeature f;
+    f.u = u / u.z();
+    f.v = v / v.z();
+    f.index = static_cast<int>(i);
+    f.own = own_usable(i);
+    f.depth = f.own ? pair.prev_depth_m[i] : 0.0;
+    features.push_back(f);
+  }
+  double scale = 1, scale_sigma = 0;
+  if (!(pair.prev_range_m > 0) ||
+      !anchor_scale(features, prev_beam, pair.prev_range_m, o, &scale, &scale_sigma)) {
+    return solve_paper(pair, options, true);
+  }
+  // The patch: ground attitude, young features' depths, the start and the fallback.
+  SolverOptions forward = options;
+  forward.symmetric_dz = false;
+  const Estimate patch = solve_paper(pair, forward, true);
+  constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
+  if (patch.quality & kFailed) return solve_paper(pair, options, true);
+
+  // Young features: depth on the patch (through the curr altimeter spot),
+  // seen from prev: n' . X = n . A + n' . t with n' = Rz(dyaw) n.
+  const Eigen::Vector3d normal = normal_from_tilt(patch.ground_roll, patch.ground_pitch);
+  const double plane_offset = normal.dot(pair.curr_range_m * curr_beam);
+  const Eigen::Vector3d prev_normal = rot_z(patch.dyaw) * normal;
+  const double prev_offset = plane_offset + prev_normal.dot(patch.translation);
+  for (DepthFeature& f : features) {
+    if (f.own) {
+      f.depth *= scale;
+      f.base_weight = 1.0;
+      continue;
+    }
+    const double along = prev_normal.dot(f.u);
+    f.depth = along > 1e-9 ? prev_offset / along : 0.0;
+    f.base_weight = f.depth > 0 ? o.patch_feature_weight : 0.0;
+  }
+
+  Motion motion;
+  motion << patch.translation, patch.dyaw;
+  const size_t m = features.size();
+  std::vector<double> w(m, 0.0), err(m, std::numeric_limits<double>::infinity());
+  auto errors = [&](const Motion& mo) {
+    Eigen::Vector2d e;
+    for (size_t i = 0; i < m; ++i) {
+      err[i] = features[i].base_weight > 0 && reprojection(features[i], mo, options.focal_px, &e, nullptr)
+                   ? e.norm()
+                   : std::numeric_limits<double>::infinity();
+    }
+  };
+  auto normal_equations = [&](const Motion& mo, Eigen::Matrix4d* h, Eigen::Vector4d* g) {
+    double cost = 0;
+    if (h) h->setZero();
+    if (g) g->setZero();
+    Eigen::Vector2d e;
+    Eigen::Matrix<double, 2, 4> j;
+    for (size_t i = 0; i < m; ++i) {
+      if (w[i] <= 0) continue;
+      if (!reprojection(features[i], mo, options.focal_px, &e, h ? &j : nullptr)) {
+        cost += w[i] * 1e12;
+        continue;
+      }
+      cost += w[i] * e.squaredNorm();
+      if (h) {
+        h->noalias() += w[i] * j.transpose() * j;
+        *g += w[i] * j.transpose() * e;
+      }
+    }
+    return cost;
+  };
+  const double min_threshold_px = options.min_threshold_px * options.pixel_scale();
+  const double max_threshold_px = options.max_threshold_px * options.pixel_scale();
+  const int min_used = std::max(options.min_features, 4);
+  bool converged = false, degenerate = false;
+  int iterations = 0;
+  for (int outer = 0; outer < options.max_robust_iterations && !degenerate; ++outer) {
+    errors(motion);
+    std::vector<double> finite_err;
+    for (size_t i = 0; i < m; ++i) {
+      if (features[i].base_weight > 0) finite_err.push_back(err[i]);
+    }
+    // The start is the patch's solution, which relief can leave pixels off: no cap at first.
+    double threshold = std::max(min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(finite_err));
+    if (outer > 0) threshold = std::min(threshold, max_threshold_px);
+    int used = 0;
+    for (size_t i = 0; i < m; ++i) {
+      const double e = err[i] / threshold;
+      w[i] = e < 1.0 ? features[i].base_weight * (1 - e * e) * (1 - e * e) : 0.0;
+      used += w[i] > 0;
+    }
+    if (used < min_used) break;
+    const Motion before = motion;
+    double lambda = 1e-3;
+    Eigen::Matrix4d h;
+    Eigen::Vector4d g;
+    double cost = normal_equations(motion, &h, &g);
+    for (int it = 0; it < options.max_lm_iterations; ++it) {
+      Eigen::Matrix4d a = h;
+      a.diagonal() *= 1.0 + lambda;
+      const Eigen::LDLT<Eigen::Matrix4d> ldlt(a);
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
+        degenerate = true;
+        break;
+      }
+      const Motion trial = motion - ldlt.solve(g);
+      if (!trial.allFinite()) {
+        degenerate = true;
+        break;
+      }
+      Eigen::Matrix4d trial_h;
+      Eigen::Vector4d trial_g;
+      const double trial_cost = normal_equations(trial, &trial_h, &trial_g);
+      if (trial_cost <= cost) {
+        const double change = std::max((trial - motion).head<3>().cwiseAbs().maxCoeff() / pair.curr_range_m,
+                                       std::abs(trial(3) - motion(3)));
+        motion = trial;
+        cost = trial_cost;
+        h = trial_h;
+        g = trial_g;
+        ++iterations;
+        lambda = std::max(lambda * 0.1, 1e-12);
+        if (change < 0.1 * options.convergence_tolerance) break;
+      } else {
+        lambda *= 10.0;
+        if (lambda > 1e10) break;
+      }
+    }
+    const double change = std::max((motion - before).head<3>().cwiseAbs().maxCoeff() / pair.curr_range_m,
+                                   std::abs(motion(3) - before(3)));
+    if (change < options.convergence_tolerance && threshold <= max_threshold_px) {
+      converged = true;
+      break;
+    }
+  }
+
+  Estimate est;
+  est.weights.assign(n, 0.0);
+  est.used_own_depth.assign(n, 0);
+  est.translation = motion.head<3>();
+  est.dyaw = wrap_angle(motion(3));
+  est.ground_roll = patch.ground_roll;
+  est.ground_pitch = patch.ground_pitch;
+  est.altitude_m = prev_vertical_height(normal, plane_offset, est.dyaw, est.translation);
+  est.iterations = patch.iterations + iterations;
+  est.depth_scale = scale;
+  errors(motion);
+  double sum_sq = 0, sum_w = 0;
+  for (size_t i = 0; i < m; ++i) {
+    const int k = features[i].index;
+    est.weights[k] = w[i];
+    est.used_own_depth[k] = features[i].own;
+    if (w[i] <= 0) continue;
+    ++est.inliers;
+    sum_sq += err[i] * err[i];
+    sum_w += w[i];
+  }
+  est.outliers = static_cast<int>(n) - est.inliers;
+  est.residual_rms_px = est.inliers > 0 ? std::sqrt(sum_sq / est.inliers) : 0.0;
+  if (est.inliers < min_used) est.quality |= kTooFewFeatures;
+  if (!(est.residual_rms_px <= options.max_residual_rms_px * options.pixel_scale()) ||
+      est.inliers < options.min_inlier_fraction * static_cast<double>(n)) {
+    est.quality |= kHighResidual;
+  }
+  if (!converged || degenerate) est.quality |= kNotConverged;
+  // Covariance: sigma^2 (J^T W J)^-1 of (dx, dy, dz, dyaw); the ground
+  // attitude's from the patch; the anchor's scale uncertainty along t.
+  Eigen::Matrix4d h;
+  Eigen::Vector4d g;
+  const double cost = normal_equations(motion, &h, &g);
+  est.covariance = patch.covariance;
+  est.covariance.topLeftCorner<4, 4>().setZero();
+  est.covariance.block<4, 2>(0, 4).setZero();
+  est.covariance.block<2, 4>(4, 0).setZero();
+  const Eigen::LDLT<Eigen::Matrix4d> ldlt(h);
+  if (est.inliers > 4 && sum_w > 0 && ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+    const double sigma2 = cost / sum_w * est.inliers / (est.inliers - 4);
+    est.covariance.topLeftCorner<4, 4>() = sigma2 * ldlt.solve(Eigen::Matrix4d::Identity());
+    est.covariance.topLeftCorner<3, 3>() += scale_sigma * scale_sigma * est.translation * est.translation.transpose();
+  } else {
+    est.quality |= kNotConverged;
+  }
+  return est;
+}
+
+}  // namespace nadir::vo
