@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
-# Issue 23's coasting on real simulated flights (rough_120: relief 3, a 40 m
-# climb from 35 s; seed 1), through nadir_replay (tracker, vo_solver,
-# yaw_fusion) and nadir_eval.
-#   coasting_test.sh altimeter: the same 60 s flight with and without a 10 s
-#     altimeter outage from 40 s (in the climb). Criterion: final 3-D error with the outage
+# Issue 23's coasting on real simulated flights (rough_120: relief 3, level
+# for the first 15 s, then a 40 m climb to 45 s; seed 1), through nadir_replay
+# (tracker, vo_solver, yaw_fusion) and nadir_eval.
+#   coasting_test.sh altimeter: the same 45 s flight with and without a 10 s
+#     altimeter outage from 25 s (in the climb). Criterion: final 3-D error with the outage
 #     <= 3 x the final 3-D error without it (the added error is printed); the
 #     reported horizontal sigma covers the true error at the end of the outage
 #     (error_h <= 3 sigma_h, sigma_h = sqrt(var_n + var_e)); the outage's poses
 #     are flagged coasting and none 2 s after it; no jump when VO resumes;
 #     the clean flight never coasts (the detectors' thresholds).
-#   coasting_test.sh texture: a 40 s flight with a 10 s texture outage
-#     (contrast 0.03) from 20 s (level flight: without VO nothing measures a
+#   coasting_test.sh texture: a 25 s flight with a 10 s texture outage
+#     (contrast 0.03) from 3.5 s (level flight: without VO nothing measures a
 #     climb over rough ground, the climb rate is held): coasting flagged, no
 #     vertical excursion (the vertical error moves less than 3 m; issue 23 saw
 #     8 m in 1.5 s), every POSE field finite.
@@ -24,10 +24,10 @@ mode="${1:-altimeter}"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 seed="${NADIR_COASTING_SEED:-1}"
-duration=60
-outage_start=40
+duration=45
+outage_start=25
 outage_s=10
-if [ "$mode" = texture ]; then duration=40; outage_start=20; fi
+if [ "$mode" = texture ]; then duration=25; outage_start=3.5; fi
 
 # fly NAME [nadir_sim options...]: simulate, replay, evaluate into $work/NAME/
 fly() {
