@@ -20,6 +20,7 @@
 #include "common/geometry.h"
 #include "common/log_file.h"
 #include "common/paths.h"
+#include "common/robust_stats.h"
 #include "nadir/config_t.hpp"
 #include "processes/sim/simulator.h"
 #include "tests/common/test_support.h"
@@ -313,8 +314,7 @@ TEST_F(ExportTest, MetadataExplainsTheImageMotionBetweenPhotos) {
     cv::projectPoints(in_b, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k, d, predicted);
     std::vector<double> errors;
     for (size_t j = 0; j < predicted.size(); ++j) errors.push_back(cv::norm(predicted[j] - cv::Point2d(used_b[j])));
-    std::nth_element(errors.begin(), errors.begin() + static_cast<long>(errors.size() / 2), errors.end());
-    EXPECT_LT(errors[errors.size() / 2], 3.0) << used_a.size() << " matches";
+    EXPECT_LT(median(errors, EvenMedian::kUpper), 3.0) << used_a.size() << " matches";
     if (std::fabs(result.photos[i].heading_change_deg) > 170.0) saw_turn = true;
   }
   EXPECT_TRUE(saw_turn);
