@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "common/geodetic.h"
 #include "common/geometry.h"
 #include "processes/ins_bridge/gps_time.h"
 
@@ -75,20 +76,6 @@ mavlink::Odometry odometry(const pose_t& pose, double attitude_variance_rad2, ui
   return m;
 }
 
-void ned_to_geodetic(double origin_lat_deg, double origin_lon_deg, double origin_alt_m, double north, double east,
-                     double down, double* lat_deg, double* lon_deg, double* alt_m) {
-  constexpr double kA = 6378137.0;              // WGS84 semi-major axis
-  constexpr double kE2 = 6.69437999014e-3;      // first eccentricity squared
-  const double lat0 = deg_to_rad(origin_lat_deg);
-  const double s = std::sin(lat0);
-  const double w = std::sqrt(1.0 - kE2 * s * s);
-  const double meridian = kA * (1.0 - kE2) / (w * w * w);
-  const double normal = kA / w;
-  *lat_deg = origin_lat_deg + rad_to_deg(north / meridian);
-  *lon_deg = origin_lon_deg + rad_to_deg(east / (normal * std::cos(lat0)));
-  *alt_m = origin_alt_m - down;
-}
-
 mavlink::GpsInput gps_input(const pose_t& pose, const GpsInputOptions& o) {
   mavlink::GpsInput m;
   m.time_usec = static_cast<uint64_t>(pose.utime);
@@ -97,12 +84,14 @@ mavlink::GpsInput gps_input(const pose_t& pose, const GpsInputOptions& o) {
   const int64_t week_us = ins_bridge::kSecondsPerWeek * 1000000;
   m.time_week = static_cast<uint16_t>(gps_us / week_us);
   m.time_week_ms = static_cast<uint32_t>((gps_us % week_us) / 1000);
-  double lat = 0, lon = 0, alt = 0;
-  ned_to_geodetic(o.origin_latitude_deg, o.origin_longitude_deg, o.origin_altitude_m, pose.position_ned[0],
-                  pose.position_ned[1], pose.position_ned[2], &lat, &lon, &alt);
-  m.lat = static_cast<int32_t>(std::llround(lat * 1e7));
-  m.lon = static_cast<int32_t>(std::llround(lon * 1e7));
-  m.alt = static_cast<float>(alt);
+  // Radii of curvature on the ellipsoid surface at the origin (its altitude
+  // does not scale them); altitude = origin altitude - down.
+  const LocalTangentPlane plane({o.origin_latitude_deg, o.origin_longitude_deg, 0.0});
+  const GeodeticPoint geo =
+      plane.geodetic(Eigen::Vector3d(pose.position_ned[0], pose.position_ned[1], pose.position_ned[2]));
+  m.lat = static_cast<int32_t>(std::llround(geo.latitude_deg * 1e7));
+  m.lon = static_cast<int32_t>(std::llround(geo.longitude_deg * 1e7));
+  m.alt = static_cast<float>(o.origin_altitude_m + geo.height_m);
   m.hdop = static_cast<float>(o.hdop);
   m.vdop = static_cast<float>(o.vdop);
   m.vn = static_cast<float>(pose.velocity_ned[0]);

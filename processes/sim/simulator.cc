@@ -77,6 +77,7 @@ Simulator::Simulator(const FlightProfile& profile, const SimCamera& camera, cons
                   r.gain = std::pow(10.0, sensors.camera.gain_db / 20.0);
                   return r;
                 }()),
+      local_plane_({profile.reference_latitude_deg, profile.reference_longitude_deg, profile.reference_height_m}),
       trigger_rng_(options.seed, 1),
       ins_rng_(options.seed, 2),
       altimeter_rng_(options.seed, 3),
@@ -341,15 +342,10 @@ void Simulator::make_ins(int64_t k, SimEvent* e) {
     msg.position_stddev[i] = 0.0;
   }
   // Local NED -> geodetic about the profile's reference point (WGS84 radii).
-  const double a = 6378137.0, e2 = 6.69437999014e-3;
-  const double lat0 = deg2rad(profile_.reference_latitude_deg);
-  const double sin_lat = std::sin(lat0);
-  const double w = 1.0 - e2 * sin_lat * sin_lat;
-  const double r_n = a / std::sqrt(w), r_m = a * (1.0 - e2) / (w * std::sqrt(w));
-  const double h0 = profile_.reference_height_m;
-  msg.latitude_deg = profile_.reference_latitude_deg + rad2deg(s.position_ned.x() / (r_m + h0));
-  msg.longitude_deg = profile_.reference_longitude_deg + rad2deg(s.position_ned.y() / ((r_n + h0) * std::cos(lat0)));
-  msg.height_m = h0 - s.position_ned.z();
+  const GeodeticPoint geo = local_plane_.geodetic(s.position_ned);
+  msg.latitude_deg = geo.latitude_deg;
+  msg.longitude_deg = geo.longitude_deg;
+  msg.height_m = geo.height_m;
   msg.ins_status = 3;  // NovAtel INS_SOLUTION_GOOD
   msg.flags = ins_t::FLAG_ALIGNED | ins_t::FLAG_SOLUTION_GOOD | ins_t::FLAG_SIMULATED;
   msg.has_stddev = true;

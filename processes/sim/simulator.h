@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/geodetic.h"
 #include "processes/sim/flight_profile.h"
 #include "processes/sim/gauss_markov.h"
 #include "processes/sim/renderer.h"
@@ -126,6 +127,7 @@ class Simulator {
   Terrain terrain_;
   Trajectory trajectory_;
   Renderer renderer_;
+  LocalTangentPlane local_plane_;  // INS latitude/longitude about the profile's reference point
   double duration_s_ = 0.0;
   int64_t duration_us_ = 0;
   double sim_time_s_ = 0.0;

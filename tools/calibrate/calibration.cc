@@ -5,18 +5,20 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 
 #include "common/camera_model.h"
 #include "common/channels.h"
+#include "common/geodetic.h"
 #include "common/geometry.h"
 #include "common/json_writer.h"
 #include "common/log_file.h"
 #include "common/message_guard.h"
 #include "common/progress.h"
+#include "common/robust_stats.h"
 #include "common/sensor_calibration.h"
 #include "nadir/altimeter_t.hpp"
 #include "nadir/ground_truth_t.hpp"
@@ -33,26 +35,6 @@ bool decode(const LogEvent& e, Msg* msg) {
   std::string reason;
   return decode_message(e.data, e.size, msg, &reason);
 }
-
-// Local north-east-down about a geodetic origin (WGS84 radii of curvature at
-// the origin: metres over a calibration segment of a few km).
-class LocalTangentPlane {
- public:
-  LocalTangentPlane(double lat_deg, double lon_deg, double height_m)
-      : lat0_(deg_to_rad(lat_deg)), lon0_(deg_to_rad(lon_deg)), h0_(height_m) {
-    const double a = 6378137.0, e2 = 6.69437999014e-3;
-    const double s = std::sin(lat0_), w = 1.0 - e2 * s * s;
-    r_n_ = a / std::sqrt(w);
-    r_m_ = a * (1.0 - e2) / (w * std::sqrt(w));
-  }
-  Eigen::Vector3d ned(double lat_deg, double lon_deg, double height_m) const {
-    return {(deg_to_rad(lat_deg) - lat0_) * (r_m_ + h0_),
-            (deg_to_rad(lon_deg) - lon0_) * (r_n_ + h0_) * std::cos(lat0_), h0_ - height_m};
-  }
-
- private:
-  double lat0_, lon0_, h0_, r_n_ = 0, r_m_ = 0;
-};
 
 Eigen::Matrix3d exp_so3(const Eigen::Vector3d& v) {
   const double angle = v.norm();
@@ -314,13 +296,6 @@ Estimate make_estimate(const std::string& name, double value, double sigma, bool
   return e;
 }
 
-double median_abs(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  for (double& x : v) x = std::fabs(x);
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
 struct CameraFit {
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(5);
   Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(5, 5);
@@ -344,7 +319,7 @@ CameraFit fit_camera(const EpipolarFit& fit, const std::vector<bool>& active, co
   for (int it = 0; it < iterations; ++it) {
     r = fit.residuals(out.theta);
     // Robust sigma from the median absolute residual; outliers (mistracks) dropped.
-    const double sigma = 1.4826 * median_abs(std::vector<double>(r.data(), r.data() + r.size()));
+    const double sigma = abs_sigma(std::vector<double>(r.data(), r.data() + r.size()), EvenMedian::kUpper);
     for (size_t i = 0; i < use.size(); ++i)
       use[i] = std::fabs(r[static_cast<Eigen::Index>(i)]) <= options.outlier_sigma * sigma && !skipped(i);
     j = fit.jacobian(out.theta, active);
@@ -417,7 +392,7 @@ FlightData load_flight(const std::string& log_path, bool progress) {
   FlightData data;
   LogReader reader(log_path);
   ProgressBar bar("reading " + log_path, static_cast<double>(reader.size()), progress && stderr_is_terminal());
-  std::unique_ptr<LocalTangentPlane> plane;
+  std::optional<LocalTangentPlane> plane;  // about the first INS fix (WGS84 radii at its height)
   LogEvent e;
   while (reader.next(&e)) {
     bar.update(static_cast<double>(reader.position()));
@@ -425,13 +400,13 @@ FlightData load_flight(const std::string& log_path, bool progress) {
       ins_t m;
       if (!decode(e, &m)) continue;
       if (!plane) {
-        plane = std::make_unique<LocalTangentPlane>(m.latitude_deg, m.longitude_deg, m.height_m);
+        plane.emplace(GeodeticPoint{m.latitude_deg, m.longitude_deg, m.height_m});
         data.reference_height_m = m.height_m;
       }
       if (!data.ins.empty() && m.utime <= data.ins.back().utime) continue;  // keep time strictly increasing
       data.ins.push_back({m.utime, m.roll, m.pitch, m.yaw, m.has_rates != 0,
                           Eigen::Vector3d(m.angular_rate[0], m.angular_rate[1], m.angular_rate[2]),
-                          plane->ned(m.latitude_deg, m.longitude_deg, m.height_m)});
+                          plane->ned({m.latitude_deg, m.longitude_deg, m.height_m})});
     } else if (e.channel == channels::kTracks) {
       tracks_t m;
       if (!decode(e, &m)) continue;
@@ -666,7 +641,7 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
         }
       c = h.ldlt().solve(g);
       const Eigen::VectorXd r = xx - j * c;
-      const double sigma = 1.4826 * median_abs(std::vector<double>(r.data(), r.data() + r.size()));
+      const double sigma = abs_sigma(std::vector<double>(r.data(), r.data() + r.size()), EvenMedian::kUpper);
       for (Eigen::Index i = 0; i < n; ++i) use[static_cast<size_t>(i)] = std::fabs(r[i]) <= options.outlier_sigma * sigma;
     }
     const Eigen::VectorXd r = xx - j * c;

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
+
+#include "common/robust_stats.h"
 
 namespace nadir::calibrate {
 namespace {
@@ -19,14 +22,6 @@ bool position_at(const std::vector<PositionSample>& positions, int64_t utime, Ei
   const double a = static_cast<double>(utime - before->utime) / static_cast<double>(after->utime - before->utime);
   *out = (1.0 - a) * before->position_ned + a * after->position_ned;
   return true;
-}
-
-double median(std::vector<double> v) {
-  const size_t m = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
-  if (v.size() % 2 == 1) return v[m];
-  const double upper = v[m];
-  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m)));
 }
 
 }  // namespace
@@ -51,9 +46,7 @@ GpsScaleFit fit_gps_scale(const std::vector<VoStep>& steps, const std::vector<Po
   // Median of the log ratio (a scale error is multiplicative), robust spread
   // from the median absolute deviation, outliers (mismatched pairs) dropped.
   double centre = median(log_ratio);
-  std::vector<double> dev;
-  for (double r : log_ratio) dev.push_back(std::fabs(r - centre));
-  const double spread = 1.4826 * median(dev);
+  const double spread = mad_sigma(log_ratio);
   std::vector<double> kept;
   for (double r : log_ratio)
     if (spread == 0.0 || std::fabs(r - centre) <= outlier_sigma * spread) kept.push_back(r);

@@ -6,10 +6,10 @@
 #include <functional>
 #include <stdexcept>
 
+#include "common/geodetic.h"
+
 namespace nadir {
 namespace {
-
-constexpr double kEarthRadius = 6378137.0;
 
 std::ofstream open_out(const std::string& path) {
   std::ofstream out(path);
@@ -18,20 +18,16 @@ std::ofstream open_out(const std::string& path) {
   return out;
 }
 
-void to_lat_lon(const EvalResult& r, const std::array<double, 3>& ned, double* lat, double* lon) {
-  const double lat0 = r.reference_lat_deg * M_PI / 180.0;
-  *lat = r.reference_lat_deg + ned[0] / kEarthRadius * 180.0 / M_PI;
-  *lon = r.reference_lon_deg + ned[1] / (kEarthRadius * std::cos(lat0)) * 180.0 / M_PI;
-}
-
 // Calls f(lon, lat, alt) for every sample of one track (at most ~2000 points).
+// Latitude/longitude about the reference fix with the WGS84 radii on the
+// ellipsoid surface; altitude relative to the first pose.
 void for_track(const EvalResult& r, bool estimate, const std::function<void(double, double, double)>& f) {
+  const LocalTangentPlane plane({r.reference_lat_deg, r.reference_lon_deg, 0.0});
   const size_t step = std::max<size_t>(1, r.samples.size() / 2000);
   for (size_t i = 0; i < r.samples.size(); i += step) {
     const auto& ned = estimate ? r.samples[i].estimate : r.samples[i].truth;
-    double lat = 0, lon = 0;
-    to_lat_lon(r, ned, &lat, &lon);
-    f(lon, lat, -ned[2]);
+    const GeodeticPoint geo = plane.geodetic(Eigen::Vector3d(ned[0], ned[1], ned[2]));
+    f(geo.longitude_deg, geo.latitude_deg, -ned[2]);
   }
 }
 

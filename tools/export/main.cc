@@ -8,6 +8,7 @@
 #include <exception>
 
 #include "common/json_writer.h"
+#include "common/robust_stats.h"
 #include "common/progress.h"
 #include "tools/export/exporter.h"
 
@@ -33,7 +34,7 @@ void print_photos(const PhotoExportResult& r, const std::string& in, const std::
     max_heading_change = std::max(max_heading_change, std::fabs(p.heading_change_deg));
   }
   std::sort(line_overlaps.begin(), line_overlaps.end());
-  const double median = line_overlaps.empty() ? 0.0 : line_overlaps[line_overlaps.size() / 2];
+  const double median = line_overlaps.empty() ? 0.0 : nadir::median(line_overlaps, nadir::EvenMedian::kUpper);
   const double lo = line_overlaps.empty() ? 0.0 : line_overlaps.front();
   const double hi = line_overlaps.empty() ? 0.0 : line_overlaps.back();
   const double span_s = (r.photos.back().utime - r.photos.front().utime) * 1e-6;

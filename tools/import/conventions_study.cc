@@ -19,9 +19,11 @@
 #include "common/camera_model.h"
 #include "common/channels.h"
 #include "common/config.h"
+#include "common/geodetic.h"
 #include "common/geometry.h"
 #include "common/log_file.h"
 #include "common/message_guard.h"
+#include "common/robust_stats.h"
 #include "nadir/altimeter_t.hpp"
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/image_t.hpp"
@@ -42,10 +44,10 @@ struct Pair {
   int inliers = 0;
 };
 
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
+// The upper middle value (the figures in tools/import/README.md were printed
+// with it); NaN for no values, printed as such.
+double median(const std::vector<double>& v) {
+  return v.empty() ? NAN : nadir::median(v, nadir::EvenMedian::kUpper);
 }
 
 // ORB + ratio test + RANSAC homography a -> b. `u`: image b's centre located in image a, minus image a's
@@ -180,10 +182,13 @@ int main(int argc, char** argv) {
     meta.push_back(m);
     images.push_back(g);
   }
-  const double lat0 = meta.front().sf_lat_deg, r = 6378137.0;
-  auto ned = [&](const nadir::import::PhotoMetadata& m) {
-    return Eigen::Vector2d(deg_to_rad(m.sf_lat_deg - lat0) * r, deg_to_rad(m.sf_lon_deg) * r * std::cos(deg_to_rad(lat0)));
-  };
+  if (meta.empty()) {
+    std::fprintf(stderr, "nadir_import_conventions: error: %s: no image with senseFly position, attitude and height\n",
+                 dir.c_str());
+    return 2;
+  }
+  const nadir::LocalTangentPlane plane({meta.front().sf_lat_deg, meta.front().sf_lon_deg, 0.0});
+  auto ned = [&](const nadir::import::PhotoMetadata& m) { return plane.north_east(m.sf_lat_deg, m.sf_lon_deg); };
   std::vector<Pair> pairs;
   for (size_t i = 0; i + 1 < images.size(); ++i) {
     if (images[i].size() != images[i + 1].size()) continue;

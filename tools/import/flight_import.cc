@@ -17,11 +17,13 @@
 #include <stdexcept>
 
 #include "common/channels.h"
+#include "common/geodetic.h"
 #include "common/geometry.h"
 #include "common/json_writer.h"
 #include "common/log_file.h"
 #include "common/message_guard.h"
 #include "common/progress.h"
+#include "common/robust_stats.h"
 #include "nadir/altimeter_t.hpp"
 #include "nadir/config_t.hpp"
 #include "nadir/ground_truth_t.hpp"
@@ -151,24 +153,21 @@ bool telemetry_sample(const TelemetryRecord& r, const std::array<double, 3>& mou
   return true;
 }
 
-// Local NED about the first sample (WGS84 radii at its latitude). Down from
-// the relative height when every sample has one kind of altitude ... see README.
+// Local NED about the first sample (WGS84 radii on the ellipsoid surface at
+// its latitude). Down from the relative height when every sample has one kind
+// of altitude ... see README.
 struct LocalFrame {
-  double lat0 = 0, lon0 = 0, up0 = 0, r_n = 0, r_m = 0;
+  LocalTangentPlane plane;
+  double up0 = 0;
   bool use_alt = false;
-  explicit LocalFrame(const Sample& first, bool use_alt_) : use_alt(use_alt_) {
-    const double a = 6378137.0, e2 = 6.69437999014e-3;
-    lat0 = first.lat_deg;
-    lon0 = first.lon_deg;
-    const double sl = std::sin(deg_to_rad(lat0)), w = 1.0 - e2 * sl * sl;
-    r_n = a / std::sqrt(w);
-    r_m = a * (1.0 - e2) / (w * std::sqrt(w));
+  explicit LocalFrame(const Sample& first, bool use_alt_)
+      : plane({first.lat_deg, first.lon_deg, 0.0}), use_alt(use_alt_) {
     up0 = up(first);
   }
   double up(const Sample& s) const { return use_alt ? s.alt_m : s.height_m; }
   Eigen::Vector3d ned(const Sample& s) const {
-    return {deg_to_rad(s.lat_deg - lat0) * r_m, deg_to_rad(s.lon_deg - lon0) * r_n * std::cos(deg_to_rad(lat0)),
-            -(up(s) - up0)};
+    const Eigen::Vector2d ne = plane.north_east(s.lat_deg, s.lon_deg);
+    return {ne.x(), ne.y(), -(up(s) - up0)};
   }
 };
 
@@ -176,12 +175,6 @@ template <class Msg>
 void write_message(LogWriter* w, int64_t utime, const char* channel, const Msg& msg) {
   const std::vector<uint8_t> data = encode_message(msg);
   w->write(utime, channel, data.data(), data.size());
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-  return v[v.size() / 2];
 }
 
 std::vector<double> as_vector(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
@@ -605,7 +598,7 @@ ImportSummary run_import(const ImportOptions& o) {
     summary.max_gap_s = std::max(summary.max_gap_s, intervals.back());
     summary.distance_m += (origin->ned(written[i]) - origin->ned(written[i - 1])).norm();
   }
-  summary.median_interval_s = median(intervals);
+  summary.median_interval_s = intervals.empty() ? 0.0 : median(intervals, EvenMedian::kUpper);
   summary.mount_rpy_deg = mount;
 
   // 3. The final log: CONFIG first, then the body; and the config file.

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "common/channels.h"
+#include "common/geodetic.h"
 #include "common/geometry.h"
 #include "common/log_file.h"
 
@@ -55,7 +56,8 @@ class LogSource : public FlightSource {
 
 class GeneratedSource : public FlightSource {
  public:
-  explicit GeneratedSource(const GeneratedFlightOptions& o) : o_(o), rng_(o.seed) {}
+  explicit GeneratedSource(const GeneratedFlightOptions& o)
+      : o_(o), plane_({o.latitude_deg, o.longitude_deg, 0.0}), rng_(o.seed) {}
 
   bool next(Sample* sample) override {
     const int64_t ins_period = static_cast<int64_t>(1e6 / o_.ins_rate_hz);
@@ -117,9 +119,9 @@ class GeneratedSource : public FlightSource {
     m->velocity_ned[0] = s.vn;
     m->velocity_ned[1] = s.ve;
     m->velocity_ned[2] = s.vd;
-    const double earth = 6378137.0;
-    m->latitude_deg = o_.latitude_deg + rad_to_deg(s.north / earth);
-    m->longitude_deg = o_.longitude_deg + rad_to_deg(s.east / (earth * std::cos(deg_to_rad(o_.latitude_deg))));
+    const GeodeticPoint geo = plane_.geodetic(Eigen::Vector3d(s.north, s.east, 0.0));
+    m->latitude_deg = geo.latitude_deg;
+    m->longitude_deg = geo.longitude_deg;
     m->height_m = s.height;
     m->ins_status = 3;  // INS_SOLUTION_GOOD
     m->flags = ins_t::FLAG_ALIGNED | ins_t::FLAG_SOLUTION_GOOD | ins_t::FLAG_SIMULATED;
@@ -145,6 +147,7 @@ class GeneratedSource : public FlightSource {
   }
 
   GeneratedFlightOptions o_;
+  LocalTangentPlane plane_;  // WGS84 radii on the ellipsoid surface at the start
   std::mt19937_64 rng_;
   int64_t ins_index_ = 0;
   int64_t alt_index_ = 0;

@@ -16,9 +16,11 @@
 
 #include "common/channels.h"
 #include "common/config.h"
+#include "common/geodetic.h"
 #include "common/geometry.h"
 #include "common/log_file.h"
 #include "common/paths.h"
+#include "common/robust_stats.h"
 #include "nadir/config_t.hpp"
 #include "processes/sim/simulator.h"
 #include "tests/common/test_support.h"
@@ -246,13 +248,9 @@ TEST_F(ExportTest, NoPhotoInTheTurnAndTheTurnPairOverlaps) {
   EXPECT_EQ(turn_pairs, 1);
 }
 
-// North, east (m) of `b` from `a` on the WGS84 ellipsoid (local radii at a).
+// North, east (m) of `b` from `a` on the WGS84 ellipsoid (local radii at a, at its altitude).
 Eigen::Vector2d gps_offset(const PhotoMetadata& a, const PhotoMetadata& b) {
-  const double lat = deg_to_rad(a.latitude_deg), e2 = 6.69437999014e-3, r = 6378137.0;
-  const double w = 1.0 - e2 * std::sin(lat) * std::sin(lat);
-  const double r_n = r / std::sqrt(w), r_m = r * (1.0 - e2) / (w * std::sqrt(w));
-  return {deg_to_rad(b.latitude_deg - a.latitude_deg) * (r_m + a.altitude_m),
-          deg_to_rad(b.longitude_deg - a.longitude_deg) * (r_n + a.altitude_m) * std::cos(lat)};
+  return LocalTangentPlane({a.latitude_deg, a.longitude_deg, a.altitude_m}).north_east(b.latitude_deg, b.longitude_deg);
 }
 
 // The photos alone (JPEG pixels, camera.yaml, GPS, gimbal angles, relative
@@ -316,8 +314,7 @@ TEST_F(ExportTest, MetadataExplainsTheImageMotionBetweenPhotos) {
     cv::projectPoints(in_b, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k, d, predicted);
     std::vector<double> errors;
     for (size_t j = 0; j < predicted.size(); ++j) errors.push_back(cv::norm(predicted[j] - cv::Point2d(used_b[j])));
-    std::nth_element(errors.begin(), errors.begin() + static_cast<long>(errors.size() / 2), errors.end());
-    EXPECT_LT(errors[errors.size() / 2], 3.0) << used_a.size() << " matches";
+    EXPECT_LT(median(errors, EvenMedian::kUpper), 3.0) << used_a.size() << " matches";
     if (std::fabs(result.photos[i].heading_change_deg) > 170.0) saw_turn = true;
   }
   EXPECT_TRUE(saw_turn);
