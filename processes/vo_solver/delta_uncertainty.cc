@@ -132,7 +132,10 @@ UncertaintyOptions UncertaintyOptions::from_config(const Config& vo_solver_secti
   o.altimeter_stddev_m = c.get_in_range("altimeter_stddev_m", o.altimeter_stddev_m, 0.0, 100.0);
   o.altimeter_stddev_fraction = c.get_in_range("altimeter_stddev_fraction", o.altimeter_stddev_fraction, 0.0, 0.5);
   o.range_scale_stddev = c.get_in_range("range_scale_stddev", o.range_scale_stddev, 0.0, 0.5);
-  o.relief_scale_stddev = c.get_in_range("relief_scale_stddev", o.relief_scale_stddev, 0.0, 0.5);
+  o.relief_walk_along_m_per_sqrt_m =
+      c.get_in_range("relief_walk_along_m_per_sqrt_m", o.relief_walk_along_m_per_sqrt_m, 0.0, 10.0);
+  o.relief_walk_across_m_per_sqrt_m =
+      c.get_in_range("relief_walk_across_m_per_sqrt_m", o.relief_walk_across_m_per_sqrt_m, 0.0, 10.0);
   o.dyaw_model_stddev_deg = c.get_in_range("dyaw_model_stddev_deg", o.dyaw_model_stddev_deg, 0.0, 10.0);
   try {
     o.Check();
@@ -149,7 +152,10 @@ void UncertaintyOptions::Check() const {
   require(altimeter_stddev_fraction >= 0 && altimeter_stddev_fraction <= 0.5, "altimeter_stddev_fraction",
           "in [0, 0.5]");
   require(range_scale_stddev >= 0 && range_scale_stddev <= 0.5, "range_scale_stddev", "in [0, 0.5]");
-  require(relief_scale_stddev >= 0 && relief_scale_stddev <= 0.5, "relief_scale_stddev", "in [0, 0.5]");
+  require(relief_walk_along_m_per_sqrt_m >= 0 && relief_walk_along_m_per_sqrt_m <= 10, "relief_walk_along_m_per_sqrt_m",
+          "in [0, 10]");
+  require(relief_walk_across_m_per_sqrt_m >= 0 && relief_walk_across_m_per_sqrt_m <= 10,
+          "relief_walk_across_m_per_sqrt_m", "in [0, 10]");
   require(dyaw_model_stddev_deg >= 0 && dyaw_model_stddev_deg <= 10, "dyaw_model_stddev_deg", "in [0, 10]");
 }
 
@@ -233,6 +239,15 @@ Eigen::Matrix<double, kSensorInputs, kSensorInputs> sensor_input_covariance(cons
   return variance.asDiagonal();
 }
 
+Eigen::Matrix2d relief_walk_covariance(const Eigen::Vector2d& step, const UncertaintyOptions& options) {
+  const double length = step.norm();
+  if (!(length > 0.0) || !std::isfinite(length)) return Eigen::Matrix2d::Zero();
+  const Eigen::Vector2d along = step / length;
+  const Eigen::Matrix2d along_part = along * along.transpose();
+  const double a = options.relief_walk_along_m_per_sqrt_m, c = options.relief_walk_across_m_per_sqrt_m;
+  return length * (a * a * along_part + c * c * (Eigen::Matrix2d::Identity() - along_part));
+}
+
 Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, const SolverOptions& solver,
                                   const UncertaintyOptions& options) {
   if (!options.enabled || !est.translation.allFinite() || !std::isfinite(est.dyaw)) return Eigen::Matrix4d::Zero();
@@ -255,8 +270,7 @@ Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, co
   cov(1, 1) += prev_levelling + curr_levelling;
   // `flow` takes its heading change from the INS: both frames' yaw noise.
   if (solver.variant == Variant::kFlow) cov(3, 3) += 2 * variance_rad2(options.yaw_stddev_deg);
-  cov.topLeftCorner<3, 3>() += options.relief_scale_stddev * options.relief_scale_stddev *
-                               est.translation * est.translation.transpose();
+  cov.topLeftCorner<2, 2>() += relief_walk_covariance(est.translation.head<2>(), options);
   cov(3, 3) += variance_rad2(options.dyaw_model_stddev_deg);
   return 0.5 * (cov + cov.transpose());
 }

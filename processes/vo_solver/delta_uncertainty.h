@@ -34,15 +34,23 @@ struct UncertaintyOptions {
   double altimeter_stddev_fraction = 0.001;  // ... plus this fraction of the range
   double range_scale_stddev = 0.0;           // systematic range scale error (1 sigma, fraction)
   // Model error, independent between deltas: the ground in the footprint is
-  // not the one plane through the altimeter spot (relief), so each delta's
-  // scale is off by this fraction (along its translation) and its heading
-  // change by this angle. Measured on the simulated flights of seed 2401
-  // (test1-3, 60 s; never used as evidence): after the levelling telescopes,
-  // sums of 20-400 deltas grow like a random walk of ~3 % of a step along
-  // track (the long-term rate of an error correlated over ~20 frames) and
-  // ~0.005 deg in heading. With 3 % those flights' horizontal NEES averaged
-  // ~2.5 (1.8 % : 5, 0 : 28). README § "Does the reported covariance mean anything?".
-  double relief_scale_stddev = 0.03;
+  // not the one plane through the altimeter spot (relief), so the motion is
+  // off by an error that grows like a random walk in the distance flown --
+  // sigma = walk * sqrt(metres), along the step and across it -- and each
+  // heading change by an angle. The walks were fitted (maximum likelihood,
+  // the telescoping levelling part taken out) to the final along- and
+  // across-track VO errors of 45 simulated flights, test1-3 (150-300 m,
+  // 20-30 m/s, 60 s) x seeds 2401-2408 and 2411-2417: along 0.068, across
+  // 0.012 m/sqrt(m). The error varies from terrain to terrain (seeds
+  // 2401-2408 alone: 0.051, 2411-2417 alone: 0.083) and somewhat by profile
+  // (test1 0.055, test3 0.079); a walk per second of flight fitted them as
+  // well, a walk per metre times the height or a fraction of each step (the
+  // former relief_scale_stddev, which shrank with the frame rate) worse.
+  // Checked on seeds 2421-2427, not used here. README § "Does the reported
+  // covariance mean anything?". Describe the terrain flown: rougher ground
+  // needs more.
+  double relief_walk_along_m_per_sqrt_m = 0.068;
+  double relief_walk_across_m_per_sqrt_m = 0.012;
   double dyaw_model_stddev_deg = 0.005;
 
   // Reads `vo_solver.uncertainty:` (keys as the fields, missing = default).
@@ -100,6 +108,11 @@ Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, co
 double levelling_variance_m2(double height_m, double roll_pitch_stddev_rad);
 void frame_levelling_variances(double prev_altitude_m, double dz, double roll_pitch_stddev_rad, double* prev_m2,
                                double* curr_m2);
+
+// The relief model error of one delta with horizontal translation `step`
+// (level frame): the walks' variance per metre times its length, along and
+// across it.
+Eigen::Matrix2d relief_walk_covariance(const Eigen::Vector2d& step, const UncertaintyOptions& options);
 
 // The hook of vo_solver_node: adds sensor_covariance to est->covariance.
 void add_sensor_uncertainty(const FramePair& pair, const SolverOptions& solver, const UncertaintyOptions& options,

@@ -17,7 +17,7 @@ void PoseFilter::initialise(double yaw, double yaw_variance) {
   origin_levelling_variance_ = frame_levelling_variance_ = 0.0;
   displacement_.setZero();
   range_scale_variance_ = 0.0;
-  yaw_bias_variance_ = 0.0;
+  yaw_bias_.setZero();
 }
 
 void PoseFilter::restore(const Eigen::Vector3d& position, const Eigen::Matrix3d& position_covariance, double yaw,
@@ -71,7 +71,13 @@ void PoseFilter::add_shared_errors(double prev_levelling_variance, double curr_l
   frame_levelling_variance_ = curr_levelling_variance;
   displacement_ += world_translation;
   range_scale_variance_ = range_scale_variance;
-  yaw_bias_variance_ += yaw_bias_variance_added;
+  // The translation was registered with the yaw of the previous frame, which
+  // carries the bias as it was before this delta's walk.
+  Eigen::Matrix3d f = Eigen::Matrix3d::Identity();
+  f(0, kBias) = -world_translation.y();
+  f(1, kBias) = world_translation.x();
+  yaw_bias_ = f * yaw_bias_ * f.transpose();
+  yaw_bias_(kBias, kBias) += yaw_bias_variance_added;
 }
 
 Eigen::Matrix3d PoseFilter::reported_position_covariance() const {
@@ -80,6 +86,7 @@ Eigen::Matrix3d PoseFilter::reported_position_covariance() const {
   p(0, 0) += levelling;
   p(1, 1) += levelling;
   p += range_scale_variance_ * displacement_ * displacement_.transpose();
+  p.topLeftCorner<2, 2>() += yaw_bias_.topLeftCorner<2, 2>();
   return p;
 }
 

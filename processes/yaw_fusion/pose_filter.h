@@ -68,7 +68,11 @@ class PoseFilter {
   // frame's terms, so the filter integrates each delta without its levelling
   // part and the reported covariance adds those two frames' variances once.
   // An altimeter scale error s moves the position by s times the displacement
-  // since the origin; an INS yaw bias walk stays in the fused yaw.
+  // since the origin. The INS yaw bias b (a random walk) is in the fused yaw,
+  // which the INS updates pull onto the INS heading, and every translation is
+  // registered with that yaw: it moves the position by b times the
+  // translation turned by 90 deg, summed over the deltas with the bias each
+  // had (a consider state (e_north, e_east, b) kept beside the filter).
   // `prev/curr_levelling_variance`: m^2 per horizontal axis (height^2 sigma^2).
   void add_shared_errors(double prev_levelling_variance, double curr_levelling_variance,
                          const Eigen::Vector3d& world_translation, double range_scale_variance,
@@ -77,7 +81,7 @@ class PoseFilter {
   bool has_shared_origin() const { return have_origin_levelling_; }
   // Position covariance and yaw variance with the shared errors.
   Eigen::Matrix3d reported_position_covariance() const;
-  double reported_yaw_variance() const { return p_(kYaw, kYaw) + yaw_bias_variance_; }
+  double reported_yaw_variance() const { return p_(kYaw, kYaw) + yaw_bias_(kBias, kBias); }
 
   Eigen::Vector3d position() const { return x_.head<3>(); }
   double yaw() const { return x_(kYaw); }
@@ -99,7 +103,9 @@ class PoseFilter {
   double origin_levelling_variance_ = 0.0, frame_levelling_variance_ = 0.0;
   Eigen::Vector3d displacement_ = Eigen::Vector3d::Zero();  // integrated VO, world
   double range_scale_variance_ = 0.0;
-  double yaw_bias_variance_ = 0.0;
+  // Covariance of (north, east) position error from the yaw bias and the bias.
+  static constexpr int kBias = 2;
+  Eigen::Matrix3d yaw_bias_ = Eigen::Matrix3d::Zero();
 };
 
 }  // namespace nadir

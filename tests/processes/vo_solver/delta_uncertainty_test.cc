@@ -127,7 +127,7 @@ TEST(DeltaUncertainty, VarianceMatchesMonteCarloOfTheSolver) {
   const testing::Scene scene = testing::make_scene(pair_spec());
   const SolverOptions options;
   UncertaintyOptions u;  // the standard set: 0.05 deg, 0.1 m + 0.1 %; no model error terms
-  u.relief_scale_stddev = 0.0;
+  u.relief_walk_along_m_per_sqrt_m = u.relief_walk_across_m_per_sqrt_m = 0.0;
   u.dyaw_model_stddev_deg = 0.0;
   const Estimate est = solve(scene.pair, options);
   const Eigen::Matrix4d predicted = sensor_covariance(scene.pair, est, options, u);
@@ -160,15 +160,27 @@ TEST(DeltaUncertainty, ModelErrorTermsAlongTheStepAndOnTheHeading) {
   const SolverOptions options;
   const Estimate est = solve(scene.pair, options);
   UncertaintyOptions without, with;
-  without.relief_scale_stddev = 0.0;
+  without.relief_walk_along_m_per_sqrt_m = without.relief_walk_across_m_per_sqrt_m = 0.0;
   without.dyaw_model_stddev_deg = 0.0;
-  with.relief_scale_stddev = 0.02;
+  with.relief_walk_along_m_per_sqrt_m = 0.05;
+  with.relief_walk_across_m_per_sqrt_m = 0.01;
   with.dyaw_model_stddev_deg = 0.005;
   const Eigen::Matrix4d added =
       sensor_covariance(scene.pair, est, options, with) - sensor_covariance(scene.pair, est, options, without);
-  const Eigen::Matrix3d expected = 0.02 * 0.02 * est.translation * est.translation.transpose();
-  EXPECT_TRUE((added.topLeftCorner<3, 3>().isApprox(expected, 1e-9)));
+  // Along the horizontal step: 0.05^2 per metre of it; across: 0.01^2 per metre.
+  const Eigen::Vector2d step = est.translation.head<2>();
+  const Eigen::Vector2d along = step.normalized();
+  const Eigen::Vector2d across(-along.y(), along.x());
+  EXPECT_NEAR(along.dot(added.topLeftCorner<2, 2>() * along), 0.05 * 0.05 * step.norm(), 1e-12);
+  EXPECT_NEAR(across.dot(added.topLeftCorner<2, 2>() * across), 0.01 * 0.01 * step.norm(), 1e-12);
+  EXPECT_NEAR(across.dot(added.topLeftCorner<2, 2>() * along), 0.0, 1e-12);
+  EXPECT_NEAR(added(2, 2), 0.0, 1e-15);
   EXPECT_NEAR(added(3, 3), std::pow(deg_to_rad(0.005), 2), 1e-15);
+  // Summed over the deltas of a straight line it is a random walk in the
+  // distance: n steps of s metres give walk^2 * n * s whatever the frame rate.
+  EXPECT_NEAR(10 * relief_walk_covariance(Eigen::Vector2d(2.0, 0.0), with)(0, 0),
+              20 * relief_walk_covariance(Eigen::Vector2d(1.0, 0.0), with)(0, 0), 1e-15);
+  EXPECT_TRUE(relief_walk_covariance(Eigen::Vector2d::Zero(), with).isZero());
 }
 
 TEST(DeltaUncertainty, FlowVariantCarriesTheInsHeadingNoise) {
