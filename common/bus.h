@@ -28,6 +28,12 @@ class Bus {
 
   virtual void publish_raw(const std::string& channel, const uint8_t* data, size_t size) = 0;
   virtual void subscribe_raw(const std::string& channel, RawHandler handler) = 0;
+  // Called by a handler that has published everything its subscribers need
+  // and goes on with work that publishes nothing (the tracker preparing the
+  // next frame): a bus that delivers in-process may hand the messages on now
+  // rather than after the handler returns. Order of delivery and of
+  // publication is unchanged. LCM delivers at publish time: nothing to do.
+  virtual void deliver_pending() {}
 
   template <class Msg>
   void publish(const std::string& channel, const Msg& msg) {

@@ -39,6 +39,7 @@ class NodePort : public Bus {
 
   void publish_raw(const std::string& channel, const uint8_t* data, size_t size) override;
   void subscribe_raw(const std::string& channel, RawHandler handler) override;
+  void deliver_pending() override { shared_.deliver_pending(); }
   LatencyWindow& latency() { return latency_; }
 
  private:

@@ -25,7 +25,13 @@ void LocalBus::dispatch(const std::string& channel, const uint8_t* data, size_t 
 
 void LocalBus::deliver(const std::string& channel, const uint8_t* data, size_t size) {
   dispatch(channel, data, size);
-  if (draining_) return;  // an outer deliver() drains
+  drain();
+}
+
+void LocalBus::deliver_pending() { drain(); }
+
+void LocalBus::drain() {
+  if (draining_) return;  // an outer call drains
   draining_ = true;
   while (!pending_.empty()) {
     const auto message = std::move(pending_.front());

@@ -1,7 +1,7 @@
 #pragma once
 // In-process delivery of what nodes publish to the other nodes of the same
 // process, synchronously and in FIFO order after the handler that published
-// returns. Shared by lockstep replay (ReplayBus: everything also goes to the
+// returns (or when it calls deliver_pending()). Shared by lockstep replay (ReplayBus: everything also goes to the
 // output log) and composed live processes (ComposedBus: everything also goes
 // out on LCM).
 
@@ -25,6 +25,8 @@ class LocalBus : public Bus {
   // Delivers one message to its subscribers, then everything published in
   // response, until nothing is pending.
   void deliver(const std::string& channel, const uint8_t* data, size_t size);
+  // Drains the queue now unless an outer deliver() is already draining it.
+  void deliver_pending() final;
   // Channels with at least one local subscriber.
   std::vector<std::string> subscribed_channels() const;
 
@@ -34,6 +36,7 @@ class LocalBus : public Bus {
 
  private:
   void dispatch(const std::string& channel, const uint8_t* data, size_t size);
+  void drain();
 
   std::map<std::string, std::vector<RawHandler>> handlers_;
   std::deque<std::pair<std::string, std::vector<uint8_t>>> pending_;

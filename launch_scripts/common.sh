@@ -11,7 +11,11 @@ export LCM_DEFAULT_URL="${LCM_DEFAULT_URL:-udpm://239.255.76.67:7667?ttl=0&recv_
 # Runs a command inside a private network namespace whose loopback carries
 # multicast: LCM udpm traffic never reaches a real network.
 nadir_in_netns() {
-  unshare -rn bash -c 'ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && export NADIR_IN_NETNS=1 && exec "$@"' _ "$@"
+  # As root a plain network namespace (keeps CAP_SYS_NICE for run_set.sh
+  # --rt-priority); otherwise one inside a user namespace.
+  local flags=-rn
+  [ "$(id -u)" = 0 ] && flags=-n
+  unshare "$flags" bash -c 'ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && export NADIR_IN_NETNS=1 && exec "$@"' _ "$@"
 }
 
 nadir_utc_stamp() { date -u +%Y%m%dT%H%M%SZ; }

@@ -5,8 +5,9 @@
 # namespace, evaluates each capture and prints per run the latency by stage
 # (p50/p99/worst) with the load average, then the medians over the runs.
 # Usage: latency.sh [--set sim|sim_composed] [--runs N] [--attitude-policy propagate|interpolate]
-#        [--nice N] [--keep-captures]   (reports in logs/latency/<UTC>-SET-POLICY/; captures deleted
-#        unless kept; --nice runs the whole set at that niceness, e.g. -10 on a machine others load)
+#        [--nice N] [--rt-priority P] [--keep-captures]   (reports in logs/latency/<UTC>-SET-POLICY/; captures deleted
+#        unless kept; --nice runs the whole set at that niceness, e.g. -10 on a machine others load;
+#        --rt-priority runs the estimator nodes under SCHED_FIFO P, run_set.sh --rt-priority)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 set_name=sim
@@ -14,19 +15,21 @@ runs=5
 keep=0
 policy=""
 niceness=0
+rt_args=()
 while (($#)); do
   case "$1" in
-    -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --set) set_name="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
     --attitude-policy) policy="$2"; shift 2 ;;
     --nice) niceness="$2"; shift 2 ;;
+    --rt-priority) rt_args=(--rt-priority "$2"); shift 2 ;;
     --keep-captures) keep=1; shift ;;
     *) echo "latency: error: unknown option $1" >&2; exit 2 ;;
   esac
 done
 [[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "latency: error: --runs must be a positive integer, got '$runs'" >&2; exit 2; }
-out="$NADIR_ROOT/logs/latency/$(nadir_utc_stamp)-$set_name${policy:+-$policy}-nice$niceness"
+out="$NADIR_ROOT/logs/latency/$(nadir_utc_stamp)-$set_name${policy:+-$policy}-nice$niceness${rt_args[1]:+-rt${rt_args[1]}}"
 mkdir -p "$out"
 if [ -n "$policy" ]; then
   nadir_config_with_attitude_policy "$policy" "$out/config.yaml"
@@ -37,7 +40,7 @@ for ((i = 1; i <= runs; i++)); do
   load_before=$(cut -d' ' -f1 /proc/loadavg)
   NADIR_PROFILE=demo NADIR_SEED=1 NADIR_CAPTURE_DIR="$run_dir" \
     nice -n "$niceness" bash -c "$(declare -f nadir_in_netns); nadir_in_netns \"\$@\"" _ \
-    "$NADIR_ROOT/launch_scripts/run_set.sh" "$set_name" >"$run_dir.txt" 2>&1 ||
+    "$NADIR_ROOT/launch_scripts/run_set.sh" "$set_name" "${rt_args[@]}" >"$run_dir.txt" 2>&1 ||
     { tail -20 "$run_dir.txt" >&2; echo "latency: error: run $i of set $set_name failed" >&2; exit 1; }
   load_after=$(cut -d' ' -f1 /proc/loadavg)
   mkdir -p "$run_dir/report"

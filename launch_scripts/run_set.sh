@@ -5,6 +5,12 @@
 # stops them all cleanly on Ctrl-C / SIGTERM. Optional lcm-logger capture.
 #
 # Usage: run_set.sh SET [--no-capture] [--duration S] [--max-restarts N] [--lcm-url URL]
+#                    [--rt-priority P]
+# --rt-priority P runs every `run` process (the vehicle's long-running nodes, not
+# the finite source) and the capture logger (the stand-in for the POSE
+# consumer, and the latency instrument: it must not be starved by the nodes)
+# under SCHED_FIFO priority P (1-98; needs root or CAP_SYS_NICE), as an
+# aircraft's computer would run its navigation.
 #
 # Set file lines (# starts a comment; ${VAR:-default} is expanded when started):
 #   require  BINARY  what it is     the set fails at once if BINARY is not built
@@ -25,6 +31,7 @@ capture_enabled=1
 duration=""
 max_restarts=5
 grace_s=2
+rt_priority=
 while (($#)); do
   case "$1" in
     -h|--help) usage; exit 0 ;;
@@ -32,11 +39,18 @@ while (($#)); do
     --duration) duration="$2"; shift 2 ;;
     --max-restarts) max_restarts="$2"; shift 2 ;;
     --lcm-url) export LCM_DEFAULT_URL="$2"; shift 2 ;;
+    --rt-priority) rt_priority="$2"; shift 2 ;;
     -*) echo "run_set: error: unknown option $1" >&2; exit 2 ;;
     *) set_arg="$1"; shift ;;
   esac
 done
 [ -n "$set_arg" ] || { usage >&2; exit 2; }
+if [ -n "$rt_priority" ]; then
+  [[ "$rt_priority" =~ ^[0-9]+$ ]] && ((rt_priority >= 1 && rt_priority <= 98)) ||
+    { echo "run_set: error: --rt-priority must be an integer in [1, 98], got '$rt_priority'" >&2; exit 2; }
+  chrt -f "$rt_priority" true 2>/dev/null ||
+    { echo "run_set: error: --rt-priority $rt_priority: SCHED_FIFO not permitted here (needs root or CAP_SYS_NICE)" >&2; exit 2; }
+fi
 set_file="$set_arg"
 [ -f "$set_file" ] || set_file="$NADIR_ROOT/launch_scripts/sets/$set_arg"
 [ -f "$set_file" ] || { echo "run_set: error: no set '$set_arg' (looked in launch_scripts/sets/)" >&2; exit 2; }
@@ -76,7 +90,7 @@ if ((capture_enabled)) && [ -n "$capture_name" ]; then
   capture_dir="${NADIR_CAPTURE_DIR:-$NADIR_ROOT/logs/$(nadir_utc_stamp)-$capture_name}"
   mkdir -p "$capture_dir"
   url="$LCM_DEFAULT_URL"
-  lcm-logger --quiet --lcm-url="$url" --flush-interval=200 "$capture_dir/capture.lcmlog" \
+  ${rt_priority:+chrt -f "$rt_priority"} lcm-logger --quiet --lcm-url="$url" --flush-interval=200 "$capture_dir/capture.lcmlog" \
     > >(sed -u "s/^/[lcm-logger] /") 2>&1 &
   logger_pid=$!
   echo "[run_set] capturing into $capture_dir/capture.lcmlog"
@@ -93,9 +107,10 @@ fi
 mkdir -p "$NADIR_STATE_DIR"
 
 start() {
-  local n="$1" pre=""
+  local n="$1" pre="" rt=""
   [ -n "${delay_s[$n]:-}" ] && [ "${restarts[$n]}" -eq 0 ] && pre="sleep ${delay_s[$n]}; "
-  bash -c "${pre}exec ${cmd[$n]}" > >(sed -u "s/^/[$n] /") 2>&1 &
+  [ -n "$rt_priority" ] && [ "${kind[$n]}" = run ] && rt="chrt -f $rt_priority "
+  bash -c "${pre}exec ${rt}${cmd[$n]}" > >(sed -u "s/^/[$n] /") 2>&1 &
   pid[$n]=$!
   echo "[run_set] started $n (pid ${pid[$n]}): ${cmd[$n]}"
 }

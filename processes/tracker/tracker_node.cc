@@ -204,6 +204,9 @@ void TrackerNode::track_image(const image_t& msg) {
   ref_frame_counter_ = msg.frame_counter;
   if (options_.mode == TrackerMode::kAuto) gray.copyTo(ref_gray_);
   publish(out, "");
+  // In one process with the solver and yaw fusion (nadir_composed, lockstep
+  // replay) they take the TRACKS now, not after the replenishment below.
+  bus_.deliver_pending();
   if (step.first_frame || by_descriptor || options_.mode == TrackerMode::kDescriptor) return;
   try {
     tracker_.prepare_next(gray, step);

@@ -58,6 +58,40 @@ TEST_F(Composed, ChainRunsInOneDeliveryAndEveryChannelGoesOutside) {
   EXPECT_EQ(stage2.status().received, 19) << "VO_DELTA is produced here: never taken back from outside";
 }
 
+// A handler that calls deliver_pending() after publishing has its message
+// handed on (and everything published in response) before it continues; the
+// order of delivery is the FIFO order either way, and a nested call inside a
+// drain changes nothing.
+TEST(LocalBusDeliverPending, HandsTheQueueOnBeforeThePublisherContinues) {
+  LcmBus outside{memq()};
+  ComposedBus composed{outside};
+  NodePort first{composed}, second{composed};
+  std::vector<std::string> events;
+  first.subscribe_raw("IN", [&](const std::string&, const uint8_t*, size_t) {
+    const uint8_t byte = 1;
+    first.publish_raw("A", &byte, 1);
+    first.publish_raw("B", &byte, 1);
+    first.deliver_pending();
+    events.push_back("first continues");
+  });
+  second.subscribe_raw("A", [&](const std::string&, const uint8_t*, size_t) {
+    events.push_back("A");
+    const uint8_t byte = 2;
+    second.publish_raw("C", &byte, 1);
+    second.deliver_pending();  // inside the drain: no effect, C stays queued behind B
+    events.push_back("A done");
+  });
+  second.subscribe_raw("B", [&](const std::string&, const uint8_t*, size_t) { events.push_back("B"); });
+  second.subscribe_raw("C", [&](const std::string&, const uint8_t*, size_t) { events.push_back("C"); });
+  const uint8_t byte = 0;
+  composed.deliver("IN", &byte, 1);
+  EXPECT_EQ(events, (std::vector<std::string>{"A", "A done", "B", "C", "first continues"}));
+  // Without the call the same messages come after the handler returns.
+  events.clear();
+  composed.deliver_pending();  // nothing pending: nothing happens
+  EXPECT_TRUE(events.empty());
+}
+
 TEST_F(Composed, MalformedMessagesAndPublishLatencyArePerNode) {
   const uint8_t garbage[5] = {1, 2, 3, 4, 5};
   composed.deliver(channels::kVoDelta, garbage, sizeof(garbage));
