@@ -11,10 +11,11 @@ export LCM_DEFAULT_URL="${LCM_DEFAULT_URL:-udpm://239.255.76.67:7667?ttl=0&recv_
 # Runs a command inside a private network namespace whose loopback carries
 # multicast: LCM udpm traffic never reaches a real network.
 nadir_in_netns() {
-  # As root a plain network namespace (keeps CAP_SYS_NICE for run_set.sh
-  # --rt-priority); otherwise one inside a user namespace.
+  # Inside a user namespace (what the tests expect, e.g. the Slurm test's
+  # setgroups=deny). NADIR_NETNS_KEEP_CAPS=1 as root: a plain network
+  # namespace, so that CAP_SYS_NICE survives for run_set.sh --rt-priority.
   local flags=-rn
-  [ "$(id -u)" = 0 ] && flags=-n
+  [ "${NADIR_NETNS_KEEP_CAPS:-0}" = 1 ] && [ "$(id -u)" = 0 ] && flags=-n
   unshare "$flags" bash -c 'ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && export NADIR_IN_NETNS=1 && exec "$@"' _ "$@"
 }
 

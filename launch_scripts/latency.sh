@@ -23,7 +23,7 @@ while (($#)); do
     --runs) runs="$2"; shift 2 ;;
     --attitude-policy) policy="$2"; shift 2 ;;
     --nice) niceness="$2"; shift 2 ;;
-    --rt-priority) rt_args=(--rt-priority "$2"); shift 2 ;;
+    --rt-priority) rt_args=(--rt-priority "$2"); export NADIR_NETNS_KEEP_CAPS=1; shift 2 ;;
     --keep-captures) keep=1; shift ;;
     *) echo "latency: error: unknown option $1" >&2; exit 2 ;;
   esac

@@ -49,7 +49,7 @@ if [ -n "$rt_priority" ]; then
   [[ "$rt_priority" =~ ^[0-9]+$ ]] && ((rt_priority >= 1 && rt_priority <= 98)) ||
     { echo "run_set: error: --rt-priority must be an integer in [1, 98], got '$rt_priority'" >&2; exit 2; }
   chrt -f "$rt_priority" true 2>/dev/null ||
-    { echo "run_set: error: --rt-priority $rt_priority: SCHED_FIFO not permitted here (needs root or CAP_SYS_NICE)" >&2; exit 2; }
+    { echo "run_set: error: --rt-priority $rt_priority: SCHED_FIFO not permitted here (needs root or CAP_SYS_NICE; in nadir_in_netns export NADIR_NETNS_KEEP_CAPS=1)" >&2; exit 2; }
 fi
 set_file="$set_arg"
 [ -f "$set_file" ] || set_file="$NADIR_ROOT/launch_scripts/sets/$set_arg"
