@@ -52,6 +52,8 @@ void SolverOptions::Check() const {
   require(max_threshold_px >= min_threshold_px && max_threshold_px <= 1000, "max_threshold_px",
           "in [min_threshold_px, 1000]");
   require(convergence_tolerance > 0 && convergence_tolerance <= 1e-2, "convergence_tolerance", "in (0, 1e-2]");
+  require(convergence_sigma_fraction >= 0 && convergence_sigma_fraction <= 0.5, "convergence_sigma_fraction",
+          "in [0, 0.5]");
   require(max_residual_rms_px > 0 && max_residual_rms_px <= 100, "max_residual_rms_px", "in (0, 100]");
   require(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, "min_inlier_fraction", "in [0, 1]");
   require(homography_ransac_px > 0 && homography_ransac_px <= 100, "homography_ransac_px", "in (0, 100]");
@@ -196,6 +198,54 @@ double estimate_dz(const PaperProblem& problem, const Params& p, const std::vect
   return dz;
 }
 
+// Covariance of the fitted unknowns, sigma^2 (J^T W J)^-1 with sigma^2 the
+// weighted residual variance over `inliers` (np x np; zero when there are no
+// more inliers than unknowns). False when the normal equations are singular.
+bool parameter_covariance(const PaperProblem& problem, const Params& params, const std::vector<double>& w,
+                          int inliers, Eigen::MatrixXd* covariance) {
+  const int np = problem.num_params;
+  *covariance = Eigen::MatrixXd::Zero(np, np);
+  if (inliers <= np) return true;
+  Eigen::Matrix<double, 5, 5> h;
+  Eigen::Matrix<double, 5, 1> g;
+  const double cost = accumulate(problem, params, w, &h, &g);
+  double sum_w = 0;
+  for (double wi : w) sum_w += wi;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(h.topLeftCorner(np, np));
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+  const double sigma2 = cost / sum_w * inliers / (inliers - np);
+  *covariance = sigma2 * ldlt.solve(Eigen::MatrixXd::Identity(np, np));
+  return true;
+}
+
+// Whether one reweighting moved the fit by nothing that matters: each
+// unknown by less than `tolerance` (translation / height, rad), or by less
+// than `sigma_fraction` of its own standard deviation. The second test ends
+// the loop where the ground tilt is barely observable (little parallax: a
+// short step, or INS levelling noise that cancels the apparent motion) and
+// the reweighting keeps nudging it by amounts far inside its uncertainty;
+// without it such pairs were flagged NOT_CONVERGED and dropped, and the
+// levelling error they share with their neighbours no longer cancelled.
+bool negligible_change(const PaperProblem& problem, const Params& before, const Eigen::Vector3d& normal_before,
+                       const Params& after, const std::vector<double>& w, double tolerance, double sigma_fraction) {
+  const Eigen::Vector3d normal_change = ground_normal(problem.plane, 0, 0) - normal_before;
+  const double change = std::max({(after.head<2>() - before.head<2>()).cwiseAbs().maxCoeff() / problem.height,
+                                  std::abs(after(2) - before(2)), normal_change.cwiseAbs().maxCoeff()});
+  if (change < tolerance) return true;
+  if (!(sigma_fraction > 0)) return false;
+  const int inliers = static_cast<int>(std::count_if(w.begin(), w.end(), [](double wi) { return wi > 0; }));
+  Eigen::MatrixXd covariance;
+  if (!parameter_covariance(problem, after, w, inliers, &covariance) || inliers <= problem.num_params) return false;
+  const Eigen::VectorXd sigma = covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  for (int j = 0; j < 3; ++j) {
+    if (std::abs(after(j) - before(j)) >= sigma_fraction * sigma(j)) return false;
+  }
+  if (problem.num_params == 5 && normal_change.cwiseAbs().maxCoeff() >= sigma_fraction * std::min(sigma(3), sigma(4))) {
+    return false;
+  }
+  return true;
+}
+
 // Image reprojection error (pixels) of each feature in the prev image.
 void reprojection_errors(const PaperProblem& problem, const Params& p, double dz, double focal_px,
                          std::vector<double>* ire) {
@@ -245,9 +295,9 @@ bool linear_initialization(const PaperProblem& problem, double dyaw_start, Param
 // One Levenberg-Marquardt run (eq. 15) at fixed weights; re-levels the
 // virtual camera after every accepted step (Algorithm 1 lines 10-12).
 int levenberg_marquardt(PaperProblem* problem, Params* params, const std::vector<double>& w,
-                        const SolverOptions& options, bool* degenerate) {
+                        const SolverOptions& options, double* damping, bool* degenerate) {
   const int np = problem->num_params;
-  double lambda = 1e-3;
+  double& lambda = *damping;
   int iterations = 0;
   Eigen::Matrix<double, 5, 5> h;
   Eigen::Matrix<double, 5, 1> g;
@@ -373,6 +423,7 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
   double dz = estimate_dz(problem, params, w, nullptr);
   const double min_threshold_px = options.min_threshold_px * options.pixel_scale();
   const double max_threshold_px = options.max_threshold_px * options.pixel_scale();
+  double damping = 1e-3;
   for (int outer = 0; outer < options.max_robust_iterations && !fit.degenerate; ++outer) {
     // Line 8: weights from the image reprojection errors (Tukey biweight,
     // zero beyond a threshold that shrinks with the robust spread of the IREs).
@@ -389,12 +440,11 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     if (used < std::max(options.min_features, problem.num_params)) break;
     const Params before = params;
     const Eigen::Vector3d normal_before = ground_normal(problem.plane, 0, 0);
-    fit.iterations += levenberg_marquardt(&problem, &params, w, options, &fit.degenerate);
+    fit.iterations += levenberg_marquardt(&problem, &params, w, options, &damping, &fit.degenerate);
     dz = estimate_dz(problem, params, w, nullptr);
-    const double change = std::max({(params.head<2>() - before.head<2>()).cwiseAbs().maxCoeff() / problem.height,
-                                    std::abs(params(2) - before(2)),
-                                    (ground_normal(problem.plane, 0, 0) - normal_before).cwiseAbs().maxCoeff()});
-    if (change < options.convergence_tolerance && threshold <= max_threshold_px) {
+    if (threshold <= max_threshold_px &&
+        negligible_change(problem, before, normal_before, params, w, options.convergence_tolerance,
+                          options.convergence_sigma_fraction)) {
       fit.converged = true;
       break;
     }
@@ -429,21 +479,8 @@ FitCovariance fit_covariance(const PaperFit& fit, int inliers) {
   const Eigen::Vector3d normal = ground_normal(problem.plane, 0, 0);
   // Covariance: sigma^2 (J^T W J)^-1 for the fitted unknowns, mapped to the
   // output order; dz from the spread of its weighted mean.
-  Eigen::Matrix<double, 5, 5> h;
-  Eigen::Matrix<double, 5, 1> g;
-  const double cost = accumulate(problem, params, w, &h, &g);
-  double sum_w = 0;
-  for (double wi : w) sum_w += wi;
-  Eigen::MatrixXd cov_p = Eigen::MatrixXd::Zero(np, np);
-  if (inliers > np) {
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(h.topLeftCorner(np, np));
-    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
-      const double sigma2 = cost / sum_w * inliers / (inliers - np);
-      cov_p = sigma2 * ldlt.solve(Eigen::MatrixXd::Identity(np, np));
-    } else {
-      degenerate = true;
-    }
-  }
+  Eigen::MatrixXd cov_p;
+  if (!parameter_covariance(problem, params, w, inliers, &cov_p)) degenerate = true;
   Eigen::Matrix<double, 6, 5> map = Eigen::Matrix<double, 6, 5>::Zero();
   map(0, 0) = 1;
   map(1, 1) = 1;

@@ -38,6 +38,9 @@ struct SolverOptions {
   // reweighting after the tilt-free linear start, which can be pixels off on a slope.
   double max_threshold_px = 10.0;
   double convergence_tolerance = 1e-6; // parameter change (translation / height, rad)
+  // ... or, paper / level_ground, every unknown moved by less than this share
+  // of its own standard deviation (0: the absolute tolerance only).
+  double convergence_sigma_fraction = 0.02;
   double max_residual_rms_px = 3.0;    // inlier IRE RMS above this: QUALITY_HIGH_RESIDUAL
   double min_inlier_fraction = 0.3;    // inlier share below this: QUALITY_HIGH_RESIDUAL
   double homography_ransac_px = 3.0;   // homography variant: RANSAC threshold

@@ -47,6 +47,8 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   s.layers.min_separation_sigma =
       c.get_in_range("layer_min_separation_sigma", s.layers.min_separation_sigma, 3.0, 100.0);
   s.convergence_tolerance = c.get_in_range("convergence_tolerance", s.convergence_tolerance, 1e-15, 1e-2);
+  s.convergence_sigma_fraction =
+      c.get_in_range("convergence_sigma_fraction", s.convergence_sigma_fraction, 0.0, 0.5);
   s.max_residual_rms_px = c.get_in_range("max_residual_rms_px", s.max_residual_rms_px, 0.01, 100.0);
   s.min_inlier_fraction = c.get_in_range("min_inlier_fraction", s.min_inlier_fraction, 0.0, 1.0);
   s.homography_ransac_px = c.get_in_range("homography_ransac_px", s.homography_ransac_px, 0.01, 100.0);

@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include "common/robust_stats.h"
+
 namespace nadir {
 
 namespace {
@@ -27,6 +29,7 @@ CoastOptions CoastOptions::from_config(const Config& c) {
   o.inlier_median_window = c.get_in_range("inlier_median_window", o.inlier_median_window, 1, 100000);
   o.vertical_gate_m = c.get_in_range("vertical_gate_m", o.vertical_gate_m, 0.0, 1e6);
   o.vertical_gate_slope = c.get_in_range("vertical_gate_slope", o.vertical_gate_slope, 0.0, 100.0);
+  o.vertical_gate_sigmas = c.get_in_range("vertical_gate_sigmas", o.vertical_gate_sigmas, 0.0, 100.0);
   o.high_residual_window = c.get_in_range("high_residual_window", o.high_residual_window, 1, 100000);
   o.high_residual_fraction = c.get_in_range("high_residual_fraction", o.high_residual_fraction, 0.0, 1.0);
   o.resume_good_deltas = c.get_in_range("resume_good_deltas", o.resume_good_deltas, 1, 100000);
@@ -48,6 +51,7 @@ void CoastOptions::Check() const {
   check(inlier_median_window >= 1, "inlier_median_window", "must be >= 1");
   check(vertical_gate_m >= 0.0, "vertical_gate_m", "must be >= 0");
   check(vertical_gate_slope >= 0.0, "vertical_gate_slope", "must be >= 0");
+  check(vertical_gate_sigmas >= 0.0, "vertical_gate_sigmas", "must be >= 0");
   check(high_residual_window >= 1, "high_residual_window", "must be >= 1");
   check(high_residual_fraction >= 0.0 && high_residual_fraction <= 1.0, "high_residual_fraction",
         "must be in [0, 1]");
@@ -90,13 +94,12 @@ int32_t CoastDetector::classify(const vo_delta_t& delta, int32_t coast_bits, dou
   if (coast_bits != 0) reason |= kCoastQuality;
   const double median = inlier_median();
   if (std::isfinite(median) && delta.inliers < options_.inlier_drop_fraction * median) reason |= kCoastInlierDrop;
+  last_ground_step_ = std::numeric_limits<double>::quiet_NaN();
   if (std::isfinite(height_change_m)) {
     // Down coordinate of the ground: g = down + h, so the ground moved by dz + dh.
     const double ground_step = delta.dz + height_change_m;
-    const double horizontal = std::hypot(delta.dx, delta.dy);
-    if (std::abs(ground_step) > options_.vertical_gate_m + options_.vertical_gate_slope * horizontal) {
-      reason |= kCoastVertical;
-    }
+    last_ground_step_ = ground_step;
+    if (std::abs(ground_step) > vertical_gate(std::hypot(delta.dx, delta.dy))) reason |= kCoastVertical;
   }
   if (static_cast<int>(high_residual_.size()) >= options_.high_residual_window &&
       high_residual_count_ > options_.high_residual_fraction * static_cast<double>(high_residual_.size())) {
@@ -111,9 +114,22 @@ int32_t CoastDetector::classify(const vo_delta_t& delta, int32_t coast_bits, dou
   return 0;
 }
 
+double CoastDetector::vertical_gate(double horizontal_m) const {
+  double gate = options_.vertical_gate_m;
+  if (options_.vertical_gate_sigmas > 0 && static_cast<int>(ground_steps_.size()) >= options_.inlier_median_window) {
+    const std::vector<double> steps(ground_steps_.begin(), ground_steps_.end());
+    gate = std::max(gate, options_.vertical_gate_sigmas * abs_sigma(steps));
+  }
+  return gate + options_.vertical_gate_slope * horizontal_m;
+}
+
 void CoastDetector::note_integrated(const vo_delta_t& delta) {
   inliers_.push_back(delta.inliers);
   while (static_cast<int>(inliers_.size()) > options_.inlier_median_window) inliers_.pop_front();
+  // The delta integrated is the one classified last.
+  if (std::isfinite(last_ground_step_)) ground_steps_.push_back(last_ground_step_);
+  last_ground_step_ = std::numeric_limits<double>::quiet_NaN();
+  while (static_cast<int>(ground_steps_.size()) > options_.inlier_median_window) ground_steps_.pop_front();
 }
 
 }  // namespace nadir

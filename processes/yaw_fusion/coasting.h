@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <string>
 
 #include "common/config.h"
@@ -43,6 +44,13 @@ struct CoastOptions {
   // more than vertical_gate_m + vertical_gate_slope * horizontal step is not the ground: coast.
   double vertical_gate_m = 3.0;
   double vertical_gate_slope = 1.0;
+  // ... and never below vertical_gate_sigmas robust sigmas of the ground steps
+  // of the last inlier_median_window integrated deltas (MAD about zero, once
+  // the window is full): with a noisy altimeter (0.5 % of 300 m is 1.5 m per
+  // range) the fixed gate alone coasted ~6 % of the frames of a good flight,
+  // and each coast breaks the cancellation of the levelling errors that the
+  // neighbouring deltas share. 0: the fixed gate only.
+  double vertical_gate_sigmas = 5.0;
   int high_residual_window = 42;          // deltas (3 s at 14 Hz)
   double high_residual_fraction = 0.5;    // more than this fraction HIGH_RESIDUAL in the window: coast
   int resume_good_deltas = 3;             // clean deltas in a row before integrating again
@@ -91,10 +99,14 @@ class CoastDetector {
   int32_t classify(const vo_delta_t& delta, int32_t coast_bits, double height_change_m, bool coasting);
   void note_integrated(const vo_delta_t& delta);
   double inlier_median() const;  // NaN until the window is full
+  // The vertical gate for a delta with this horizontal step (metres).
+  double vertical_gate(double horizontal_m) const;
 
  private:
   CoastOptions options_;
   std::deque<int> inliers_;          // of integrated deltas
+  std::deque<double> ground_steps_;  // of integrated deltas (finite ones)
+  double last_ground_step_ = std::numeric_limits<double>::quiet_NaN();  // of the delta classified last
   std::deque<bool> high_residual_;   // of all classified deltas
   int high_residual_count_ = 0;
   int good_streak_ = 0;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -120,7 +121,11 @@ TEST(PublishedEstimate, EveryFigureDescribesThePublishedEstimate) {
         }
         expect_figures_of_published(scene.pair, est, options);
         if (variant == Variant::kPaper && symmetric) {
-          EXPECT_NEAR(est.translation.z(), 0.5 * (forward_dz + reverse_dz), 1e-5);  // the reverse is warm-started
+          // The reverse is warm-started here and cold in the reference, and
+          // each fit stops once its unknowns move by < 2 % of their sigma: the
+          // two agree to a small share of the published dz's own sigma.
+          EXPECT_NEAR(est.translation.z(), 0.5 * (forward_dz + reverse_dz),
+                      std::max(1e-5, 0.05 * std::sqrt(est.covariance(2, 2))));
         }
       }
     }

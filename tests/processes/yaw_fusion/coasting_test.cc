@@ -245,6 +245,28 @@ TEST(Coasting, InlierDropVerticalJumpAndHighResidualMajorityCoast) {
   }
 }
 
+// A noisy altimeter (1.5 m per range: 0.5 % at 300 m) makes the fixed 3 m
+// gate fire on good deltas; every coast drops a delta whose levelling error
+// the neighbours share. The gate follows the ground steps' own robust spread
+// (5 sigma) once its window is full, and still catches a real jump.
+TEST(Coasting, VerticalGateFollowsTheSpreadOfANoisyAltimeter) {
+  SyntheticFlight flight = test::make_flight(straight_spec());
+  std::mt19937 rng(3);
+  std::normal_distribution<double> range_noise(0.0, 1.5);
+  for (altimeter_t& a : flight.altimeter) a.range_m += range_noise(rng);
+  flight.deltas[300].dz += 25.0;  // a jump no altimeter noise explains
+  YawFusionCounters fixed_counters, counters;
+  YawFusionOptions fixed;
+  fixed.coast.vertical_gate_sigmas = 0.0;
+  fly(flight, fixed, &fixed_counters);
+  const auto poses = fly(flight, YawFusionOptions(), &counters);
+  // The fixed gate: the ground step's noise (~2 m) crosses 3 m + the 2.1 m step on a few % of the deltas.
+  EXPECT_GE(fixed_counters.coast_reasons[2], 6);
+  // Self-calibrated: only the jump, and what the first 50 deltas (the window filling) let through.
+  EXPECT_LE(counters.coast_reasons[2], 3);
+  EXPECT_TRUE(pose_at(poses, flight.truth[301].utime)->flags & pose_t::FLAG_COASTING);
+}
+
 // Texture gone: the tracker keeps measuring from its last good frame, so the
 // flagged deltas all start there (and span up to 10 s): coasted, not dropped as
 // overlapping or too long; then the tracker restarts (a first frame, a missing delta).
