@@ -116,7 +116,10 @@ int32_t CoastDetector::classify(const vo_delta_t& delta, int32_t coast_bits, dou
 
 double CoastDetector::vertical_gate(double horizontal_m) const {
   double gate = options_.vertical_gate_m;
-  if (options_.vertical_gate_sigmas > 0 && static_cast<int>(ground_steps_.size()) >= options_.inlier_median_window) {
+  // Ten steps already give a usable robust spread (the start of a flight,
+  // where the fixed gate alone fires most with a noisy altimeter).
+  constexpr int kMinGroundSteps = 10;
+  if (options_.vertical_gate_sigmas > 0 && static_cast<int>(ground_steps_.size()) >= kMinGroundSteps) {
     const std::vector<double> steps(ground_steps_.begin(), ground_steps_.end());
     gate = std::max(gate, options_.vertical_gate_sigmas * abs_sigma(steps));
   }

@@ -45,8 +45,8 @@ struct CoastOptions {
   double vertical_gate_m = 3.0;
   double vertical_gate_slope = 1.0;
   // ... and never below vertical_gate_sigmas robust sigmas of the ground steps
-  // of the last inlier_median_window integrated deltas (MAD about zero, once
-  // the window is full): with a noisy altimeter (0.5 % of 300 m is 1.5 m per
+  // of the last inlier_median_window integrated deltas (MAD about zero, from
+  // ten steps on): with a noisy altimeter (0.5 % of 300 m is 1.5 m per
   // range) the fixed gate alone coasted ~6 % of the frames of a good flight,
   // and each coast breaks the cancellation of the levelling errors that the
   // neighbouring deltas share. 0: the fixed gate only.

@@ -578,7 +578,20 @@ int32_t YawFusionEstimator::coast_bits(const vo_delta_t& delta) const {
 int32_t YawFusionEstimator::coast_reason(const vo_delta_t& delta, int32_t bits) {
   if (!options_.coast.enabled) return 0;
   const double height_change = altimeter_height_at(delta.utime) - last_altimeter_height_;
-  return coast_detector_.classify(delta, bits, height_change, coasting_);
+  const int32_t reason = coast_detector_.classify(delta, bits, height_change, coasting_);
+  // A delta coasted for what the detector judged (not for a missing range or
+  // features) could still be integrated, and coasting needs a held speed:
+  // until speed_window_s of integrated motion is behind (the start, after a
+  // gap) the speed is a few noisy deltas, whose levelling errors the next
+  // deltas would have cancelled. Integrate it instead.
+  if ((reason & kCoastQuality) == 0 && reason != 0 && !held_speed_ready()) return 0;
+  return reason;
+}
+
+bool YawFusionEstimator::held_speed_ready() const {
+  const int64_t window_us = static_cast<int64_t>(options_.coast.speed_window_s * 1e6);
+  if (coasting_) return true;  // the speed is held already
+  return coast_positions_.size() >= 2 && coast_positions_.back().first - coast_positions_.front().first >= window_us;
 }
 
 int32_t YawFusionEstimator::update_attitude(int64_t utime) {

@@ -128,6 +128,7 @@ class YawFusionEstimator {
   int32_t coast_to(int64_t utime, const vo_delta_t* direction = nullptr);
   // Reason bits (CoastReason) for coasting over this usable delta; 0 = integrate it.
   int32_t coast_reason(const vo_delta_t& delta, int32_t coast_bits);
+  bool held_speed_ready() const;  // coasting, or speed_window_s of integrated motion behind the pose
   // The delta's quality bits coasted over: coast.quality_mask, less
   // STALE_ALTIMETER when a valid range within coast.max_range_age_s is there.
   int32_t coast_bits(const vo_delta_t& delta) const;
