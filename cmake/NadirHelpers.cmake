@@ -3,6 +3,7 @@ set(NADIR_WARNINGS -Wall -Wextra -Werror)
 
 function(nadir_target_defaults target)
   target_compile_options(${target} PRIVATE ${NADIR_WARNINGS})
+  set_property(GLOBAL APPEND PROPERTY NADIR_COMPILED_TARGETS ${target})
   if(NADIR_SANITIZE)
     target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)
     target_link_options(${target} PRIVATE -fsanitize=address,undefined)
@@ -83,5 +84,91 @@ function(nadir_add_module_folders parent)
     if(EXISTS ${CMAKE_SOURCE_DIR}/${parent}/${child}/CMakeLists.txt)
       add_subdirectory(${CMAKE_SOURCE_DIR}/${parent}/${child} ${CMAKE_BINARY_DIR}/${parent}/${child})
     endif()
+  endforeach()
+endfunction()
+
+# Precompiled headers: the third-party headers most sources include (the
+# standard library, Eigen, OpenCV, LCM, yaml-cpp; GoogleTest for the suites)
+# are parsed once per build instead of once per source. A precompiled header
+# is only valid for the flags it was made with, so there is one per kind of
+# target: static libraries (position-independent code), other code, test
+# suites. Only targets that link nadir_common (and so already see these
+# headers' include folders and flags) use one. CMake builds with
+# -Winvalid-pch, so with -Werror a mismatch fails instead of silently parsing
+# the headers again. NADIR_PRECOMPILED_HEADERS=OFF builds without them.
+option(NADIR_PRECOMPILED_HEADERS "Precompile the common third-party headers" ON)
+set(NADIR_PCH_HEADERS
+  <algorithm> <array> <chrono> <cmath> <cstdint> <cstdio> <cstdlib> <cstring> <deque>
+  <fstream> <functional> <limits> <map> <memory> <mutex> <optional> <random> <set>
+  <sstream> <stdexcept> <string> <thread> <utility> <vector>
+  <Eigen/Dense> <opencv2/core.hpp> <opencv2/imgproc.hpp> <lcm/lcm-cpp.hpp> <yaml-cpp/yaml.h>)
+set(NADIR_PCH_TEST_HEADERS <gtest/gtest.h> <gmock/gmock.h>)
+
+# True in `out` when `target` links `wanted`, directly or through nadir targets.
+function(nadir_links target wanted out)
+  get_target_property(deps ${target} LINK_LIBRARIES)
+  set(${out} FALSE PARENT_SCOPE)
+  foreach(dep IN LISTS deps)
+    if(dep STREQUAL wanted)
+      set(${out} TRUE PARENT_SCOPE)
+      return()
+    endif()
+    if(TARGET ${dep} AND dep MATCHES "^nadir_")
+      get_target_property(type ${dep} TYPE)
+      if(NOT type STREQUAL "INTERFACE_LIBRARY")
+        nadir_links(${dep} ${wanted} found)
+        if(found)
+          set(${out} TRUE PARENT_SCOPE)
+          return()
+        endif()
+      endif()
+    endif()
+  endforeach()
+endfunction()
+
+# Called once, after every target is defined.
+function(nadir_precompile_headers)
+  if(NOT NADIR_PRECOMPILED_HEADERS)
+    return()
+  endif()
+  set(pch_source ${CMAKE_BINARY_DIR}/nadir_pch.cc)
+  file(CONFIGURE OUTPUT ${pch_source} CONTENT "// Only carries the precompiled headers.\n")
+  get_property(targets GLOBAL PROPERTY NADIR_COMPILED_TARGETS)
+  foreach(target IN LISTS targets)
+    nadir_links(${target} nadir_common links_common)
+    if(target STREQUAL "nadir_common")
+      set(links_common TRUE)
+    endif()
+    get_target_property(options ${target} COMPILE_OPTIONS)
+    # Own optimisation flags (vo_solver, sim: -O3) keep their own parse.
+    if(NOT links_common OR "-O3" IN_LIST options)
+      continue()
+    endif()
+    get_target_property(pic ${target} POSITION_INDEPENDENT_CODE)
+    nadir_links(${target} GTest::gtest is_suite)
+    if(pic)
+      set(kind library)
+    elseif(is_suite)
+      set(kind suite)
+    else()
+      set(kind code)
+    endif()
+    set(donor nadir_pch_${kind})
+    if(NOT TARGET ${donor})
+      add_library(${donor} OBJECT ${pch_source})
+      # nadir_common's third-party dependencies (not nadir_common itself: it uses the PCH too).
+      target_link_libraries(${donor} PRIVATE Eigen3::Eigen ${OpenCV_LIBS} PkgConfig::LCM yaml-cpp Threads::Threads)
+      set(headers ${NADIR_PCH_HEADERS})
+      if(kind STREQUAL "suite")
+        target_link_libraries(${donor} PRIVATE GTest::gtest GTest::gmock)
+        target_compile_definitions(${donor} PRIVATE
+          NADIR_SOURCE_DIR="${CMAKE_SOURCE_DIR}" NADIR_BINARY_DIR="${CMAKE_BINARY_DIR}")
+        list(APPEND headers ${NADIR_PCH_TEST_HEADERS})
+      endif()
+      set_target_properties(${donor} PROPERTIES POSITION_INDEPENDENT_CODE ${pic})
+      nadir_target_defaults(${donor})
+      target_precompile_headers(${donor} PRIVATE ${headers})
+    endif()
+    target_precompile_headers(${target} REUSE_FROM ${donor})
   endforeach()
 endfunction()
