@@ -95,8 +95,14 @@ endfunction()
 # suites. Only targets that link nadir_common (and so already see these
 # headers' include folders and flags) use one. CMake builds with
 # -Winvalid-pch, so with -Werror a mismatch fails instead of silently parsing
-# the headers again. NADIR_PRECOMPILED_HEADERS=OFF builds without them.
-option(NADIR_PRECOMPILED_HEADERS "Precompile the common third-party headers" ON)
+# the headers again. NADIR_PRECOMPILED_HEADERS=OFF builds without them; it is
+# the default under a ccache launcher, which does not cache sources compiled
+# with a precompiled header unless its sloppiness setting allows it.
+if(CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache")
+  option(NADIR_PRECOMPILED_HEADERS "Precompile the common third-party headers" OFF)
+else()
+  option(NADIR_PRECOMPILED_HEADERS "Precompile the common third-party headers" ON)
+endif()
 set(NADIR_PCH_HEADERS
   <algorithm> <array> <chrono> <cmath> <cstdint> <cstdio> <cstdlib> <cstring> <deque>
   <fstream> <functional> <limits> <map> <memory> <mutex> <optional> <random> <set>
