@@ -1,8 +1,21 @@
 # Warnings and sanitizers for project code only.
 set(NADIR_WARNINGS -Wall -Wextra -Werror)
 
+# Debug information of the Debug and RelWithDebInfo builds: "full" (-g) or
+# "lines" (-g1: functions and file:line, enough for backtraces and sanitizer
+# reports, no variables; about a third less compile time and objects a tenth
+# the size). GCC generates the same code either way. CI builds with lines.
+set(NADIR_DEBUG_INFO full CACHE STRING "Debug information: full or lines")
+set_property(CACHE NADIR_DEBUG_INFO PROPERTY STRINGS full lines)
+if(NOT NADIR_DEBUG_INFO MATCHES "^(full|lines)$")
+  message(FATAL_ERROR "NADIR_DEBUG_INFO is '${NADIR_DEBUG_INFO}'; allowed: full, lines")
+endif()
+
 function(nadir_target_defaults target)
   target_compile_options(${target} PRIVATE ${NADIR_WARNINGS})
+  if(NADIR_DEBUG_INFO STREQUAL "lines")
+    target_compile_options(${target} PRIVATE $<$<CONFIG:Debug,RelWithDebInfo>:-g1>)
+  endif()
   set_property(GLOBAL APPEND PROPERTY NADIR_COMPILED_TARGETS ${target})
   if(NADIR_SANITIZE)
     target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)

@@ -13,7 +13,7 @@ if [ "${NADIR_SKIP_SANITIZERS:-0}" != 1 ]; then
   sanitized_modules="ins_bridge;vo_solver;yaw_fusion;tracker;mavlink_bridge"
   if [ ! -f "$asan/CMakeCache.txt" ]; then
     cmake -S "$NADIR_ROOT" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_SANITIZE=ON \
-      -DNADIR_MODULES="$sanitized_modules" >/dev/null
+      -DNADIR_MODULES="$sanitized_modules" -DNADIR_DEBUG_INFO="${NADIR_DEBUG_INFO:-full}" >/dev/null
   elif ! grep -qxF "NADIR_MODULES:STRING=$sanitized_modules" "$asan/CMakeCache.txt"; then
     cmake -S "$NADIR_ROOT" -B "$asan" -DNADIR_MODULES="$sanitized_modules" >/dev/null  # the list grew
   fi
