@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages nadir needs (only the missing ones), then
 # configures and builds into build/. Idempotent; quick when nothing changed.
+# NADIR_DEBUG_INFO=lines (CI) configures a new build with line-table debug
+# information only (see cmake/NadirHelpers.cmake).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
@@ -31,7 +33,8 @@ if ((${#missing[@]})); then
 fi
 
 if [ ! -f "$NADIR_BUILD/CMakeCache.txt" ]; then
-  cmake -S "$NADIR_ROOT" -B "$NADIR_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_MODULES= >/dev/null
+  cmake -S "$NADIR_ROOT" -B "$NADIR_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_MODULES= \
+    -DNADIR_DEBUG_INFO="${NADIR_DEBUG_INFO:-full}" >/dev/null
 fi
 cmake --build "$NADIR_BUILD" -j"$(nproc)" 2>&1 | grep -vE '^\[ *[0-9]+%\] (Building|Linking|Built)' || true
 test "${PIPESTATUS[0]}" -eq 0
