@@ -137,6 +137,9 @@ UncertaintyOptions UncertaintyOptions::from_config(const Config& vo_solver_secti
   o.relief_walk_across_m_per_sqrt_m =
       c.get_in_range("relief_walk_across_m_per_sqrt_m", o.relief_walk_across_m_per_sqrt_m, 0.0, 10.0);
   o.dyaw_model_stddev_deg = c.get_in_range("dyaw_model_stddev_deg", o.dyaw_model_stddev_deg, 0.0, 10.0);
+  o.heading_drift_deg_per_s_per_deg =
+      c.get_in_range("heading_drift_deg_per_s_per_deg", o.heading_drift_deg_per_s_per_deg, 0.0, 10.0);
+  o.heading_drift_time_s = c.get_in_range("heading_drift_time_s", o.heading_drift_time_s, 0.01, 1e6);
   try {
     o.Check();
   } catch (const std::invalid_argument& e) {
@@ -157,11 +160,24 @@ void UncertaintyOptions::Check() const {
   require(relief_walk_across_m_per_sqrt_m >= 0 && relief_walk_across_m_per_sqrt_m <= 10,
           "relief_walk_across_m_per_sqrt_m", "in [0, 10]");
   require(dyaw_model_stddev_deg >= 0 && dyaw_model_stddev_deg <= 10, "dyaw_model_stddev_deg", "in [0, 10]");
+  require(heading_drift_deg_per_s_per_deg >= 0 && heading_drift_deg_per_s_per_deg <= 10,
+          "heading_drift_deg_per_s_per_deg", "in [0, 10]");
+  require(heading_drift_time_s >= 0.01 && heading_drift_time_s <= 1e6, "heading_drift_time_s", "in [0.01, 1e6]");
+}
+
+double UncertaintyOptions::heading_drift_stddev_rad_s() const {
+  return enabled ? deg_to_rad(heading_drift_deg_per_s_per_deg * roll_pitch_stddev_deg) : 0.0;
 }
 
 double levelling_variance_m2(double height_m, double roll_pitch_stddev_rad) {
   const double shift = height_m * roll_pitch_stddev_rad;
   return shift * shift;
+}
+
+double levelling_yaw_variance_rad2(double pitch_rad, double roll_pitch_stddev_rad) {
+  if (!std::isfinite(pitch_rad)) return 0.0;
+  const double turn = std::sin(pitch_rad) * roll_pitch_stddev_rad;
+  return turn * turn;
 }
 
 void frame_levelling_variances(double prev_altitude_m, double dz, double roll_pitch_stddev_rad, double* prev_m2,
@@ -262,12 +278,16 @@ Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, co
   // the model's (whose grid adds ~1 % of perspective the solver's tilt fit
   // does not have), so that yaw fusion removes exactly what is added here.
   j.block<2, 4>(0, kPrevRoll).setZero();
+  // dyaw against the attitudes: each frame's heading term (levelling_yaw_variance_rad2).
+  j.block<1, 4>(3, kPrevRoll).setZero();
   Eigen::Matrix4d cov = j * sensor_input_covariance(pair, options) * j.transpose();
+  const double rp_stddev = deg_to_rad(options.roll_pitch_stddev_deg);
   double prev_levelling = 0, curr_levelling = 0;
-  frame_levelling_variances(est.altitude_m, est.translation.z(), deg_to_rad(options.roll_pitch_stddev_deg),
-                            &prev_levelling, &curr_levelling);
+  frame_levelling_variances(est.altitude_m, est.translation.z(), rp_stddev, &prev_levelling, &curr_levelling);
   cov(0, 0) += prev_levelling + curr_levelling;
   cov(1, 1) += prev_levelling + curr_levelling;
+  cov(3, 3) += levelling_yaw_variance_rad2(pair.prev_pitch, rp_stddev) +
+               levelling_yaw_variance_rad2(pair.curr_pitch, rp_stddev);
   // `flow` takes its heading change from the INS: both frames' yaw noise.
   if (solver.variant == Variant::kFlow) cov(3, 3) += 2 * variance_rad2(options.yaw_stddev_deg);
   cov.topLeftCorner<2, 2>() += relief_walk_covariance(est.translation.head<2>(), options);

@@ -52,12 +52,24 @@ struct UncertaintyOptions {
   double relief_walk_along_m_per_sqrt_m = 0.068;
   double relief_walk_across_m_per_sqrt_m = 0.012;
   double dyaw_model_stddev_deg = 0.005;
+  // The heading change chained over many deltas drifts when the INS
+  // roll/pitch is noisy: the solver's fit of the ground tilt is biased by the
+  // levelling noise on sloping ground, and so is its dyaw, at a rate that
+  // follows the slope under the aircraft. Yaw fusion carries it as a
+  // first-order Gauss-Markov rate (PoseFilter::apply_heading_drift) with this
+  // stddev per degree of roll_pitch_stddev_deg and this correlation time.
+  // Fitted to the chained dyaw errors of simulated flights (README §
+  // "Does the reported covariance mean anything?").
+  double heading_drift_deg_per_s_per_deg = 0.11;
+  double heading_drift_time_s = 20.0;
 
   // Reads `vo_solver.uncertainty:` (keys as the fields, missing = default).
   static UncertaintyOptions from_config(const Config& vo_solver_section);
   // Throws std::invalid_argument naming the field and its allowed range.
   void Check() const;
   double range_stddev(double range_m) const { return altimeter_stddev_m + altimeter_stddev_fraction * range_m; }
+  // Stationary stddev (rad/s) of the heading drift rate; 0 when disabled.
+  double heading_drift_stddev_rad_s() const;
 };
 
 // The sensor inputs of delta_model, in this order.
@@ -108,6 +120,18 @@ Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, co
 double levelling_variance_m2(double height_m, double roll_pitch_stddev_rad);
 void frame_levelling_variances(double prev_altitude_m, double dz, double roll_pitch_stddev_rad, double* prev_m2,
                                double* curr_m2);
+
+// Heading variance (rad^2) of one frame's levelled frame: the frame is
+// levelled by R(roll, pitch) (ZYX), so a roll error delta turns it about the
+// vertical by -sin(pitch) * delta and a pitch error not at all. The solver's
+// dyaw responds exactly so, -sin(prev pitch) to prev's roll and
+// +sin(curr pitch) to curr's (checked by the tests), which delta_model's grid
+// does not reproduce (its ground has no tilt to absorb a tilt error, so it
+// turns a pitch error into a heading by the bank's perspective).
+// sensor_covariance puts exactly prev + curr of these on dyaw; the error
+// telescopes over consecutive deltas like the footprint's, and yaw fusion
+// keeps it once per frame (PoseFilter::step_frame_yaw_levelling).
+double levelling_yaw_variance_rad2(double pitch_rad, double roll_pitch_stddev_rad);
 
 // The relief model error of one delta with horizontal translation `step`
 // (level frame): the walks' variance per metre times its length, along and

@@ -22,22 +22,28 @@ Eigen::Matrix4d psd_part(const Eigen::Matrix4d& m) {
 }  // namespace
 
 Eigen::Vector3d integrate_delta(PoseFilter* filter, const vo_delta_t& delta, const Eigen::Matrix4d& covariance,
-                                const YawFusionOptions& options) {
+                                double prev_pitch, double curr_pitch, const YawFusionOptions& options) {
   const vo::UncertaintyOptions& u = options.sensor_uncertainty;
   const Eigen::Vector3d translation(delta.dx, delta.dy, delta.dz);
   double prev_levelling = 0.0, curr_levelling = 0.0, range_scale_variance = 0.0;
+  double prev_heading = 0.0, curr_heading = 0.0;
   if (u.enabled) {
-    // Exactly what vo_solver put on dx, dy (vo::sensor_covariance).
-    vo::frame_levelling_variances(delta.altitude_m, delta.dz, deg_to_rad(u.roll_pitch_stddev_deg), &prev_levelling,
-                                  &curr_levelling);
+    // Exactly what vo_solver put on dx, dy and dyaw (vo::sensor_covariance).
+    const double rp_stddev = deg_to_rad(u.roll_pitch_stddev_deg);
+    vo::frame_levelling_variances(delta.altitude_m, delta.dz, rp_stddev, &prev_levelling, &curr_levelling);
     range_scale_variance = u.range_scale_stddev * u.range_scale_stddev;
+    prev_heading = vo::levelling_yaw_variance_rad2(prev_pitch, rp_stddev);
+    curr_heading = vo::levelling_yaw_variance_rad2(curr_pitch, rp_stddev);
   }
   Eigen::Matrix4d shared = Eigen::Matrix4d::Zero();
   shared(0, 0) = shared(1, 1) = prev_levelling + curr_levelling;
   shared.topLeftCorner<3, 3>() += range_scale_variance * translation * translation.transpose();
+  shared(3, 3) = prev_heading + curr_heading;
   const Eigen::Vector3d world = filter->predict_with_delta(translation, delta.dyaw, psd_part(covariance - shared));
-
+  filter->step_frame_yaw_levelling(delta.prev_utime, delta.utime, prev_heading, curr_heading);
   const double dt = std::max(0.0, static_cast<double>(delta.utime - delta.prev_utime) * 1e-6);
+  filter->apply_heading_drift(dt, u.heading_drift_stddev_rad_s(), u.heading_drift_time_s);
+
   const double walk = deg_to_rad(options.ins_yaw_bias_walk_deg_per_sqrt_s);
   double yaw_bias_added = walk * walk * dt;
   if (!filter->has_shared_origin()) yaw_bias_added += std::pow(deg_to_rad(options.ins_yaw_bias_stddev_deg), 2);

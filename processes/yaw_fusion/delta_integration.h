@@ -3,7 +3,7 @@
 // (README § Consistency): the INS levelling and altimeter scale parts of the
 // delta's covariance are not independent from delta to delta, so they are
 // removed from what the filter integrates and kept once, as PoseFilter's
-// shared-error terms; the rest (image noise, altimeter noise, model error)
+// shared-error terms (the levelling's heading part as its kYawLevelling state); the rest (image noise, altimeter noise, model error)
 // is integrated as independent.
 
 #include <Eigen/Core>
@@ -15,8 +15,11 @@
 namespace nadir {
 
 // `covariance`: the delta's, over (dx, dy, dz, dyaw), as yaw fusion uses it.
-// Returns the world translation added (PoseFilter::predict_with_delta).
+// `prev_pitch`, `curr_pitch`: the INS pitch (rad) of the delta's two frames,
+// NaN where unknown (then that frame's heading levelling term stays in the
+// delta as independent). Returns the world translation added
+// (PoseFilter::predict_with_delta).
 Eigen::Vector3d integrate_delta(PoseFilter* filter, const vo_delta_t& delta, const Eigen::Matrix4d& covariance,
-                                const YawFusionOptions& options);
+                                double prev_pitch, double curr_pitch, const YawFusionOptions& options);
 
 }  // namespace nadir

@@ -1,5 +1,6 @@
 #include "processes/yaw_fusion/pose_filter.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/geometry.h"
@@ -18,6 +19,8 @@ void PoseFilter::initialise(double yaw, double yaw_variance) {
   displacement_.setZero();
   range_scale_variance_ = 0.0;
   yaw_bias_.setZero();
+  have_yaw_levelling_frame_ = false;
+  have_heading_drift_ = false;
 }
 
 void PoseFilter::restore(const Eigen::Vector3d& position, const Eigen::Matrix3d& position_covariance, double yaw,
@@ -52,6 +55,48 @@ Eigen::Vector3d PoseFilter::predict_with_delta(const Eigen::Vector3d& translatio
   p_ = f * p_ * f.transpose() + g * covariance * g.transpose();
   p_ = 0.5 * (p_ + p_.transpose());
   return world;
+}
+
+void PoseFilter::step_frame_yaw_levelling(int64_t prev_frame, int64_t curr_frame, double prev_variance,
+                                          double curr_variance) {
+  if (!have_yaw_levelling_frame_ || yaw_levelling_frame_ != prev_frame) {
+    p_.row(kYawLevelling).setZero();
+    p_.col(kYawLevelling).setZero();
+    p_(kYawLevelling, kYawLevelling) = std::max(0.0, prev_variance);
+  }
+  Matrix f = Matrix::Identity();
+  f(kYaw, kYawLevelling) = -1.0;  // prev's term leaves the yaw
+  p_ = f * p_ * f.transpose();
+  const double v = std::max(0.0, curr_variance);  // curr's enters it and is held
+  p_.row(kYawLevelling).setZero();
+  p_.col(kYawLevelling).setZero();
+  p_(kYaw, kYaw) += v;
+  p_(kYaw, kYawLevelling) = p_(kYawLevelling, kYaw) = v;
+  p_(kYawLevelling, kYawLevelling) = v;
+  yaw_levelling_frame_ = curr_frame;
+  have_yaw_levelling_frame_ = true;
+}
+
+void PoseFilter::apply_heading_drift(double dt, double stddev, double time_s) {
+  if (!(stddev > 0.0) || !(time_s > 0.0) || !(dt > 0.0)) return;
+  const double stationary = stddev * stddev;
+  if (!have_heading_drift_) {
+    x_(kHeadingDrift) = 0.0;
+    p_.row(kHeadingDrift).setZero();
+    p_.col(kHeadingDrift).setZero();
+    p_(kHeadingDrift, kHeadingDrift) = stationary;
+    have_heading_drift_ = true;
+  }
+  // The delta's dyaw held the drift of its interval: take the estimate out.
+  x_(kYaw) = wrap_angle(x_(kYaw) - x_(kHeadingDrift) * dt);
+  Matrix f = Matrix::Identity();
+  f(kYaw, kHeadingDrift) = -dt;
+  const double decay = std::exp(-dt / time_s);
+  f(kHeadingDrift, kHeadingDrift) = decay;
+  x_(kHeadingDrift) *= decay;
+  p_ = f * p_ * f.transpose();
+  p_(kHeadingDrift, kHeadingDrift) += stationary * (1.0 - decay * decay);
+  p_ = 0.5 * (p_ + p_.transpose());
 }
 
 void PoseFilter::propagate_without_vo(const Eigen::Vector3d& displacement_ned,
@@ -103,9 +148,11 @@ PoseFilter::UpdateResult PoseFilter::update_yaw(double measured_yaw, double vari
   if (innovation * innovation > gate_sigma * gate_sigma * s) return UpdateResult::kRejected;
   Vector k = Vector::Zero();
   k(kYaw) = p_(kYaw, kYaw) / s;
+  k(kHeadingDrift) = p_(kHeadingDrift, kYaw) / s;
   Eigen::Matrix<double, 1, kSize> h = Eigen::Matrix<double, 1, kSize>::Zero();
   h(kYaw) = 1.0;
   x_(kYaw) = wrap_angle(x_(kYaw) + k(kYaw) * innovation);
+  x_(kHeadingDrift) += k(kHeadingDrift) * innovation;
   joseph_update(k, h, variance);
   return UpdateResult::kAccepted;
 }

@@ -1,7 +1,8 @@
 #pragma once
 // The estimator state of yaw fusion, independent of any bus: local NED
 // position (origin = first frame), yaw, and (level_terrain mode only) the down
-// coordinate of the terrain under the vehicle, with a full covariance.
+// coordinate of the terrain under the vehicle, the current frame's levelling
+// heading error and the VO heading drift rate, with a full covariance.
 //
 // Prediction uses one VO delta: the translation (dx, dy) measured in the level
 // frame of the previous frame is registered in the world with the yaw held for
@@ -10,18 +11,25 @@
 // at it -- the same one-attitude-per-frame rule that makes the roll/pitch
 // errors telescope in the paper's eq. (21)-(23).
 //
-// The INS yaw update corrects the yaw only (a "consider" gain): translations
-// already registered stay where they were, but the covariance is updated with
+// The INS yaw update corrects the yaw (and the heading drift rate) only (a
+// "consider" gain for the rest): translations already registered stay where they were, but the covariance is updated with
 // the Joseph form for the gain actually used, so the reported position
 // covariance (including yaw/position cross terms) stays honest.
 
 #include <Eigen/Core>
 
+#include <cstdint>
+
 namespace nadir {
 
 class PoseFilter {
  public:
-  static constexpr int kNorth = 0, kEast = 1, kDown = 2, kYaw = 3, kTerrain = 4, kSize = 5;
+  // kYawLevelling: the current frame's levelling heading error (a consider
+  // state, estimate 0; step_frame_yaw_levelling). kHeadingDrift: the rate
+  // (rad/s) at which the VO heading chain drifts (apply_heading_drift),
+  // estimated by the INS yaw updates.
+  static constexpr int kNorth = 0, kEast = 1, kDown = 2, kYaw = 3, kTerrain = 4, kYawLevelling = 5,
+                       kHeadingDrift = 6, kSize = 7;
   using Vector = Eigen::Matrix<double, kSize, 1>;
   using Matrix = Eigen::Matrix<double, kSize, kSize>;
 
@@ -40,6 +48,27 @@ class PoseFilter {
   // world (NED) translation that was added.
   Eigen::Vector3d predict_with_delta(const Eigen::Vector3d& translation, double dyaw,
                                      const Eigen::Matrix4d& covariance);
+
+  // The heading error a frame's levelling puts into the VO chain
+  // (vo::levelling_yaw_variance_rad2): a delta's dyaw carries curr's term
+  // minus prev's, so over consecutive deltas it telescopes and the chain's
+  // yaw holds only the current frame's (and the first frame's). Call after
+  // predict_with_delta, whose covariance must not contain these, with the
+  // delta's two frames (any ids, e.g. sensor times) and their variances: the
+  // yaw error loses prev's term and takes curr's, kept as kYawLevelling so
+  // that INS yaw updates see its correlation. A delta that does not start at
+  // the frame held (the first one, or after a gap) starts from an
+  // independent term of its prev frame.
+  void step_frame_yaw_levelling(int64_t prev_frame, int64_t curr_frame, double prev_variance, double curr_variance);
+
+  // The VO heading chain drifts at a rate that changes slowly with the
+  // ground (a first-order Gauss-Markov process: `stddev` rad/s, correlation
+  // time `time_s`; vo::UncertaintyOptions::heading_drift_stddev_rad_s). Call
+  // after each integrated delta, `dt` its duration: the yaw takes the drift
+  // estimate out of the delta's dyaw, and the drift decays towards 0 with its
+  // variance growing back towards stddev^2. The INS yaw updates estimate the
+  // drift through its correlation with the yaw. stddev 0: no drift state.
+  void apply_heading_drift(double dt, double stddev, double time_s);
 
   // Moves the position by a world displacement without VO (gaps) and adds
   // independent variance to the position axes and the yaw.
@@ -82,6 +111,7 @@ class PoseFilter {
   // Position covariance and yaw variance with the shared errors.
   Eigen::Matrix3d reported_position_covariance() const;
   double reported_yaw_variance() const { return p_(kYaw, kYaw) + yaw_bias_(kBias, kBias); }
+  double heading_drift() const { return x_(kHeadingDrift); }
 
   Eigen::Vector3d position() const { return x_.head<3>(); }
   double yaw() const { return x_(kYaw); }
@@ -98,6 +128,9 @@ class PoseFilter {
   Vector x_ = Vector::Zero();
   Matrix p_ = Matrix::Zero();
   double last_yaw_innovation_ = 0.0;
+  bool have_heading_drift_ = false;
+  bool have_yaw_levelling_frame_ = false;
+  int64_t yaw_levelling_frame_ = 0;
   // Shared errors (add_shared_errors).
   bool have_origin_levelling_ = false;
   double origin_levelling_variance_ = 0.0, frame_levelling_variance_ = 0.0;

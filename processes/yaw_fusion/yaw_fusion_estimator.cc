@@ -160,6 +160,11 @@ std::optional<AttitudeSample> YawFusionEstimator::ins_attitude_at(int64_t utime)
                  options_.attitude_policy);
 }
 
+double YawFusionEstimator::frame_pitch(int64_t utime) const {
+  const auto attitude = ins_attitude_at(utime);
+  return attitude ? attitude->pitch : std::numeric_limits<double>::quiet_NaN();
+}
+
 bool YawFusionEstimator::delta_ready(const vo_delta_t& delta) const {
   const int64_t t = options_.calibration.exposure_utime(delta.utime);  // when the sensors are read
   if (sensor_now_ >= t + options_.ins_wait_us()) return true;
@@ -433,7 +438,8 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   cov(3, 3) = std::max(cov(3, 3), square(deg_to_rad(options_.min_dyaw_stddev_deg)));
 
   const PoseFilter before = filter_;
-  const Eigen::Vector3d world = integrate_delta(&filter_, delta, cov, options_);
+  const Eigen::Vector3d world =
+      integrate_delta(&filter_, delta, cov, frame_pitch(delta.prev_utime), frame_pitch(delta.utime), options_);
   if (!world.allFinite() || !filter_.position().allFinite() || !filter_.covariance().allFinite()) {
     // Finite but extreme values overflowed: nothing non-finite is ever published.
     filter_ = before;

@@ -115,6 +115,8 @@ class YawFusionEstimator {
  private:
   // The INS attitude at a frame (stamp) time's exposure time under the configured attitude policy.
   std::optional<AttitudeSample> ins_attitude_at(int64_t utime) const;
+  // The INS pitch (rad) of the frame at this sensor time, NaN when the INS does not bracket it.
+  double frame_pitch(int64_t utime) const;
   bool delta_ready(const vo_delta_t& delta) const;
   void pump(std::vector<pose_t>* out);
   void start(const vo_delta_t& first, std::vector<pose_t>* out);

@@ -6,9 +6,12 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "common/geometry.h"
 #include "nadir/pose_t.hpp"
+#include "processes/vo_solver/delta_uncertainty.h"
 #include "processes/yaw_fusion/delta_integration.h"
 #include "processes/yaw_fusion/pose_filter.h"
 #include "processes/yaw_fusion/protection_level.h"
@@ -52,7 +55,7 @@ Flight fly(int frames, double height, double step, const YawFusionOptions& optio
     cov(0, 0) = cov(1, 1) = 2 * vo::levelling_variance_m2(height, level_sigma) + image_sigma * image_sigma;
     cov(0, 0) += std::pow(options.sensor_uncertainty.range_scale_stddev * step, 2);
     cov(3, 3) = 1e-12;
-    integrate_delta(&filter, d, cov, options);
+    integrate_delta(&filter, d, cov, std::nan(""), std::nan(""), options);
   }
   return {filter.position().head<2>() - truth, filter.reported_position_covariance().topLeftCorner<2, 2>()};
 }
@@ -60,6 +63,7 @@ Flight fly(int frames, double height, double step, const YawFusionOptions& optio
 TEST(DeltaIntegration, SharedLevellingAndScaleErrorsGiveAConsistentCovariance) {
   YawFusionOptions options;
   options.ins_yaw_bias_walk_deg_per_sqrt_s = 0.0;  // this test's subject: levelling and scale
+  options.sensor_uncertainty.heading_drift_deg_per_s_per_deg = 0.0;
   options.sensor_uncertainty.roll_pitch_stddev_deg = 0.05;
   options.sensor_uncertainty.range_scale_stddev = 0.002;
   const int runs = 400;
@@ -119,7 +123,7 @@ Flight fly_with_yaw_bias(int frames, double step, const YawFusionOptions& option
     Eigen::Matrix4d cov = Eigen::Matrix4d::Zero();
     cov(0, 0) = cov(1, 1) = cov(2, 2) = 1e-12;
     cov(3, 3) = dyaw_sigma * dyaw_sigma;
-    integrate_delta(&filter, d, cov, options);
+    integrate_delta(&filter, d, cov, std::nan(""), std::nan(""), options);
     filter.update_yaw(true_yaw + bias + white * unit(rng), white * white, 1e9);
   }
   return {filter.position().head<2>() - truth, filter.reported_position_covariance().topLeftCorner<2, 2>()};
@@ -128,6 +132,7 @@ Flight fly_with_yaw_bias(int frames, double step, const YawFusionOptions& option
 TEST(DeltaIntegration, InsYawBiasIsCarriedIntoThePositionCovariance) {
   YawFusionOptions options;
   options.sensor_uncertainty.dyaw_model_stddev_deg = 0.005;
+  options.sensor_uncertainty.heading_drift_deg_per_s_per_deg = 0.0;
   options.ins_yaw_bias_walk_deg_per_sqrt_s = 0.004;
   options.ins_yaw_bias_stddev_deg = 0.02;
   const int runs = 400;
@@ -155,6 +160,126 @@ TEST(DeltaIntegration, InsYawBiasIsCarriedIntoThePositionCovariance) {
   EXPECT_LT(plain.reported(1, 1), 0.2 * reported(1, 1));
 }
 
+// A flight whose frames are levelled with a roll error each (0.3 deg, white)
+// at a pitch of 1-5 deg, so each frame's levelled heading is off by
+// -sin(pitch) * roll error (vo::levelling_yaw_variance_rad2) and each delta's
+// dyaw carries curr's term minus prev's, plus a little image noise; its
+// published variance is the marginal of both frames' terms and the noise, as
+// vo_solver publishes it. After each frame an INS yaw with white noise is
+// fused as yaw_fusion does. `pitch_known`: integrate_delta is given the
+// frames' pitch (else NaN: every delta's variance taken as independent).
+// Returns the final yaw error and the reported yaw variance.
+std::pair<double, double> fly_with_heading_levelling(int frames, const YawFusionOptions& options, bool pitch_known,
+                                                     uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const double rp = deg_to_rad(options.sensor_uncertainty.roll_pitch_stddev_deg);
+  const double image = deg_to_rad(0.003);
+  const double ins = deg_to_rad(0.3);
+  auto pitch_of = [](int k) { return deg_to_rad(3.0 + 2.0 * std::sin(0.01 * k)); };
+  PoseFilter filter;
+  filter.initialise(ins * unit(rng), ins * ins);
+  double prev_term = -std::sin(pitch_of(0)) * rp * unit(rng);
+  for (int k = 1; k <= frames; ++k) {
+    const double term = -std::sin(pitch_of(k)) * rp * unit(rng);
+    vo_delta_t d{};
+    d.utime = k * 71'429;
+    d.prev_utime = (k - 1) * 71'429;
+    d.dx = 2.0;
+    d.dyaw = term - prev_term + image * unit(rng);
+    prev_term = term;
+    Eigen::Matrix4d cov = Eigen::Matrix4d::Identity() * 1e-12;
+    cov(3, 3) = vo::levelling_yaw_variance_rad2(pitch_of(k - 1), rp) + vo::levelling_yaw_variance_rad2(pitch_of(k), rp) +
+                image * image;
+    const double nan = std::nan("");
+    integrate_delta(&filter, d, cov, pitch_known ? pitch_of(k - 1) : nan, pitch_known ? pitch_of(k) : nan, options);
+    filter.update_yaw(ins * unit(rng), ins * ins, 1e9);  // the true yaw stays 0
+  }
+  return {filter.yaw(), filter.reported_yaw_variance()};
+}
+
+TEST(DeltaIntegration, LevellingHeadingErrorsTelescopeThroughInsYawUpdates) {
+  YawFusionOptions options;
+  options.ins_yaw_bias_walk_deg_per_sqrt_s = 0.0;  // this test's subject: the levelling heading term
+  options.sensor_uncertainty.heading_drift_deg_per_s_per_deg = 0.0;
+  options.sensor_uncertainty.roll_pitch_stddev_deg = 0.3;
+  const int runs = 400;
+  double nees = 0.0, nees_independent = 0.0;
+  for (int i = 0; i < runs; ++i) {
+    const auto [error, variance] = fly_with_heading_levelling(300, options, true, 900 + i);
+    nees += error * error / variance / runs;
+    const auto [error2, variance2] = fly_with_heading_levelling(300, options, false, 900 + i);
+    nees_independent += error2 * error2 / variance2 / runs;
+  }
+  // Mean NEES of 400 flights: 1 within +-20 % (its standard error is 7 %).
+  EXPECT_NEAR(nees, 1.0, 0.2);
+  // Taken as independent per delta, the reported yaw variance is about twice
+  // the error's (0.54 here): the chain's heading error does not grow.
+  EXPECT_LT(nees_independent, 0.65) << "with the state: " << nees;
+}
+
+// A straight flight whose chained heading drifts: each delta's dyaw carries
+// a rate that is a first-order Gauss-Markov process (0.03 deg/s, 20 s) times
+// its duration, plus white noise, and the published variance only the
+// white part, as vo_solver publishes it. After each frame an INS yaw with
+// 0.3 deg white noise. `drift_model`: yaw fusion's heading drift stddev
+// (deg/s per deg of roll/pitch noise; 0: none). Returns the yaw error at
+// every 50th frame and the reported variance there.
+std::vector<std::pair<double, double>> fly_with_heading_drift(double drift_model, uint32_t seed) {
+  YawFusionOptions options;
+  options.ins_yaw_bias_walk_deg_per_sqrt_s = 0.0;
+  options.sensor_uncertainty.roll_pitch_stddev_deg = 0.3;
+  options.sensor_uncertainty.heading_drift_deg_per_s_per_deg = drift_model;
+  options.sensor_uncertainty.heading_drift_time_s = 20.0;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const double dt = 0.071429, time_s = 20.0;
+  const double drift_sigma = deg_to_rad(0.03), white = deg_to_rad(0.005), ins = deg_to_rad(0.3);
+  const double decay = std::exp(-dt / time_s);
+  double drift = drift_sigma * unit(rng), true_yaw = 0.0;
+  PoseFilter filter;
+  filter.initialise(ins * unit(rng), ins * ins);
+  std::vector<std::pair<double, double>> out;
+  for (int k = 1; k <= 840; ++k) {
+    vo_delta_t d{};
+    d.utime = static_cast<int64_t>(k * dt * 1e6);
+    d.prev_utime = static_cast<int64_t>((k - 1) * dt * 1e6);
+    d.dx = 2.0;
+    d.dyaw = drift * dt + white * unit(rng);
+    drift = decay * drift + drift_sigma * std::sqrt(1.0 - decay * decay) * unit(rng);
+    Eigen::Matrix4d cov = Eigen::Matrix4d::Identity() * 1e-12;
+    cov(3, 3) = white * white;
+    integrate_delta(&filter, d, cov, std::nan(""), std::nan(""), options);
+    filter.update_yaw(true_yaw + ins * unit(rng), ins * ins, 1e9);
+    if (k % 50 == 0) out.emplace_back(angle_difference(filter.yaw(), true_yaw), filter.reported_yaw_variance());
+  }
+  return out;
+}
+
+TEST(DeltaIntegration, HeadingDriftIsEstimatedByTheInsYawUpdates) {
+  const int runs = 300;
+  double nees = 0.0, nees_without = 0.0, square_error = 0.0, square_error_without = 0.0;
+  int n = 0;
+  for (int i = 0; i < runs; ++i) {
+    const auto with = fly_with_heading_drift(0.1, 1300 + i);
+    const auto without = fly_with_heading_drift(0.0, 1300 + i);
+    for (size_t j = 2; j < with.size(); ++j) {  // from 100 frames on
+      nees += with[j].first * with[j].first / with[j].second;
+      square_error += with[j].first * with[j].first;
+      nees_without += without[j].first * without[j].first / without[j].second;
+      square_error_without += without[j].first * without[j].first;
+      ++n;
+    }
+  }
+  // With the drift state: consistent (the model is the truth here, 0.1 x
+  // 0.3 = 0.03 deg/s), 1 within +-15 % (samples along a flight are correlated).
+  EXPECT_NEAR(nees / n, 1.0, 0.15);
+  // Without it the filter trusts the chain: several times over-confident, and
+  // the yaw error is larger because the drift is not taken out.
+  EXPECT_GT(nees_without / n, 3.0);
+  EXPECT_LT(square_error, 0.8 * square_error_without);
+}
+
 TEST(DeltaIntegration, WithoutAnAltitudeNothingIsTakenApart) {
   YawFusionOptions options;
   PoseFilter filter;
@@ -164,7 +289,7 @@ TEST(DeltaIntegration, WithoutAnAltitudeNothingIsTakenApart) {
   d.dx = 2.0;
   d.altitude_m = 0.0;  // unknown
   Eigen::Matrix4d cov = Eigen::Matrix4d::Identity() * 0.01;
-  integrate_delta(&filter, d, cov, options);
+  integrate_delta(&filter, d, cov, std::nan(""), std::nan(""), options);
   // The delta's variance (plus the initial yaw variance swinging 2 m: 4e-6).
   EXPECT_NEAR(filter.reported_position_covariance()(1, 1), 0.01 + 4e-6, 1e-9);
 }
