@@ -64,9 +64,10 @@ void PoseFilter::step_frame_yaw_levelling(int64_t prev_frame, int64_t curr_frame
     p_.col(kYawLevelling).setZero();
     p_(kYawLevelling, kYawLevelling) = std::max(0.0, prev_variance);
   }
-  Matrix f = Matrix::Identity();
-  f(kYaw, kYawLevelling) = -1.0;  // prev's term leaves the yaw
-  p_ = f * p_ * f.transpose();
+  // prev's term leaves the yaw: P <- F P F^T with F = I - e_yaw e_levelling^T,
+  // as a row and a column operation.
+  p_.row(kYaw) -= p_.row(kYawLevelling);
+  p_.col(kYaw) -= p_.col(kYawLevelling);
   const double v = std::max(0.0, curr_variance);  // curr's enters it and is held
   p_.row(kYawLevelling).setZero();
   p_.col(kYawLevelling).setZero();
@@ -89,12 +90,14 @@ void PoseFilter::apply_heading_drift(double dt, double stddev, double time_s) {
   }
   // The delta's dyaw held the drift of its interval: take the estimate out.
   x_(kYaw) = wrap_angle(x_(kYaw) - x_(kHeadingDrift) * dt);
-  Matrix f = Matrix::Identity();
-  f(kYaw, kHeadingDrift) = -dt;
+  // P <- F P F^T with F = I - dt e_yaw e_drift^T, then the drift row and
+  // column times the decay, as row and column operations.
   const double decay = std::exp(-dt / time_s);
-  f(kHeadingDrift, kHeadingDrift) = decay;
   x_(kHeadingDrift) *= decay;
-  p_ = f * p_ * f.transpose();
+  p_.row(kYaw) -= dt * p_.row(kHeadingDrift);
+  p_.row(kHeadingDrift) *= decay;
+  p_.col(kYaw) -= dt * p_.col(kHeadingDrift);
+  p_.col(kHeadingDrift) *= decay;
   p_(kHeadingDrift, kHeadingDrift) += stationary * (1.0 - decay * decay);
   p_ = 0.5 * (p_ + p_.transpose());
 }
