@@ -69,15 +69,20 @@ class InsTrack {
         const double dt = (ins[i + 1].utime - ins[i].utime) * 1e-6;
         gyro[i + 1] = gyro[i] * exp_so3(0.5 * (ins[i].angular_rate + ins[i + 1].angular_rate) * dt);
       }
-      // Prefix sums of the error INS vs integrated rates (body frame, small).
+      // Prefix sums of the error INS vs integrated rates, in the WORLD frame:
+      // the integration carries the error of the sample it starts from as a
+      // rotation fixed in the world (gyro_i = E * R_i). Seen from the body it
+      // turns with every oscillation, so a body-frame average would leave
+      // (attitude - its local mean) x E in the attitude whatever the window,
+      // which the fit took for boresight and time offset (README, seed 12).
       std::vector<Eigen::Vector3d> sum(static_cast<size_t>(n) + 1, Eigen::Vector3d::Zero());
       for (int i = 0; i < n; ++i)
-        sum[i + 1] = sum[i] + log_so3(gyro[i].transpose() * rotation_from_rpy(ins[i].roll, ins[i].pitch, ins[i].yaw));
+        sum[i + 1] = sum[i] + log_so3(rotation_from_rpy(ins[i].roll, ins[i].pitch, ins[i].yaw) * gyro[i].transpose());
       Eigen::Vector3d scatter = Eigen::Vector3d::Zero();
       for (int i = 0; i < n; ++i) {
         const int lo = std::max(0, i - h), hi = std::min(n - 1, i + h);
         const Eigen::Vector3d mean = (sum[hi + 1] - sum[lo]) / (hi - lo + 1);
-        attitude_[i] = gyro[i] * exp_so3(mean);
+        attitude_[i] = exp_so3(mean) * gyro[i];
         const Eigen::Vector3d d = (sum[i + 1] - sum[i]) - mean;
         scatter += d.cwiseProduct(d);
       }
@@ -96,7 +101,7 @@ class InsTrack {
     }
   }
   bool uses_rates() const { return rates_; }
-  // The INS attitude's white noise (body axes, rad) seen against the rates.
+  // The INS attitude's white noise (world axes, rad) seen against the rates.
   const Eigen::Vector3d& noise_rad() const { return noise_rad_; }
   // A copy whose attitude carries another draw of what the averaging leaves
   // of that noise (a moving average of white noise): for the bootstrap.
@@ -111,7 +116,7 @@ class InsTrack {
       sum[i + 1] = sum[i] + Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).cwiseProduct(noise_rad_);
     for (int i = 0; i < n; ++i) {
       const int lo = std::max(0, i - window_), hi = std::min(n - 1, i + window_);
-      copy.attitude_[i] = attitude_[i] * exp_so3((sum[hi + 1] - sum[lo]) / (hi - lo + 1));
+      copy.attitude_[i] = exp_so3((sum[hi + 1] - sum[lo]) / (hi - lo + 1)) * attitude_[i];
     }
     return copy;
   }

@@ -1,9 +1,9 @@
 // nadir_calibrate on a simulated calibration flight (config/profiles/
 // calibration.yaml, sensor set calibration_test): the boresight (0.4, -0.3,
-// 0.5) deg and the altimeter scale (1.01) and bias (0.3 m) are recovered
-// within 3 of their reported sigmas; the camera time offset (3 ms) to the
-// accuracy reached so far (see the test); a straight and level piece of the
-// same flight is flagged as not exciting what it cannot reveal.
+// 0.5) deg, the camera time offset (3 ms) and the altimeter scale (1.01) and
+// bias (0.3 m) are recovered within 3 of their reported sigmas; a straight
+// and level piece of the same flight is flagged as not exciting what it
+// cannot reveal.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -101,14 +101,12 @@ TEST(Calibrate, RecoversTheCalibrationSetWithinThreeSigma) {
   expect_within_3_sigma(r.altimeter_bias_m, flight.sensors.altimeter.bias_m);
   EXPECT_TRUE(r.altimeter_scale.excited) << r.altimeter_scale.sigma;
   EXPECT_TRUE(r.altimeter_bias_m.excited) << r.altimeter_bias_m.sigma;
-  // Time offset: the issue asks for 3 sigma. This flight now lands within
-  // 1.2 sigma (the +-3 s INS pull window), but another seed (12) is still
-  // 0.14 ms short at 5 sigma for a reason not found (README, "Accuracy
-  // reached"), so this holds to the accuracy reached, not to the sigmas.
+  // Time offset: the INS attitude noise had pulled it 3 % short (README,
+  // "Accuracy reached"); with the world-frame +-3 s pull it is within 3 sigma.
   const double offset_ms = flight.sensors.camera.exposure_delay_us() * 1e-3;
+  expect_within_3_sigma(r.time_offset_ms, offset_ms);
   EXPECT_TRUE(r.time_offset_ms.excited);
-  EXPECT_NEAR(r.time_offset_ms.value, offset_ms, std::max(0.2, 3.0 * r.time_offset_ms.sigma));
-  EXPECT_LT(r.time_offset_ms.sigma, 0.5);
+  EXPECT_LT(r.time_offset_ms.sigma, 0.05);
   // The focal length is exact in this set.
   if (r.focal_scale.estimated) {
     EXPECT_NEAR(r.focal_scale.value, 1.0, 0.002);
@@ -169,23 +167,22 @@ TEST(Calibrate, StraightAndLevelSegmentIsFlaggedAsNotExciting) {
   }
 }
 
+void expect_check_names(const CalibrationOptions& options, const std::string& key) {
+  try {
+    options.Check();
+    ADD_FAILURE() << "expected a ConfigError naming " << key;
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+  }
+}
+
 TEST(Calibrate, BadOptionsNameTheOption) {
   CalibrationOptions options;
   options.cluster_s = 0;
-  try {
-    options.Check();
-    FAIL() << "expected a ConfigError";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("cluster_s"), std::string::npos) << e.what();
-  }
+  expect_check_names(options, "cluster_s");
   options = CalibrationOptions();
   options.altimeter_max_offtrack_m = 0;
-  try {
-    options.Check();
-    FAIL() << "expected a ConfigError";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("altimeter_max_offtrack_m"), std::string::npos) << e.what();
-  }
+  expect_check_names(options, "altimeter_max_offtrack_m");
   EXPECT_THROW(load_flight(kSource + "/config/default.yaml", false), std::runtime_error);  // not a log with INS
 }
 
