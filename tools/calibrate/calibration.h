@@ -21,12 +21,13 @@ namespace nadir::calibrate {
 
 struct CalibrationOptions {
   // Half-width (s) of the centred average over the INS attitude error
-  // relative to the integrated INS body rates (the rates carry the motion,
-  // the attitude the absolute level: neither the white attitude noise nor
-  // the averaging reaches the motion). Without rates: over the attitude itself.
-  // What the average leaves of the noise steps by noise / (2 h + 1) from one
-  // INS sample to the next; with +-1 s that pulled the time offset 3 % short
-  // (README, "Accuracy reached"), with +-3 s it is gone. A centred average
+  // relative to the integrated INS body rates, in the world frame (the rates
+  // carry the motion, the attitude the absolute level: neither the white
+  // attitude noise nor the averaging reaches the motion). Without rates: over
+  // the attitude itself. What the average leaves of the noise steps by
+  // noise / (2 h + 1) from one INS sample to the next; with +-1 s that pulled
+  // the time offset 1-3 % short (README, "Accuracy reached"), with +-3 s it
+  // is within its sigma. A centred average
   // cancels a gyro bias's linear drift, so only gyro errors that change
   // within the window (scale factor in turns) limit it.
   double attitude_smoothing_s = 3.0;
