@@ -69,15 +69,20 @@ class InsTrack {
         const double dt = (ins[i + 1].utime - ins[i].utime) * 1e-6;
         gyro[i + 1] = gyro[i] * exp_so3(0.5 * (ins[i].angular_rate + ins[i + 1].angular_rate) * dt);
       }
-      // Prefix sums of the error INS vs integrated rates (body frame, small).
+      // Prefix sums of the error INS vs integrated rates, in the WORLD frame:
+      // the integration carries the error of the sample it starts from as a
+      // rotation fixed in the world (gyro_i = E * R_i). Seen from the body it
+      // turns with every oscillation, so a body-frame average would leave
+      // (attitude - its local mean) x E in the attitude whatever the window,
+      // which the fit took for boresight and time offset (README, seed 12).
       std::vector<Eigen::Vector3d> sum(static_cast<size_t>(n) + 1, Eigen::Vector3d::Zero());
       for (int i = 0; i < n; ++i)
-        sum[i + 1] = sum[i] + log_so3(gyro[i].transpose() * rotation_from_rpy(ins[i].roll, ins[i].pitch, ins[i].yaw));
+        sum[i + 1] = sum[i] + log_so3(rotation_from_rpy(ins[i].roll, ins[i].pitch, ins[i].yaw) * gyro[i].transpose());
       Eigen::Vector3d scatter = Eigen::Vector3d::Zero();
       for (int i = 0; i < n; ++i) {
         const int lo = std::max(0, i - h), hi = std::min(n - 1, i + h);
         const Eigen::Vector3d mean = (sum[hi + 1] - sum[lo]) / (hi - lo + 1);
-        attitude_[i] = gyro[i] * exp_so3(mean);
+        attitude_[i] = exp_so3(mean) * gyro[i];
         const Eigen::Vector3d d = (sum[i + 1] - sum[i]) - mean;
         scatter += d.cwiseProduct(d);
       }
@@ -96,7 +101,7 @@ class InsTrack {
     }
   }
   bool uses_rates() const { return rates_; }
-  // The INS attitude's white noise (body axes, rad) seen against the rates.
+  // The INS attitude's white noise (world axes, rad) seen against the rates.
   const Eigen::Vector3d& noise_rad() const { return noise_rad_; }
   // A copy whose attitude carries another draw of what the averaging leaves
   // of that noise (a moving average of white noise): for the bootstrap.
@@ -111,7 +116,7 @@ class InsTrack {
       sum[i + 1] = sum[i] + Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).cwiseProduct(noise_rad_);
     for (int i = 0; i < n; ++i) {
       const int lo = std::max(0, i - window_), hi = std::min(n - 1, i + window_);
-      copy.attitude_[i] = attitude_[i] * exp_so3((sum[hi + 1] - sum[lo]) / (hi - lo + 1));
+      copy.attitude_[i] = exp_so3((sum[hi + 1] - sum[lo]) / (hi - lo + 1)) * attitude_[i];
     }
     return copy;
   }
@@ -151,19 +156,53 @@ class InsTrack {
   std::vector<Eigen::Vector3d> smoothed_rpy_;  // without
 };
 
-// Truth height above the ground directly below, interpolated; false outside the series.
-bool interpolate_agl(const std::vector<FlightData::TerrainSample>& terrain, double utime, double* value) {
+// The height above ground along the altimeter's beam from the truth
+// (GROUND_TRUTH): the terrain is known only under the vehicle's track, and
+// the beam's footprint lies h * tan(tilt) away from the point below (with
+// the nose-down trim ~10 m behind at 200 m, in proportion to the height, so
+// the terrain's slope there would turn into a scale error). The footprint is
+// therefore looked up on the track: the terrain height at the track point
+// nearest to it (searched within +-5 s), used only when the footprint is
+// within `max_offtrack_m` of the track (the rest of the mismatch, across the
+// track, comes from the roll oscillations and is not correlated with the
+// height). Returns false outside the series, for a beam tilted beyond 60 deg
+// or a footprint off the track.
+bool agl_along_beam(const std::vector<FlightData::TerrainSample>& terrain, double utime,
+                    const Eigen::Vector3d& beam_world, double max_offtrack_m, double* range_m) {
   if (terrain.size() < 2 || utime < terrain.front().utime || utime > terrain.back().utime) return false;
-  auto it = std::upper_bound(terrain.begin(), terrain.end(), utime, [](double t, const FlightData::TerrainSample& s) {
-    return t < static_cast<double>(s.utime);
-  });
-  size_t j = std::min(static_cast<size_t>(it - terrain.begin()), terrain.size() - 1);
-  if (j == 0) j = 1;
+  const Eigen::Vector3d beam = beam_world.normalized();
+  if (beam.z() < 0.5) return false;
+  auto index_at = [&](double t) {
+    auto it = std::upper_bound(terrain.begin(), terrain.end(), t, [](double v, const FlightData::TerrainSample& s) {
+      return v < static_cast<double>(s.utime);
+    });
+    return std::clamp<size_t>(static_cast<size_t>(it - terrain.begin()), 1, terrain.size() - 1);
+  };
+  const size_t j = index_at(utime);
   const auto& a = terrain[j - 1];
   const auto& b = terrain[j];
   const double w = (utime - static_cast<double>(a.utime)) / static_cast<double>(b.utime - a.utime);
-  const double agl_a = -a.position_ned.z() - a.terrain_height_m, agl_b = -b.position_ned.z() - b.terrain_height_m;
-  *value = agl_a + w * (agl_b - agl_a);
+  const Eigen::Vector3d position = a.position_ned + w * (b.position_ned - a.position_ned);
+  double ground = a.terrain_height_m + w * (b.terrain_height_m - a.terrain_height_m);
+  const size_t lo = index_at(utime - 5e6) - 1, hi = index_at(utime + 5e6);
+  double offtrack = 0.0;
+  for (int pass = 0; pass < 2; ++pass) {  // the footprint moves with the ground height found there
+    const double range = (-position.z() - ground) / beam.z();
+    const Eigen::Vector2d footprint = position.head<2>() + range * beam.head<2>();
+    offtrack = std::numeric_limits<double>::infinity();
+    for (size_t k = lo; k < hi; ++k) {
+      const Eigen::Vector2d p0 = terrain[k].position_ned.head<2>(), p1 = terrain[k + 1].position_ned.head<2>();
+      const Eigen::Vector2d d = p1 - p0;
+      const double u = d.squaredNorm() > 0 ? std::clamp((footprint - p0).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+      const double dist = (p0 + u * d - footprint).norm();
+      if (dist < offtrack) {
+        offtrack = dist;
+        ground = terrain[k].terrain_height_m + u * (terrain[k + 1].terrain_height_m - terrain[k].terrain_height_m);
+      }
+    }
+  }
+  if (offtrack > max_offtrack_m) return false;
+  *range_m = (-position.z() - ground) / beam.z();
   return true;
 }
 
@@ -378,6 +417,8 @@ void CalibrationOptions::Check() const {
     require_option(a >= 0 && a <= 10, src, "ins_attitude_accuracy_deg", "must be in [0, 10] per axis");
   require_option(std::isnan(ground_height_m) || std::fabs(ground_height_m) < 1e4, src, "ground_height_m",
                  "must be in (-1e4, 1e4)");
+  require_option(altimeter_max_offtrack_m > 0 && altimeter_max_offtrack_m <= 1000, src, "altimeter_max_offtrack_m",
+                 "must be in (0, 1000]");
   require_option(gps_scale_min_baseline_m > 0 && gps_scale_min_baseline_m <= 1000, src, "gps_scale_min_baseline_m",
                  "must be in (0, 1000]");
   require_option(segment_from_s >= 0 && segment_until_s > segment_from_s, src, "segment_from_s / segment_until_s",
@@ -594,20 +635,22 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   std::vector<int> cluster;
   for (const auto& a : data.altimeter) {
     if (!ins.covers(static_cast<double>(a.utime))) continue;
-    double agl = 0.0;
     Eigen::Matrix3d r_wb;
     Eigen::Vector3d p;
     ins.at(static_cast<double>(a.utime), &r_wb, &p);
+    const Eigen::Vector3d beam_world = r_wb * a.beam_body.normalized();
+    double reference = 0.0;
     if (!data.terrain.empty()) {
-      if (!interpolate_agl(data.terrain, static_cast<double>(a.utime), &agl)) continue;
+      if (!agl_along_beam(data.terrain, static_cast<double>(a.utime), beam_world, options.altimeter_max_offtrack_m,
+                          &reference))
+        continue;
     } else if (!std::isnan(options.ground_height_m)) {
-      agl = data.reference_height_m - p.z() - options.ground_height_m;  // INS height minus the ground's
+      if (beam_world.z() < 0.5) continue;
+      reference = (data.reference_height_m - p.z() - options.ground_height_m) / beam_world.z();  // flat ground
     } else {
       continue;
     }
-    const double cos_tilt = (r_wb * a.beam_body.normalized()).z();
-    if (cos_tilt < 0.5) continue;
-    x.push_back(agl / cos_tilt);
+    x.push_back(reference);
     y.push_back(a.range_m);
     cluster.push_back(static_cast<int>((a.utime - ins.first_utime()) * 1e-6 / options.cluster_s));
   }

@@ -21,10 +21,16 @@ namespace nadir::calibrate {
 
 struct CalibrationOptions {
   // Half-width (s) of the centred average over the INS attitude error
-  // relative to the integrated INS body rates (the rates carry the motion,
-  // the attitude the absolute level: neither the white attitude noise nor
-  // the averaging reaches the motion). Without rates: over the attitude itself.
-  double attitude_smoothing_s = 1.0;
+  // relative to the integrated INS body rates, in the world frame (the rates
+  // carry the motion, the attitude the absolute level: neither the white
+  // attitude noise nor the averaging reaches the motion). Without rates: over
+  // the attitude itself. What the average leaves of the noise steps by
+  // noise / (2 h + 1) from one INS sample to the next; with +-1 s that pulled
+  // the time offset 1-3 % short (README, "Accuracy reached"), with +-3 s it
+  // is within its sigma. A centred average
+  // cancels a gyro bias's linear drift, so only gyro errors that change
+  // within the window (scale factor in turns) limit it.
+  double attitude_smoothing_s = 3.0;
   double min_baseline_m = 1.0;   // frame pairs with a shorter baseline carry no direction
   double cluster_s = 2.0;        // residuals within this span share INS errors (robust covariance)
   double jackknife_block_s = 10.0;  // blocks left out in turn for the jackknife sigmas
@@ -35,6 +41,10 @@ struct CalibrationOptions {
   // Height of flat ground (m, the INS height datum) for the altimeter
   // regression when the log has no GROUND_TRUTH; NaN = none.
   double ground_height_m = std::numeric_limits<double>::quiet_NaN();
+  // With GROUND_TRUTH: the terrain height under the altimeter beam's
+  // footprint is taken from the nearest point of the vehicle's track; ranges
+  // whose footprint lies farther than this (m) from the track are not used.
+  double altimeter_max_offtrack_m = 10.0;
   // The INS attitude's own slowly varying error (deg, roll/pitch/yaw, e.g.
   // from its datasheet): the boresight is estimated relative to the INS's
   // attitude, so its mean error over the segment is not seen in the residuals

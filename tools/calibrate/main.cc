@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   auto* ground = app.add_option("--ground-height-m", ground_height_m,
                                 "flat ground height (INS height datum) for the altimeter when the log has no GROUND_TRUTH");
   app.add_option("--attitude-smoothing-s", options.attitude_smoothing_s,
-                 "half-width of the centred average over the INS attitude (default 0.05)");
+                 "half-width (s) of the centred average pulling the integrated INS rates to the INS attitude (default 3; without rates: of the attitude itself, at most 0.05)");
   app.add_option("--cluster-s", options.cluster_s, "span over which residuals share INS errors (default 2)");
   std::vector<double> ins_accuracy;
   app.add_option("--ins-attitude-accuracy-deg", ins_accuracy,

@@ -1,9 +1,9 @@
 // nadir_calibrate on a simulated calibration flight (config/profiles/
 // calibration.yaml, sensor set calibration_test): the boresight (0.4, -0.3,
-// 0.5) deg is recovered within 3 of its reported sigmas; the camera time
-// offset (3 ms) and the altimeter scale (1.01) and bias (0.3 m) to the
-// accuracy reached so far (see the test); a straight and level piece of the
-// same flight is flagged as not exciting what it cannot reveal.
+// 0.5) deg, the camera time offset (3 ms) and the altimeter scale (1.01) and
+// bias (0.3 m) are recovered within 3 of their reported sigmas; a straight
+// and level piece of the same flight is flagged as not exciting what it
+// cannot reveal.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -87,25 +87,26 @@ TEST(Calibrate, RecoversTheCalibrationSetWithinThreeSigma) {
   const Config config = Config::load_file(kSource + "/config/default.yaml");
   const CalibrationResult r = calibrate(flight.data, config, options_for(flight));
   ASSERT_GT(r.frame_pairs, 500);
-  ASSERT_GT(r.altimeter_samples, 500);
+  // Ranges whose beam footprint is off the track (the turns) are not used.
+  ASSERT_GT(r.altimeter_samples, 300);
   const auto& b = flight.sensors.camera.boresight_rpy_deg;
   for (size_t k = 0; k < 3; ++k) {
     expect_within_3_sigma(r.boresight[k], b[k]);
     EXPECT_TRUE(r.boresight[k].excited) << r.boresight[k].name << " sigma " << r.boresight[k].sigma;
   }
-  // Time offset and altimeter: the issue asks for 3 sigma; on the simulated
-  // flights so far they land at 1-4 reported sigmas with a consistent sign
-  // (time offset about -0.1 ms with INS attitude noise, none without;
-  // altimeter scale low by ~0.4 %, bias high by ~1 m): an unexplained
-  // systematic error, documented in tools/calibrate/README.md. Until it is
-  // found these hold to the accuracy reached, not to the sigmas.
+  // The altimeter against the terrain under the beam's footprint (looked up
+  // on the track; the ground directly below had left the scale 0.4 % low
+  // and the bias 0.7 m high).
+  expect_within_3_sigma(r.altimeter_scale, flight.sensors.altimeter.scale);
+  expect_within_3_sigma(r.altimeter_bias_m, flight.sensors.altimeter.bias_m);
+  EXPECT_TRUE(r.altimeter_scale.excited) << r.altimeter_scale.sigma;
+  EXPECT_TRUE(r.altimeter_bias_m.excited) << r.altimeter_bias_m.sigma;
+  // Time offset: the INS attitude noise had pulled it 3 % short (README,
+  // "Accuracy reached"); with the world-frame +-3 s pull it is within 3 sigma.
   const double offset_ms = flight.sensors.camera.exposure_delay_us() * 1e-3;
+  expect_within_3_sigma(r.time_offset_ms, offset_ms);
   EXPECT_TRUE(r.time_offset_ms.excited);
-  EXPECT_NEAR(r.time_offset_ms.value, offset_ms, std::max(0.2, 3.0 * r.time_offset_ms.sigma));
-  EXPECT_LT(r.time_offset_ms.sigma, 0.5);
-  EXPECT_NEAR(r.altimeter_scale.value, flight.sensors.altimeter.scale, std::max(0.006, 3.0 * r.altimeter_scale.sigma));
-  EXPECT_NEAR(r.altimeter_bias_m.value, flight.sensors.altimeter.bias_m, std::max(1.5, 3.0 * r.altimeter_bias_m.sigma));
-  EXPECT_LT(r.altimeter_scale.sigma, 0.003);
+  EXPECT_LT(r.time_offset_ms.sigma, 0.05);
   // The focal length is exact in this set.
   if (r.focal_scale.estimated) {
     EXPECT_NEAR(r.focal_scale.value, 1.0, 0.002);
@@ -166,15 +167,22 @@ TEST(Calibrate, StraightAndLevelSegmentIsFlaggedAsNotExciting) {
   }
 }
 
+void expect_check_names(const CalibrationOptions& options, const std::string& key) {
+  try {
+    options.Check();
+    ADD_FAILURE() << "expected a ConfigError naming " << key;
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+  }
+}
+
 TEST(Calibrate, BadOptionsNameTheOption) {
   CalibrationOptions options;
   options.cluster_s = 0;
-  try {
-    options.Check();
-    FAIL() << "expected a ConfigError";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("cluster_s"), std::string::npos) << e.what();
-  }
+  expect_check_names(options, "cluster_s");
+  options = CalibrationOptions();
+  options.altimeter_max_offtrack_m = 0;
+  expect_check_names(options, "altimeter_max_offtrack_m");
   EXPECT_THROW(load_flight(kSource + "/config/default.yaml", false), std::runtime_error);  // not a log with INS
 }
 
