@@ -3,8 +3,9 @@
 // (README § Consistency): the INS levelling and altimeter scale parts of the
 // delta's covariance are not independent from delta to delta, so they are
 // removed from what the filter integrates and kept once, as PoseFilter's
-// shared-error terms (the levelling's heading part as its kYawLevelling state); the rest (image noise, altimeter noise, model error)
-// is integrated as independent.
+// shared-error terms (the levelling's heading part as its kYawLevelling
+// state); the rest (image noise, altimeter noise, model error) is integrated
+// as independent.
 
 #include <Eigen/Core>
 

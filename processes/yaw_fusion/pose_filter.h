@@ -11,10 +11,11 @@
 // at it -- the same one-attitude-per-frame rule that makes the roll/pitch
 // errors telescope in the paper's eq. (21)-(23).
 //
-// The INS yaw update corrects the yaw (and the heading drift rate) only (a
-// "consider" gain for the rest): translations already registered stay where they were, but the covariance is updated with
-// the Joseph form for the gain actually used, so the reported position
-// covariance (including yaw/position cross terms) stays honest.
+// The INS yaw update corrects the yaw and the heading drift rate only (a
+// "consider" gain for the rest): translations already registered stay where
+// they were, but the covariance is updated with the Joseph form for the gain
+// actually used, so the reported position covariance (including yaw/position
+// cross terms) stays honest.
 
 #include <Eigen/Core>
 
@@ -111,7 +112,6 @@ class PoseFilter {
   // Position covariance and yaw variance with the shared errors.
   Eigen::Matrix3d reported_position_covariance() const;
   double reported_yaw_variance() const { return p_(kYaw, kYaw) + yaw_bias_(kBias, kBias); }
-  double heading_drift() const { return x_(kHeadingDrift); }
 
   Eigen::Vector3d position() const { return x_.head<3>(); }
   double yaw() const { return x_(kYaw); }

@@ -595,8 +595,8 @@ int32_t YawFusionEstimator::coast_reason(const vo_delta_t& delta, int32_t bits) 
 }
 
 bool YawFusionEstimator::held_speed_ready() const {
-  const int64_t window_us = static_cast<int64_t>(options_.coast.speed_window_s * 1e6);
   if (coasting_) return true;  // the speed is held already
+  const int64_t window_us = static_cast<int64_t>(options_.coast.speed_window_s * 1e6);
   return coast_positions_.size() >= 2 && coast_positions_.back().first - coast_positions_.front().first >= window_us;
 }
 
