@@ -1,6 +1,7 @@
 #pragma once
 // Installation calibration applied where sensor data enters the estimators
-// (issue 17; the values come from nadir_calibrate, tools/calibrate/README.md):
+// (issue 17; the values come from nadir_calibrate, tools/calibrate/README.md,
+// and, for the lever arms, from the installation drawing):
 //
 //   camera.time_offset_us    exposure time = image stamp + offset: the INS
 //                            attitude and the altimeter range for a frame are
@@ -9,8 +10,20 @@
 //                            unchanged).
 //   altimeter.range_scale    measured range = scale * true + bias, so every
 //   altimeter.range_bias_m   consumer uses true = (measured - bias) / scale.
+//   altimeter.beam_misalignment_deg [roll, pitch]
+//                            the beam's true direction is the reported one
+//                            (ALTIMETER.beam_body) turned by R(roll, pitch, 0).
+//   altimeter.lever_arm_m [x, y, z]
+//                            the beam's origin from the INS reference point,
+//                            body frame (forward, right, down), metres.
+//   camera.lever_arm_m [x, y, z]
+//                            the camera centre from the INS reference point,
+//                            body frame, metres. VO_DELTA and POSE refer to
+//                            the INS reference point (the ground truth's).
 //
-// The defaults (0, 1, 0) change nothing, bit for bit.
+// The defaults (0, 1, 0, zeros) change nothing, bit for bit.
+
+#include <Eigen/Core>
 
 #include <cstdint>
 #include <string>
@@ -19,18 +32,27 @@
 
 namespace nadir {
 
+// An altimeter measurement as a ray: the ground point it hit lies at
+// range_m * beam_body from the ray's origin (body frame).
+struct AltimeterRay {
+  double range_m = 0.0;
+  Eigen::Vector3d beam_body = Eigen::Vector3d::UnitZ();
+};
+
 struct SensorCalibration {
   int64_t camera_time_offset_us = 0;
   double altimeter_range_scale = 1.0;
   double altimeter_range_bias_m = 0.0;
+  Eigen::Vector2d altimeter_beam_misalignment_rad = Eigen::Vector2d::Zero();
+  Eigen::Vector3d altimeter_lever_arm_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d camera_lever_arm_m = Eigen::Vector3d::Zero();
 
-  // Reads camera.time_offset_us, altimeter.range_scale and
-  // altimeter.range_bias_m from the config root (each optional) and checks
+  // Reads the keys above from the config root (each optional) and checks
   // them; throws ConfigError naming the key.
   static SensorCalibration from_config(const Config& root);
   // Throws ConfigError naming the key and its allowed range: |time offset| <
-  // 1 s, scale in (0.5, 2), |bias| < 100 m.
-  // `source` names the config in the error.
+  // 1 s, scale in (0.5, 2), |bias| < 100 m, misalignment within 10 deg, lever
+  // arms within 20 m per axis. `source` names the config in the error.
   void Check(const std::string& source = "config") const;
 
   // Sensor time at which a frame stamped `image_utime` was exposed.
@@ -39,6 +61,16 @@ struct SensorCalibration {
   double true_range(double measured_m) const {
     return (measured_m - altimeter_range_bias_m) / altimeter_range_scale;
   }
+  // The beam's true direction (unit) of a reported one.
+  Eigen::Vector3d true_beam(const Eigen::Vector3d& reported_beam_body) const;
+  // True when the beam misalignment or a lever arm is set.
+  bool moves_altimeter_ray() const;
+  // The measured range along the reported beam as the ray from `origin_body`
+  // (a point given from the INS reference, body frame) to the same ground
+  // point: the true range along the true beam, from the altimeter's lever
+  // arm. With no misalignment and no lever arms, exactly {true range, beam}.
+  AltimeterRay ray_from(const Eigen::Vector3d& origin_body, double measured_range_m,
+                        const Eigen::Vector3d& reported_beam_body) const;
 };
 
 }  // namespace nadir

@@ -64,6 +64,13 @@ void FrameSync::add_altimeter(const altimeter_t& altimeter) {
               default_beam_body_};
   const Eigen::Vector3d beam(altimeter.beam_body[0], altimeter.beam_body[1], altimeter.beam_body[2]);
   if (beam.allFinite() && beam.norm() > 0.5) range.beam_body = beam.normalized();
+  if (range.valid && options_.calibration.moves_altimeter_ray()) {
+    // The solver anchors the ground patch on the point the beam hit, seen from the camera.
+    const AltimeterRay ray =
+        options_.calibration.ray_from(options_.calibration.camera_lever_arm_m, altimeter.range_m, range.beam_body);
+    range.range_m = ray.range_m;
+    range.beam_body = ray.beam_body;
+  }
   if (!range.valid) ++invalid_altimeter_;
   altimeter_[altimeter.utime] = range;
   while (static_cast<int>(altimeter_.size()) > options_.max_altimeter_samples) {

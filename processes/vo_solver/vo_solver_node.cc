@@ -5,6 +5,7 @@
 
 #include "common/channels.h"
 #include "processes/vo_solver/delta_uncertainty.h"
+#include "processes/vo_solver/lever_arm.h"
 
 namespace nadir {
 
@@ -142,6 +143,7 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   vo::Estimate est = vo::solve(pair, options_.solver);
   if (own_depths) depth_map_.update(ids, tracks.utime, pair, est);
   vo::add_sensor_uncertainty(pair, options_.solver, options_.uncertainty, &est);  // INS and altimeter errors
+  vo::move_to_ins_reference(pair, options_.sync.calibration.camera_lever_arm_m, &est);
   out.dx = est.translation.x();
   out.dy = est.translation.y();
   out.dz = est.translation.z();

@@ -143,8 +143,10 @@ std::vector<pose_t> YawFusionEstimator::add_altimeter(const altimeter_t& altimet
   if (usable) {
     RangeSample sample;
     sample.utime = altimeter.utime;
-    sample.range_m = range_m;
-    sample.beam_body = beam.normalized();
+    // Heights are the INS reference point's, above the point the beam hit.
+    const AltimeterRay ray = options_.calibration.ray_from(Eigen::Vector3d::Zero(), altimeter.range_m, beam.normalized());
+    sample.range_m = ray.range_m;
+    sample.beam_body = ray.beam_body;
     altimeter_.add(sample);
   } else {
     ++counters_.altimeter_invalid;

@@ -165,10 +165,12 @@ class InsTrack {
 // nearest to it (searched within +-5 s), used only when the footprint is
 // within `max_offtrack_m` of the track (the rest of the mismatch, across the
 // track, comes from the roll oscillations and is not correlated with the
-// height). Returns false outside the series, for a beam tilted beyond 60 deg
-// or a footprint off the track.
+// height). The beam starts at the vehicle's position + `origin_offset_ned`
+// (the altimeter's lever arm). Returns false outside the series, for a beam
+// tilted beyond 60 deg or a footprint off the track.
 bool agl_along_beam(const std::vector<FlightData::TerrainSample>& terrain, double utime,
-                    const Eigen::Vector3d& beam_world, double max_offtrack_m, double* range_m) {
+                    const Eigen::Vector3d& origin_offset_ned, const Eigen::Vector3d& beam_world,
+                    double max_offtrack_m, double* range_m) {
   if (terrain.size() < 2 || utime < terrain.front().utime || utime > terrain.back().utime) return false;
   const Eigen::Vector3d beam = beam_world.normalized();
   if (beam.z() < 0.5) return false;
@@ -182,7 +184,7 @@ bool agl_along_beam(const std::vector<FlightData::TerrainSample>& terrain, doubl
   const auto& a = terrain[j - 1];
   const auto& b = terrain[j];
   const double w = (utime - static_cast<double>(a.utime)) / static_cast<double>(b.utime - a.utime);
-  const Eigen::Vector3d position = a.position_ned + w * (b.position_ned - a.position_ned);
+  const Eigen::Vector3d position = a.position_ned + w * (b.position_ned - a.position_ned) + origin_offset_ned;
   double ground = a.terrain_height_m + w * (b.terrain_height_m - a.terrain_height_m);
   const size_t lo = index_at(utime - 5e6) - 1, hi = index_at(utime + 5e6);
   double offtrack = 0.0;
@@ -245,12 +247,21 @@ Eigen::MatrixXd robust_covariance(const Eigen::MatrixXd& jacobian, const Eigen::
 }
 
 // The camera fit: parameters boresight roll, pitch, yaw (rad), time offset
-// (s) and focal scale - 1.
+// (s), focal scale - 1 and the error of the first radial distortion
+// coefficient k1: the tracker undistorted with the configured k1, a lens with
+// k1 + e leaves each normalized point x stretched to x (1 + e |x|^2) to first
+// order, so the fit takes x (1 - e |x|^2) (e ~ 0.005: second order 1e-5).
+constexpr int kCameraParams = 6;
 class EpipolarFit {
  public:
+  // `camera_lever`: the camera centre from the INS reference, body frame (installation drawing).
   EpipolarFit(const FlightData& data, const InsTrack& ins, const Eigen::Matrix3d& configured_body_from_camera,
-              const CalibrationOptions& options)
-      : data_(data), ins_(ins), body_from_camera_(configured_body_from_camera), options_(options) {
+              const Eigen::Vector3d& camera_lever, const CalibrationOptions& options)
+      : data_(data),
+        ins_(ins),
+        body_from_camera_(configured_body_from_camera),
+        camera_lever_(camera_lever),
+        options_(options) {
     const double margin_us = 60000.0;  // room for the time offset to move
     for (size_t k = 0; k < data.pairs.size(); ++k) {
       const auto& pair = data.pairs[k];
@@ -278,6 +289,12 @@ class EpipolarFit {
     const Eigen::Matrix3d r_bc = body_from_camera_ * rotation_from_rpy(theta[0], theta[1], theta[2]);
     const double dt_us = theta[3] * 1e6;
     const double inv_scale = 1.0 / (1.0 + theta[4]);
+    const double k1_error = theta[5];
+    auto bearing = [&](const Eigen::Vector2d& norm) {
+      const Eigen::Vector2d x = norm * inv_scale;
+      const Eigen::Vector2d u = x * (1.0 - k1_error * x.squaredNorm());
+      return Eigen::Vector3d(u.x(), u.y(), 1.0).normalized();
+    };
     size_t row = 0;
     for (size_t k : pairs_) {
       const auto& pair = data_.pairs[k];
@@ -285,23 +302,21 @@ class EpipolarFit {
       Eigen::Vector3d pi, pj;
       ins_.at(pair.prev_utime + dt_us, &ri, &pi);
       ins_.at(pair.utime + dt_us, &rj, &pj);
-      const Eigen::Vector3d baseline = pj - pi;
+      const Eigen::Vector3d baseline = pj + rj * camera_lever_ - pi - ri * camera_lever_;
       const Eigen::Matrix3d ai = ri * r_bc, aj = rj * r_bc;
       for (size_t f = 0; f < pair.prev_norm.size(); ++f, ++row) {
-        const Eigen::Vector3d bi(pair.prev_norm[f].x() * inv_scale, pair.prev_norm[f].y() * inv_scale, 1.0);
-        const Eigen::Vector3d bj(pair.curr_norm[f].x() * inv_scale, pair.curr_norm[f].y() * inv_scale, 1.0);
-        const Eigen::Vector3d n = (ai * bi.normalized()).cross(baseline);
+        const Eigen::Vector3d n = (ai * bearing(pair.prev_norm[f])).cross(baseline);
         const double nn = n.norm();
-        r[static_cast<Eigen::Index>(row)] = nn > 0 ? n.dot(aj * bj.normalized()) / nn : 0.0;
+        r[static_cast<Eigen::Index>(row)] = nn > 0 ? n.dot(aj * bearing(pair.curr_norm[f])) / nn : 0.0;
       }
     }
     return r;
   }
 
   Eigen::MatrixXd jacobian(const Eigen::VectorXd& theta, const std::vector<bool>& active) const {
-    static const double kStep[5] = {1e-5, 1e-5, 1e-5, 2e-4, 1e-5};
-    Eigen::MatrixXd j = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(size()), 5);
-    for (int k = 0; k < 5; ++k) {
+    static const double kStep[kCameraParams] = {1e-5, 1e-5, 1e-5, 2e-4, 1e-5, 1e-5};
+    Eigen::MatrixXd j = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(size()), kCameraParams);
+    for (int k = 0; k < kCameraParams; ++k) {
       if (!active[static_cast<size_t>(k)]) continue;
       Eigen::VectorXd plus = theta, minus = theta;
       plus[k] += kStep[k];
@@ -318,6 +333,7 @@ class EpipolarFit {
   const FlightData& data_;
   const InsTrack& ins_;
   Eigen::Matrix3d body_from_camera_;
+  Eigen::Vector3d camera_lever_;
   const CalibrationOptions& options_;
   std::vector<size_t> pairs_;
   std::vector<Index> index_;
@@ -336,8 +352,8 @@ Estimate make_estimate(const std::string& name, double value, double sigma, bool
 }
 
 struct CameraFit {
-  Eigen::VectorXd theta = Eigen::VectorXd::Zero(5);
-  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(5, 5);
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(kCameraParams);
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(kCameraParams, kCameraParams);
   int64_t residuals = 0, outliers = 0;
   double rms = 0.0;
 };
@@ -351,7 +367,7 @@ CameraFit fit_camera(const EpipolarFit& fit, const std::vector<bool>& active, co
   std::vector<bool> use(fit.size(), true);
   auto skipped = [&](size_t i) { return fit.times_s()[i] >= skip_from_s && fit.times_s()[i] < skip_to_s; };
   std::vector<int> act;
-  for (int k = 0; k < 5; ++k)
+  for (int k = 0; k < kCameraParams; ++k)
     if (active[static_cast<size_t>(k)]) act.push_back(k);
   Eigen::VectorXd r;
   Eigen::MatrixXd j;
@@ -519,19 +535,33 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   options.Check();
   const FlightData data = restrict_to_segment(whole_flight, options.segment_from_s, options.segment_until_s);
   const CameraModel camera = CameraModel::from_config(camera_root);
+  // Installation values the fit takes as known: lever arms, the altimeter
+  // beam's misalignment, and the configured range scale and bias (the GNSS scale's start).
+  const SensorCalibration configured = SensorCalibration::from_config(camera_root);
   const InsTrack ins(data.ins, options.attitude_smoothing_s);
   CalibrationResult result;
   result.segment_s = (ins.last_utime() - ins.first_utime()) * 1e-6;
 
-  // --- Camera: boresight, time offset, focal scale.
-  const EpipolarFit fit(data, ins, camera.body_from_camera, options);
+  // --- Camera: boresight, time offset, focal scale, k1 error.
+  const EpipolarFit fit(data, ins, camera.body_from_camera, configured.camera_lever_arm_m, options);
   result.frame_pairs = static_cast<int64_t>(fit.pair_count());
-  std::vector<bool> active(5, true);
+  std::vector<bool> active(kCameraParams, true);
   active[4] = options.estimate_focal;
+  active[5] = options.estimate_focal && options.estimate_distortion;
   CameraFit cam;
   const bool camera_data = fit.pair_count() >= 20;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(kCameraParams);
   if (camera_data) {
-    cam = fit_camera(fit, active, options, Eigen::VectorXd::Zero(5), options.iterations);
+    cam = fit_camera(fit, active, options, zero, options.iterations);
+    if (active[5] && std::sqrt(cam.cov(5, 5)) > 5.0 * options.distortion_sigma_limit) {
+      // Not observable: held at the configured k1, so that it does not
+      // absorb noise into the focal scale and the boresight.
+      result.warnings.push_back(fmt("distortion_k1_error: not observable in this flight (sigma %.4f); held at 0. "
+                                    "Needs rotation of several degrees between frames.",
+                                    std::sqrt(cam.cov(5, 5))));
+      active[5] = false;
+      cam = fit_camera(fit, active, options, zero, options.iterations);
+    }
     if (active[4] && std::sqrt(cam.cov(4, 4)) > 5.0 * options.focal_sigma_limit) {
       // The focal scale is not observable in this flight: holding it at 1
       // keeps it from absorbing noise into the other parameters.
@@ -539,7 +569,8 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
                                     "rotation of several degrees between frames or a strongly sloped scene.",
                                     std::sqrt(cam.cov(4, 4))));
       active[4] = false;
-      cam = fit_camera(fit, active, options, Eigen::VectorXd::Zero(5), options.iterations);
+      active[5] = false;
+      cam = fit_camera(fit, active, options, zero, options.iterations);
     }
     // Block jackknife: errors shared over longer than a cluster (the INS's
     // slowly varying attitude error, the scene) show in how much the estimate
@@ -554,12 +585,12 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
         const double to = g + 1 == blocks ? span + 1.0 : from + options.jackknife_block_s;
         leave_out.push_back(fit_camera(fit, active, options, cam.theta, 2, from, to).theta);
       }
-      Eigen::VectorXd mean = Eigen::VectorXd::Zero(5);
+      Eigen::VectorXd mean = zero;
       for (const auto& v : leave_out) mean += v / static_cast<double>(blocks);
-      Eigen::MatrixXd jk = Eigen::MatrixXd::Zero(5, 5);
+      Eigen::MatrixXd jk = Eigen::MatrixXd::Zero(kCameraParams, kCameraParams);
       for (const auto& v : leave_out) jk += (v - mean) * (v - mean).transpose();
       jk *= static_cast<double>(blocks - 1) / static_cast<double>(blocks);
-      for (int k = 0; k < 5; ++k) {
+      for (int k = 0; k < kCameraParams; ++k) {
         if (jk(k, k) > cam.cov(k, k)) {
           const double f = std::sqrt(jk(k, k) / std::max(cam.cov(k, k), 1e-300));
           cam.cov.row(k) *= f;
@@ -576,12 +607,12 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
       std::vector<Eigen::VectorXd> draws;
       for (int b = 0; b < options.bootstrap_runs; ++b) {
         const InsTrack other = ins.perturbed(1000 + static_cast<uint64_t>(b));
-        const EpipolarFit refit(data, other, camera.body_from_camera, options);
+        const EpipolarFit refit(data, other, camera.body_from_camera, configured.camera_lever_arm_m, options);
         draws.push_back(fit_camera(refit, active, options, cam.theta, 2).theta);
       }
-      Eigen::VectorXd mean = Eigen::VectorXd::Zero(5);
+      Eigen::VectorXd mean = zero;
       for (const auto& v : draws) mean += v / static_cast<double>(draws.size());
-      Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(5, 5);
+      Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(kCameraParams, kCameraParams);
       for (const auto& v : draws) spread += (v - mean) * (v - mean).transpose() / static_cast<double>(draws.size() - 1);
       cam.cov += spread;
     }
@@ -602,30 +633,37 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
                                         camera_data, options.time_offset_sigma_limit_ms);
   result.focal_scale = make_estimate("focal_scale", 1.0 + cam.theta[4], std::sqrt(cam.cov(4, 4)),
                                      camera_data && active[4], options.focal_sigma_limit);
+  result.distortion_k1_error = make_estimate("distortion_k1_error", cam.theta[5], std::sqrt(cam.cov(5, 5)),
+                                             camera_data && active[5], options.distortion_sigma_limit);
+  result.distortion = camera.distortion;
+  if (!result.distortion.empty()) result.distortion[0] += cam.theta[5];
   const Eigen::Matrix3d mount = camera.body_from_camera * rotation_from_rpy(cam.theta[0], cam.theta[1], cam.theta[2]);
   result.mount_rpy_deg = rpy_from_rotation(mount) * (180.0 / M_PI);
   result.fx = camera.fx * (1.0 + cam.theta[4]);
   result.fy = camera.fy * (1.0 + cam.theta[4]);
-  const char* hints[5] = {
+  const char* hints[kCameraParams] = {
       "needs a vertical or sideways baseline (climbs and descents, crabbing) and rotation about the pitch/yaw axes",
       "needs forward flight with rotation about the roll/yaw axes",
       "needs forward flight with rotation about the roll/pitch axes (straight and level flight reveals it only "
       "through the direction of travel)",
       "needs attitude changes (rates of several deg/s that vary: oscillations, turn entries and exits)",
+      "needs large rotations between frames",
       "needs large rotations between frames"};
-  for (int k = 0; k < 5 && camera_data; ++k) {
-    const Estimate& e = k < 3 ? result.boresight[static_cast<size_t>(k)] : (k == 3 ? result.time_offset_ms : result.focal_scale);
+  const Estimate* camera_estimates[kCameraParams] = {&result.boresight[0], &result.boresight[1],
+                                                     &result.boresight[2], &result.time_offset_ms,
+                                                     &result.focal_scale,  &result.distortion_k1_error};
+  for (int k = 0; k < kCameraParams && camera_data; ++k) {
+    const Estimate& e = *camera_estimates[k];
     if (e.estimated && !e.excited)
       result.warnings.push_back(e.name + ": weakly excited by this flight (sigma " + fmt("%.4g", e.sigma) + "); " +
                                 hints[k]);
   }
-  for (int a = 0; a < 5 && camera_data; ++a)
-    for (int b = a + 1; b < 5; ++b) {
+  for (int a = 0; a < kCameraParams && camera_data; ++a)
+    for (int b = a + 1; b < kCameraParams; ++b) {
       if (!active[static_cast<size_t>(a)] || !active[static_cast<size_t>(b)]) continue;
       const double corr = cam.cov(a, b) / std::sqrt(cam.cov(a, a) * cam.cov(b, b));
       if (std::fabs(corr) > 0.95) {
-        const char* pn[5] = {"boresight_roll", "boresight_pitch", "boresight_yaw", "time_offset", "focal_scale"};
-        result.warnings.push_back(std::string(pn[a]) + " and " + pn[b] + " are not separable in this flight (correlation " +
+        result.warnings.push_back(camera_estimates[a]->name + " and " + camera_estimates[b]->name + " are not separable in this flight (correlation " +
                                   fmt("%.3f", corr) + ")");
       }
     }
@@ -638,15 +676,17 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
     Eigen::Matrix3d r_wb;
     Eigen::Vector3d p;
     ins.at(static_cast<double>(a.utime), &r_wb, &p);
-    const Eigen::Vector3d beam_world = r_wb * a.beam_body.normalized();
+    const Eigen::Vector3d beam_world = r_wb * configured.true_beam(a.beam_body);
+    const Eigen::Vector3d origin_offset = r_wb * configured.altimeter_lever_arm_m;
     double reference = 0.0;
     if (!data.terrain.empty()) {
-      if (!agl_along_beam(data.terrain, static_cast<double>(a.utime), beam_world, options.altimeter_max_offtrack_m,
-                          &reference))
+      if (!agl_along_beam(data.terrain, static_cast<double>(a.utime), origin_offset, beam_world,
+                          options.altimeter_max_offtrack_m, &reference))
         continue;
     } else if (!std::isnan(options.ground_height_m)) {
       if (beam_world.z() < 0.5) continue;
-      reference = (data.reference_height_m - p.z() - options.ground_height_m) / beam_world.z();  // flat ground
+      reference = (data.reference_height_m - p.z() - origin_offset.z() - options.ground_height_m) /
+                  beam_world.z();  // flat ground
     } else {
       continue;
     }
@@ -725,7 +765,6 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   result.gps_scale_pairs = gps.pairs;
   result.gps_scale = make_estimate("gps_scale", gps.scale, gps.sigma, gps.pairs >= 10, 0.01);
   result.gps_scale_target = options.gps_scale_target;
-  const SensorCalibration configured = SensorCalibration::from_config(camera_root);
   result.range_scale = altimeter_data ? result.altimeter_scale.value : configured.altimeter_range_scale;
   result.range_bias_m = altimeter_data ? result.altimeter_bias_m.value : configured.altimeter_range_bias_m;
   result.scale_only = options.gps_scale_only;
@@ -760,6 +799,7 @@ std::string CalibrationResult::config_fragment(const std::string& source) const 
   o << "# boresight yaw   " << line(boresight[2]) << " deg\n";
   o << "# time offset     " << line(time_offset_ms) << " ms\n";
   o << "# focal scale     " << line(focal_scale) << "\n";
+  o << "# k1 error        " << line(distortion_k1_error) << "\n";
   o << "# altimeter scale " << line(altimeter_scale) << "\n";
   o << "# altimeter bias  " << line(altimeter_bias_m) << " m\n";
   o << "# GNSS scale      " << line(gps_scale) << " (GNSS baseline / VO step, " << gps_scale_pairs << " pairs"
@@ -783,6 +823,11 @@ std::string CalibrationResult::config_fragment(const std::string& source) const 
     o << "  fx: " << fmt("%.3f", fx) << "\n";
     o << "  fy: " << fmt("%.3f", fy) << "\n";
   }
+  if (distortion_k1_error.estimated && distortion_k1_error.excited && !distortion.empty()) {
+    o << "  distortion: [";
+    for (size_t k = 0; k < distortion.size(); ++k) o << (k ? ", " : "") << fmt("%.6g", distortion[k]);
+    o << "]\n";
+  }
   o << "  # exposure time = image stamp + offset (vo_solver and yaw_fusion read the INS/altimeter there).\n";
   o << "  time_offset_us: " << fmt("%.0f", time_offset_ms.estimated ? time_offset_ms.value * 1e3 : 0.0) << "\n";
   o << "altimeter:\n";
@@ -803,6 +848,7 @@ std::string CalibrationResult::json() const {
   for (const Estimate& e : boresight) put(e);
   put(time_offset_ms);
   put(focal_scale);
+  put(distortion_k1_error);
   put(altimeter_scale);
   put(altimeter_bias_m);
   put(gps_scale);

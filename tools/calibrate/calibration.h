@@ -38,6 +38,10 @@ struct CalibrationOptions {
   double outlier_sigma = 4.0;    // residuals beyond this many robust sigmas are dropped
   int iterations = 6;            // Gauss-Newton iterations
   bool estimate_focal = true;    // fit the focal length scale (fixed at 1 when unobservable)
+  // With the focal scale: fit the error of the radial distortion coefficient
+  // k1 too (held at 0 when unobservable). A lens calibrated in the lab is
+  // seldom exact, and an unfitted k1 error is absorbed by the focal scale.
+  bool estimate_distortion = true;
   // Height of flat ground (m, the INS height datum) for the altimeter
   // regression when the log has no GROUND_TRUTH; NaN = none.
   double ground_height_m = std::numeric_limits<double>::quiet_NaN();
@@ -54,6 +58,7 @@ struct CalibrationOptions {
   double boresight_sigma_limit_deg = 0.05;
   double time_offset_sigma_limit_ms = 1.0;
   double focal_sigma_limit = 0.002;
+  double distortion_sigma_limit = 0.002;  // of k1
   double altimeter_scale_sigma_limit = 0.003;
   double altimeter_bias_sigma_limit_m = 0.3;
   // The image scale against GNSS (tools/calibrate/gps_scale.h), from the
@@ -120,6 +125,7 @@ struct CalibrationResult {
   std::array<Estimate, 3> boresight;  // roll, pitch, yaw (deg), about the configured mount
   Estimate time_offset_ms;            // exposure = image stamp + offset
   Estimate focal_scale;               // true focal length / configured
+  Estimate distortion_k1_error;       // true k1 - configured k1
   Estimate altimeter_scale;           // measured = scale * true range + bias
   Estimate altimeter_bias_m;
   Estimate gps_scale;                 // GNSS baseline / VO step (not estimated without VO_DELTA)
@@ -127,6 +133,7 @@ struct CalibrationResult {
   CalibrationOptions::GpsScaleTarget gps_scale_target = CalibrationOptions::GpsScaleTarget::kReport;
   Eigen::Vector3d mount_rpy_deg = Eigen::Vector3d::Zero();  // configured mount composed with the boresight
   double fx = 0, fy = 0;              // configured focal lengths times the focal scale (or over the GNSS scale)
+  std::vector<double> distortion;     // configured coefficients with k1 corrected
   double range_scale = 1.0;           // altimeter.range_scale written into the fragment
   double range_bias_m = 0.0;          // altimeter.range_bias_m written (fitted, else as configured)
   bool scale_only = false;            // the fragment holds only the GNSS scale's keys

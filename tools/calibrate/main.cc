@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
                "the flight does not excite a parameter. Writes a YAML config fragment (--out, or stdout).",
                "nadir_calibrate"};
   std::string log_path, config_path, out_path;
-  bool json = false, no_focal = false;
+  bool json = false, no_focal = false, no_distortion = false;
   nadir::calibrate::CalibrationOptions options;
   double ground_height_m = 0.0;
   app.add_option("--log", log_path, "log with INS, TRACKS, ALTIMETER (and GROUND_TRUTH)")->required();
@@ -37,7 +37,9 @@ int main(int argc, char** argv) {
                  "the INS's slowly varying attitude error, roll pitch yaw (deg, datasheet): added to the boresight "
                  "sigmas (the boresight is relative to the INS)")
       ->expected(3);
-  app.add_flag("--no-focal", no_focal, "hold the focal length scale at 1");
+  app.add_flag("--no-focal", no_focal, "hold the focal length scale at 1 (and the distortion at the configured)");
+  app.add_flag("--no-distortion", no_distortion,
+               "hold the radial distortion k1 at the configured value (fitted with the focal scale by default)");
   std::string gps_scale;
   app.add_option("--gps-scale", gps_scale,
                  "write the image scale against GNSS (GNSS baseline / VO step over the log's solved VO_DELTA; always "
@@ -60,6 +62,7 @@ int main(int argc, char** argv) {
     if (*ground) options.ground_height_m = ground_height_m;
     for (size_t i = 0; i < ins_accuracy.size() && i < 3; ++i) options.ins_attitude_accuracy_deg[i] = ins_accuracy[i];
     options.estimate_focal = !no_focal && gps_scale != "focal";
+    options.estimate_distortion = !no_distortion;
     if (gps_scale == "focal") options.gps_scale_target = nadir::calibrate::CalibrationOptions::GpsScaleTarget::kFocal;
     if (gps_scale == "altimeter")
       options.gps_scale_target = nadir::calibrate::CalibrationOptions::GpsScaleTarget::kAltimeter;
