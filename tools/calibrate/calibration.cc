@@ -635,8 +635,12 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
                                      camera_data && active[4], options.focal_sigma_limit);
   result.distortion_k1_error = make_estimate("distortion_k1_error", cam.theta[5], std::sqrt(cam.cov(5, 5)),
                                              camera_data && active[5], options.distortion_sigma_limit);
-  result.distortion = camera.distortion;
-  if (!result.distortion.empty()) result.distortion[0] += cam.theta[5];
+  if (result.distortion_k1_error.estimated && result.distortion_k1_error.excited &&
+      std::fabs(result.distortion_k1_error.value) > std::max(3.0 * result.distortion_k1_error.sigma, 0.001))
+    result.warnings.push_back(fmt("the lens distortion differs from the configured one (k1 off by %.4f +- %.4f); "
+                                  "recalibrate the lens (a chessboard, OpenCV calibrateCamera). Not written: a k1 "
+                                  "correction alone, without k2, made the VO worse on the realistic set",
+                                  result.distortion_k1_error.value, result.distortion_k1_error.sigma));
   const Eigen::Matrix3d mount = camera.body_from_camera * rotation_from_rpy(cam.theta[0], cam.theta[1], cam.theta[2]);
   result.mount_rpy_deg = rpy_from_rotation(mount) * (180.0 / M_PI);
   result.fx = camera.fx * (1.0 + cam.theta[4]);
@@ -822,11 +826,6 @@ std::string CalibrationResult::config_fragment(const std::string& source) const 
       gps_scale_target == CalibrationOptions::GpsScaleTarget::kFocal) {
     o << "  fx: " << fmt("%.3f", fx) << "\n";
     o << "  fy: " << fmt("%.3f", fy) << "\n";
-  }
-  if (distortion_k1_error.estimated && distortion_k1_error.excited && !distortion.empty()) {
-    o << "  distortion: [";
-    for (size_t k = 0; k < distortion.size(); ++k) o << (k ? ", " : "") << fmt("%.6g", distortion[k]);
-    o << "]\n";
   }
   o << "  # exposure time = image stamp + offset (vo_solver and yaw_fusion read the INS/altimeter there).\n";
   o << "  time_offset_us: " << fmt("%.0f", time_offset_ms.estimated ? time_offset_ms.value * 1e3 : 0.0) << "\n";

@@ -41,6 +41,7 @@ struct CalibrationOptions {
   // With the focal scale: fit the error of the radial distortion coefficient
   // k1 too (held at 0 when unobservable). A lens calibrated in the lab is
   // seldom exact, and an unfitted k1 error is absorbed by the focal scale.
+  // Reported (and warned about), not written into the fragment.
   bool estimate_distortion = true;
   // Height of flat ground (m, the INS height datum) for the altimeter
   // regression when the log has no GROUND_TRUTH; NaN = none.
@@ -125,7 +126,7 @@ struct CalibrationResult {
   std::array<Estimate, 3> boresight;  // roll, pitch, yaw (deg), about the configured mount
   Estimate time_offset_ms;            // exposure = image stamp + offset
   Estimate focal_scale;               // true focal length / configured
-  Estimate distortion_k1_error;       // true k1 - configured k1
+  Estimate distortion_k1_error;       // true k1 - configured k1 (a diagnostic: not in the fragment)
   Estimate altimeter_scale;           // measured = scale * true range + bias
   Estimate altimeter_bias_m;
   Estimate gps_scale;                 // GNSS baseline / VO step (not estimated without VO_DELTA)
@@ -133,7 +134,6 @@ struct CalibrationResult {
   CalibrationOptions::GpsScaleTarget gps_scale_target = CalibrationOptions::GpsScaleTarget::kReport;
   Eigen::Vector3d mount_rpy_deg = Eigen::Vector3d::Zero();  // configured mount composed with the boresight
   double fx = 0, fy = 0;              // configured focal lengths times the focal scale (or over the GNSS scale)
-  std::vector<double> distortion;     // configured coefficients with k1 corrected
   double range_scale = 1.0;           // altimeter.range_scale written into the fragment
   double range_bias_m = 0.0;          // altimeter.range_bias_m written (fitted, else as configured)
   bool scale_only = false;            // the fragment holds only the GNSS scale's keys
