@@ -540,6 +540,7 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   const SensorCalibration configured = SensorCalibration::from_config(camera_root);
   const InsTrack ins(data.ins, options.attitude_smoothing_s);
   CalibrationResult result;
+  result.installation = configured;
   result.segment_s = (ins.last_utime() - ins.first_utime()) * 1e-6;
 
   // --- Camera: boresight, time offset, focal scale, k1 error.
@@ -829,7 +830,20 @@ std::string CalibrationResult::config_fragment(const std::string& source) const 
   }
   o << "  # exposure time = image stamp + offset (vo_solver and yaw_fusion read the INS/altimeter there).\n";
   o << "  time_offset_us: " << fmt("%.0f", time_offset_ms.estimated ? time_offset_ms.value * 1e3 : 0.0) << "\n";
+  auto vector = [](const auto& v) {
+    std::string out = "[";
+    for (Eigen::Index k = 0; k < v.size(); ++k) out += (k ? ", " : "") + fmt("%.4g", v[k]);
+    return out + "]";
+  };
+  const char* kGiven = "  # as configured (the installation drawing), not fitted\n";
+  if (!installation.camera_lever_arm_m.isZero(0.0))
+    o << kGiven << "  lever_arm_m: " << vector(installation.camera_lever_arm_m) << "\n";
   o << "altimeter:\n";
+  if (!installation.altimeter_lever_arm_m.isZero(0.0) || !installation.altimeter_beam_misalignment_rad.isZero(0.0)) {
+    o << kGiven << "  lever_arm_m: " << vector(installation.altimeter_lever_arm_m) << "\n";
+    o << "  beam_misalignment_deg: " << vector(Eigen::Vector2d(installation.altimeter_beam_misalignment_rad * (180.0 / M_PI)))
+      << "\n";
+  }
   o << "  # vo_solver and yaw_fusion use true range = (measured - range_bias_m) / range_scale.\n";
   o << "  range_scale: " << fmt("%.5f", range_scale) << "\n";
   o << "  range_bias_m: " << fmt("%.3f", range_bias_m) << "\n";

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "common/config.h"
+#include "common/sensor_calibration.h"
 #include "tools/calibrate/gps_scale.h"
 
 namespace nadir::calibrate {
@@ -137,6 +138,7 @@ struct CalibrationResult {
   double range_scale = 1.0;           // altimeter.range_scale written into the fragment
   double range_bias_m = 0.0;          // altimeter.range_bias_m written (fitted, else as configured)
   bool scale_only = false;            // the fragment holds only the GNSS scale's keys
+  SensorCalibration installation;     // as configured: its lever arms and beam are echoed in the fragment
   int64_t frame_pairs = 0, residuals = 0, outliers = 0, altimeter_samples = 0;
   double camera_rms_rad = 0.0, altimeter_rms_m = 0.0;
   double segment_s = 0.0;

@@ -26,6 +26,10 @@ int main(int argc, char** argv) {
   app.add_option("--log", log_path, "log with INS, TRACKS, ALTIMETER (and GROUND_TRUTH)")->required();
   app.add_option("--config", config_path,
                  "config whose camera: section the TRACKS were normalized with (default: config/default.yaml)");
+  std::vector<std::string> overlays;
+  app.add_option("--config-overlay", overlays,
+                 "YAML fragment merged into the config key by key (repeatable), e.g. the installation drawing's lever "
+                 "arms or a first pass's fragment");
   app.add_option("--out", out_path, "write the YAML config fragment here (default: stdout)");
   auto* ground = app.add_option("--ground-height-m", ground_height_m,
                                 "flat ground height (INS height datum) for the altimeter when the log has no GROUND_TRUTH");
@@ -69,7 +73,8 @@ int main(int argc, char** argv) {
       options.gps_scale_target = nadir::calibrate::CalibrationOptions::GpsScaleTarget::kAltimeter;
     options.Check();
     const std::string config_file = config_path.empty() ? nadir::default_config_path() : config_path;
-    const nadir::Config config = nadir::Config::load_file(config_file);
+    nadir::Config config = nadir::Config::load_file(config_file);
+    for (const std::string& overlay : overlays) config.apply_overlay(nadir::Config::load_file(overlay));
     const nadir::calibrate::FlightData data = nadir::calibrate::load_flight(log_path, !json);
     if (data.corrupt_records > 0)
       std::fprintf(stderr, "nadir_calibrate: warning: %s: %lld corrupt record(s) skipped\n", log_path.c_str(),
