@@ -33,15 +33,32 @@ Eigen::Vector3d body_rate_between(const Eigen::Matrix3d& earlier, const Eigen::M
 }
 
 std::optional<Eigen::Vector3d> propagated_rpy(const InsAttitude& base, const InsAttitude* earlier, int64_t utime) {
-  if (utime == base.utime) return Eigen::Vector3d(base.roll, base.pitch, base.yaw);
   const Eigen::Matrix3d r = rotation_from_rpy(base.roll, base.pitch, base.yaw);
-  Eigen::Vector3d rate = base.body_rate;
+  const bool two_samples = earlier != nullptr && earlier->utime < base.utime;
+  const double dt_s = static_cast<double>(utime - base.utime) * 1e-6;
   if (!base.has_rate) {
-    if (earlier == nullptr || earlier->utime >= base.utime) return std::nullopt;
-    rate = body_rate_between(rotation_from_rpy(earlier->roll, earlier->pitch, earlier->yaw), r,
-                             static_cast<double>(base.utime - earlier->utime) * 1e-6);
+    if (utime == base.utime) return Eigen::Vector3d(base.roll, base.pitch, base.yaw);
+    if (!two_samples) return std::nullopt;
+    // The rate that joins the two samples: the earlier one, carried on with
+    // it, lands on the same attitude, so there is nothing to average.
+    const Eigen::Vector3d rate = body_rate_between(rotation_from_rpy(earlier->roll, earlier->pitch, earlier->yaw), r,
+                                                   static_cast<double>(base.utime - earlier->utime) * 1e-6);
+    return rpy_from_rotation(propagate_attitude(r, rate, dt_s));
   }
-  return rpy_from_rotation(propagate_attitude(r, rate, static_cast<double>(utime - base.utime) * 1e-6));
+  Eigen::Matrix3d at = propagate_attitude(r, base.body_rate, dt_s);
+  if (two_samples && earlier->has_rate) {
+    // The earlier sample carried to the same time (the mean of the two rates
+    // up to the base sample, the base's rate after it) and the two averaged:
+    // white attitude noise of the INS halves in variance, as interpolation
+    // between two samples reduces it, without waiting for the next sample.
+    const Eigen::Matrix3d e = rotation_from_rpy(earlier->roll, earlier->pitch, earlier->yaw);
+    const double gap_s = static_cast<double>(base.utime - earlier->utime) * 1e-6;
+    const Eigen::Matrix3d earlier_at = propagate_attitude(
+        propagate_attitude(e, 0.5 * (earlier->body_rate + base.body_rate), gap_s), base.body_rate, dt_s);
+    const Eigen::AngleAxisd between(at.transpose() * earlier_at);
+    at = at * Eigen::AngleAxisd(0.5 * between.angle(), between.axis()).toRotationMatrix();
+  }
+  return rpy_from_rotation(at);
 }
 
 void InsCompleteness::note_interval(int64_t interval_us) {

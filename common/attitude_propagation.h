@@ -36,7 +36,10 @@ struct InsAttitude {
 
 // Roll, pitch, yaw at `utime` (>= base.utime) from `base`, with its own rate
 // or, without one, the rate from `earlier` (the sample before it; may be
-// null) to it. Nothing when there is no rate at all.
+// null) to it. Nothing when there is no rate at all. With rates in both
+// samples, the mean of `base` and `earlier` each carried to `utime`: the
+// INS's white attitude noise enters with half its variance (interpolation
+// between two samples: 1/2 to 1), the motion is not averaged.
 std::optional<Eigen::Vector3d> propagated_rpy(const InsAttitude& base, const InsAttitude* earlier, int64_t utime);
 
 // When the propagate policy may use the INS for a frame: every sample at or

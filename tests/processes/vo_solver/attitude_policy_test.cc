@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <random>
 
 #include "common/geometry.h"
 #include "processes/vo_solver/frame_sync.h"
@@ -133,6 +134,43 @@ TEST(AttitudePolicy, PropagationErrorIsBoundedAgainstInterpolation) {
   EXPECT_LT(interpolate, 1.0e-5);
   EXPECT_LT(propagate_vs_interpolate, 4.0e-5);
   EXPECT_LT(from_samples, 1.0e-4);
+}
+
+// White noise on the INS roll (the simulator's INS, sigma 0.05 deg): propagate
+// averages the two samples at or before the frame, each carried to it, so the
+// noise enters with variance sigma^2 / 2; interpolation weights the samples
+// around the frame by (1 - f, f), sigma^2 (1 - 2f + 2f^2), 2/3 sigma^2 on average.
+TEST(AttitudePolicy, PropagateAveragesTheInsWhiteNoiseOfTwoSamples) {
+  const double sigma = deg_to_rad(0.05);
+  double sum_sq[2] = {0, 0};
+  int frames = 0;
+  const AttitudePolicy policies[2] = {AttitudePolicy::kPropagate, AttitudePolicy::kInterpolate};
+  FrameSync sync[2] = {FrameSync(with_policy(policies[0]), Eigen::Vector3d::UnitZ()),
+                       FrameSync(with_policy(policies[1]), Eigen::Vector3d::UnitZ())};
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, sigma);
+  int64_t next_ins = kStart;
+  for (int k = 1; k < 4000; ++k) {
+    const int64_t frame = kStart + k * 71429 + (k * 37 % 41) * 113;
+    while (next_ins <= frame + kInsPeriod) {
+      ins_t m = sample(constant_rate, next_ins, true);
+      m.roll += noise(rng);
+      for (FrameSync& s : sync) s.add_ins(m);
+      next_ins += kInsPeriod;
+    }
+    const double truth = rpy_from_rotation(constant_rate(static_cast<double>(frame - kStart) * 1e-6).world_from_body).x();
+    for (int p = 0; p < 2; ++p) {
+      const double e = angle_difference(sync[p].frame_state(frame).roll, truth);
+      sum_sq[p] += e * e;
+    }
+    ++frames;
+  }
+  const double propagate = std::sqrt(sum_sq[0] / frames) / sigma;
+  const double interpolate = std::sqrt(sum_sq[1] / frames) / sigma;
+  std::printf("roll error rms / sigma: propagate %.3f (expected 0.707), interpolate %.3f (0.816)\n", propagate,
+              interpolate);
+  EXPECT_NEAR(propagate, std::sqrt(0.5), 0.05);
+  EXPECT_NEAR(interpolate, std::sqrt(2.0 / 3.0), 0.05);
 }
 
 TEST(AttitudePolicy, PropagateSolvesWithoutTheNextInsSample) {
