@@ -554,25 +554,22 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(kCameraParams);
   if (camera_data) {
     cam = fit_camera(fit, active, options, zero, options.iterations);
-    if (active[5] && std::sqrt(cam.cov(5, 5)) > 5.0 * options.distortion_sigma_limit) {
-      // Not observable: held at the configured k1, so that it does not
-      // absorb noise into the focal scale and the boresight.
-      result.warnings.push_back(fmt("distortion_k1_error: not observable in this flight (sigma %.4f); held at 0. "
-                                    "Needs rotation of several degrees between frames.",
-                                    std::sqrt(cam.cov(5, 5))));
-      active[5] = false;
+    // A parameter the flight does not observe is held (k1 error at 0, focal
+    // scale at 1), so that it does not absorb noise into the others.
+    auto hold_if_unobservable = [&](int k, double sigma_limit, const char* warning) {
+      const size_t index = static_cast<size_t>(k);
+      if (!active[index] || std::sqrt(cam.cov(k, k)) <= 5.0 * sigma_limit) return;
+      result.warnings.push_back(fmt(warning, std::sqrt(cam.cov(k, k))));
+      active[index] = false;
+      if (k == 4) active[5] = false;  // the k1 error is fitted only with the focal scale
       cam = fit_camera(fit, active, options, zero, options.iterations);
-    }
-    if (active[4] && std::sqrt(cam.cov(4, 4)) > 5.0 * options.focal_sigma_limit) {
-      // The focal scale is not observable in this flight: holding it at 1
-      // keeps it from absorbing noise into the other parameters.
-      result.warnings.push_back(fmt("focal_scale: not observable in this flight (sigma %.4f); held at 1. Needs "
-                                    "rotation of several degrees between frames or a strongly sloped scene.",
-                                    std::sqrt(cam.cov(4, 4))));
-      active[4] = false;
-      active[5] = false;
-      cam = fit_camera(fit, active, options, zero, options.iterations);
-    }
+    };
+    hold_if_unobservable(5, options.distortion_sigma_limit,
+                         "distortion_k1_error: not observable in this flight (sigma %.4f); held at 0. Needs rotation "
+                         "of several degrees between frames.");
+    hold_if_unobservable(4, options.focal_sigma_limit,
+                         "focal_scale: not observable in this flight (sigma %.4f); held at 1. Needs rotation of "
+                         "several degrees between frames or a strongly sloped scene.");
     // Block jackknife: errors shared over longer than a cluster (the INS's
     // slowly varying attitude error, the scene) show in how much the estimate
     // moves when a block of the flight is left out. The larger of the two

@@ -198,10 +198,17 @@ TEST(FrameSync, DefaultCalibrationIsTheIdentityBitForBit) {
 
 TEST(FrameSync, CalibrationKeysAreReadAndCheckedByName) {
   const SensorCalibration c = SensorCalibration::from_config(Config::parse(
-      "camera: {time_offset_us: -2042}\naltimeter: {range_scale: 1.00762, range_bias_m: -1.242}\n", "cal.yaml"));
+      "camera: {time_offset_us: -2042, lever_arm_m: [1.5, 0, 0.3]}\n"
+      "altimeter: {range_scale: 1.00762, range_bias_m: -1.242, lever_arm_m: [1.2, 0.2, 0.4],"
+      " beam_misalignment_deg: [0.2, -0.15]}\n",
+      "cal.yaml"));
   EXPECT_EQ(c.camera_time_offset_us, -2042);
   EXPECT_EQ(c.altimeter_range_scale, 1.00762);
   EXPECT_EQ(c.altimeter_range_bias_m, -1.242);
+  EXPECT_EQ(c.camera_lever_arm_m, Eigen::Vector3d(1.5, 0.0, 0.3));
+  EXPECT_EQ(c.altimeter_lever_arm_m, Eigen::Vector3d(1.2, 0.2, 0.4));
+  EXPECT_NEAR(c.altimeter_beam_misalignment_rad.x(), deg_to_rad(0.2), 1e-15);
+  EXPECT_NEAR(c.altimeter_beam_misalignment_rad.y(), deg_to_rad(-0.15), 1e-15);
   const std::pair<const char*, const char*> bad[] = {
       {"camera: {time_offset_us: 1000000}\n", "camera.time_offset_us"},
       {"camera: {time_offset_us: 2.5}\n", "camera.time_offset_us"},  // integer microseconds
@@ -209,6 +216,11 @@ TEST(FrameSync, CalibrationKeysAreReadAndCheckedByName) {
       {"altimeter: {range_scale: 2.5}\n", "altimeter.range_scale"},
       {"altimeter: {range_bias_m: -100}\n", "altimeter.range_bias_m"},
       {"altimeter: {range_bias_m: .nan}\n", "altimeter.range_bias_m"},
+      {"camera: {lever_arm_m: [1.5, 0]}\n", "camera.lever_arm_m"},
+      {"camera: {lever_arm_m: [25, 0, 0]}\n", "camera.lever_arm_m"},
+      {"altimeter: {lever_arm_m: [0, .nan, 0]}\n", "altimeter.lever_arm_m"},
+      {"altimeter: {beam_misalignment_deg: [11, 0]}\n", "altimeter.beam_misalignment_deg"},
+      {"altimeter: {beam_misalignment_deg: [0.1, 0.1, 0.1]}\n", "altimeter.beam_misalignment_deg"},
   };
   for (const auto& [yaml, key] : bad) {
     try {

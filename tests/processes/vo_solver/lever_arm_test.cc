@@ -188,32 +188,5 @@ TEST(SensorCalibrationRay, IsThePointTheBeamHitSeenFromTheOrigin) {
   EXPECT_TRUE((from_camera.range_m * from_camera.beam_body).isApprox(point - Eigen::Vector3d(1.0, 0.0, 0.0), 1e-12));
 }
 
-TEST(SensorCalibrationRay, KeysAreReadAndCheckedByName) {
-  const SensorCalibration c = SensorCalibration::from_config(Config::parse(
-      "camera: {lever_arm_m: [1.5, 0, 0.3]}\n"
-      "altimeter: {lever_arm_m: [1.2, 0.2, 0.4], beam_misalignment_deg: [0.2, -0.15]}\n",
-      "install.yaml"));
-  EXPECT_EQ(c.camera_lever_arm_m, Eigen::Vector3d(1.5, 0.0, 0.3));
-  EXPECT_EQ(c.altimeter_lever_arm_m, Eigen::Vector3d(1.2, 0.2, 0.4));
-  EXPECT_NEAR(c.altimeter_beam_misalignment_rad.x(), deg_to_rad(0.2), 1e-15);
-  EXPECT_NEAR(c.altimeter_beam_misalignment_rad.y(), deg_to_rad(-0.15), 1e-15);
-  const std::pair<const char*, const char*> bad[] = {
-      {"camera: {lever_arm_m: [1.5, 0]}\n", "camera.lever_arm_m"},
-      {"camera: {lever_arm_m: [25, 0, 0]}\n", "camera.lever_arm_m"},
-      {"altimeter: {lever_arm_m: [0, .nan, 0]}\n", "altimeter.lever_arm_m"},
-      {"altimeter: {beam_misalignment_deg: [11, 0]}\n", "altimeter.beam_misalignment_deg"},
-      {"altimeter: {beam_misalignment_deg: [0.1, 0.1, 0.1]}\n", "altimeter.beam_misalignment_deg"},
-  };
-  for (const auto& [yaml, key] : bad) {
-    try {
-      SensorCalibration::from_config(Config::parse(yaml, "bad.yaml"));
-      ADD_FAILURE() << "expected ConfigError for " << yaml;
-    } catch (const ConfigError& e) {
-      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
-    }
-  }
-}
-
 }  // namespace
 }  // namespace nadir::vo
