@@ -20,8 +20,11 @@ echo "INS $ins ALTIMETER $alt POSE $pose"
 # 8 s at 100 Hz and 10 Hz; the first samples wait for the clock mapping.
 [ "${ins:-0}" -ge 780 ] || fail "INS: $ins messages (expected ~800)"
 [ "${alt:-0}" -ge 75 ] || fail "ALTIMETER: $alt messages (expected ~80)"
-# POSE depends on the estimator keeping up on a loaded machine: some, not all.
-[ "${pose:-0}" -ge 50 ] || fail "POSE: $pose messages (expected up to ~110)"
+# POSE depends on the estimator keeping up on a loaded machine and on when the
+# MAVLink clock mapping settles: some, not all. Ten runs on the 2-core CI
+# machine (2026-11-26) gave 48-81 of ~110, and 48 and 49 failed the old bound
+# of 50; a broken link or pipeline gives none.
+[ "${pose:-0}" -ge 30 ] || fail "POSE: $pose messages (expected up to ~110)"
 feeder="$(grep 'nadir_sim_mavlink: stopped' "$work/run.txt")"; echo "$feeder"
 bridge="$(grep 'nadir_mavlink_bridge: stopped' "$work/run.txt")"; echo "$bridge"
 vpe=$(echo "$feeder" | grep -oE 'VISION_POSITION_ESTIMATE [0-9]+' | grep -oE '[0-9]+')
