@@ -26,3 +26,22 @@ replay_and_eval() {
 
 # metric DIR KEY: one number from DIR/metrics.json
 metric() { /usr/bin/python3 -c 'import json,sys; print("%.3f" % json.load(open(sys.argv[1]))[sys.argv[2]])' "$1/metrics.json" "$2"; }
+
+# The options table1.sh and noise_study.sh share (issue 17). The caller
+# declares sim_args=() overlays=() report_suffix="".
+# use_sensor_set NAME OUT_VAR: simulate with config/sim_sensors.yaml's set NAME
+# (standard: nothing to add); other sets get their own logs, OUT_VAR-NAME.
+use_sensor_set() {
+  [ "$1" = standard ] && return 0
+  sim_args=(--sensor-set "$1")
+  printf -v "$2" '%s-%s' "${!2}" "$1"
+}
+# add_config_overlay TOOL FILE: replay with FILE merged into the config; the
+# reports get -<file name> appended.
+add_config_overlay() {
+  [ -f "$2" ] || { echo "$1: error: --config-overlay $2: no such file" >&2; exit 2; }
+  local name
+  name="$(basename "$2")"
+  overlays+=(--config-overlay "$(realpath "$2")")
+  report_suffix+="-${name%.*}"
+}

@@ -16,17 +16,16 @@ source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
 profile=test1
 n_seeds=3
 sensor_set=standard
+sim_args=()
 overlays=()
-suffix=""
+report_suffix=""
 while (($#)); do
   case "$1" in
     --reuse) export NADIR_REUSE=1; shift ;;
     --profile) profile="$2"; shift 2 ;;
     --seeds) n_seeds="$2"; shift 2 ;;
     --sensor-set) sensor_set="$2"; shift 2 ;;
-    --config-overlay)
-      [ -f "$2" ] || { echo "noise_study: error: --config-overlay $2: no such file" >&2; exit 2; }
-      overlays+=(--config-overlay "$(realpath "$2")"); f="$(basename "$2")"; suffix+="-${f%.*}"; shift 2 ;;
+    --config-overlay) add_config_overlay noise_study "$2"; shift 2 ;;
     -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "noise_study: error: unknown option $1" >&2; exit 2 ;;
   esac
@@ -34,11 +33,7 @@ done
 [[ "$n_seeds" =~ ^[123]$ ]] || { echo "noise_study: error: --seeds must be 1, 2 or 3" >&2; exit 2; }
 "$NADIR_ROOT/launch_scripts/setup.sh" >/dev/null
 out="$NADIR_ROOT/logs/noise_study-$profile"
-sim_args=()
-if [ "$sensor_set" != standard ]; then
-  out="$out-$sensor_set"
-  sim_args=(--sensor-set "$sensor_set")
-fi
+use_sensor_set "$sensor_set" out
 cases=(standard roll_pitch_3deg yaw_3deg altimeter_3pct)
 declare -A args=([standard]="" [roll_pitch_3deg]="--roll-pitch-noise-deg 3" [yaw_3deg]="--yaw-noise-deg 3"
                  [altimeter_3pct]="--altimeter-noise-pct 3")
@@ -52,25 +47,25 @@ for s in "${seeds[@]}"; do
     echo "$c (seed $s):"
     # shellcheck disable=SC2086
     simulate "$profile" "$s" "$dir/$c.lcmlog" "${sim_args[@]}" ${args[$c]}
-    replay_and_eval "$dir/$c.lcmlog" "$dir/$c$suffix" "${overlays[@]}"
+    replay_and_eval "$dir/$c.lcmlog" "$dir/$c$report_suffix" "${overlays[@]}"
   done
 done
 {
   echo "| added noise ($profile, seed 201) | horizontal drift % | vertical drift % | final error m | fused yaw error rms deg |"
   echo "|---|---|---|---|---|"
   for c in "${cases[@]}"; do
-    r="$out/$c$suffix"
+    r="$out/$c$report_suffix"
     echo "| $c | $(metric "$r" error_pct_h) | $(metric "$r" error_pct_v) | $(metric "$r" final_error_3d_m)" \
       "| $(metric "$r" rms_yaw_error_deg) |"
   done
   echo
   /usr/bin/python3 "$NADIR_ROOT/tools/eval/added_drift.py" \
-    $(for s in "${seeds[@]}"; do echo "--reference $(seed_dir "$s")/standard$suffix"; done) \
-    --out-png "$out/added_drift$suffix.png" --out-json "$out/added_drift$suffix.json" \
-    $(for c in "${cases[@]:1}"; do echo "$c=$(for s in "${seeds[@]}"; do printf '%s,' "$(seed_dir "$s")/$c$suffix"; done | sed 's/,$//')"; done)
-} | tee "$out/noise_study$suffix.md"
-/usr/bin/python3 "$NADIR_ROOT/tools/eval/plot_bars.py" --out "$out/noise_study$suffix.png" \
-  --title "Drift with added sensor noise ($profile, $sensor_set set${suffix:+, ${suffix#-}}, seed 201)" \
+    $(for s in "${seeds[@]}"; do echo "--reference $(seed_dir "$s")/standard$report_suffix"; done) \
+    --out-png "$out/added_drift$report_suffix.png" --out-json "$out/added_drift$report_suffix.json" \
+    $(for c in "${cases[@]:1}"; do echo "$c=$(for s in "${seeds[@]}"; do printf '%s,' "$(seed_dir "$s")/$c$report_suffix"; done | sed 's/,$//')"; done)
+} | tee "$out/noise_study$report_suffix.md"
+/usr/bin/python3 "$NADIR_ROOT/tools/eval/plot_bars.py" --out "$out/noise_study$report_suffix.png" \
+  --title "Drift with added sensor noise ($profile, $sensor_set set${report_suffix:+, ${report_suffix#-}}, seed 201)" \
   --metrics error_pct_h,error_pct_v --labels "horizontal %,vertical %" \
-  $(for c in "${cases[@]}"; do echo "$c=$out/$c$suffix"; done)
-echo "charts: $out/noise_study$suffix.png $out/added_drift$suffix.png"
+  $(for c in "${cases[@]}"; do echo "$c=$out/$c$report_suffix"; done)
+echo "charts: $out/noise_study$report_suffix.png $out/added_drift$report_suffix.png"

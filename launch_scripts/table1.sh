@@ -15,6 +15,7 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
 profiles=test1,test2,test3
 sensor_set=standard
+sim_args=()
 overlays=()
 report_suffix=""
 while (($#)); do
@@ -22,9 +23,7 @@ while (($#)); do
     --reuse) export NADIR_REUSE=1; shift ;;
     --profiles) profiles="$2"; shift 2 ;;
     --sensor-set) sensor_set="$2"; shift 2 ;;
-    --config-overlay)
-      [ -f "$2" ] || { echo "table1: error: --config-overlay $2: no such file" >&2; exit 2; }
-      overlays+=(--config-overlay "$(realpath "$2")"); f="$(basename "$2")"; report_suffix+="-${f%.*}"; shift 2 ;;
+    --config-overlay) add_config_overlay table1 "$2"; shift 2 ;;
     -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "table1: error: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
@@ -38,11 +37,7 @@ for t in "${rows[@]}"; do
 done
 "$NADIR_ROOT/launch_scripts/setup.sh" >/dev/null
 out="$NADIR_ROOT/logs/table1"
-sim_args=()
-if [ "$sensor_set" != standard ]; then
-  out="$out-$sensor_set"
-  sim_args=(--sensor-set "$sensor_set")
-fi
+use_sensor_set "$sensor_set" out
 mkdir -p "$out"
 for t in "${rows[@]}"; do
   echo "$t:"
