@@ -49,6 +49,7 @@ InputCheckOptions InputCheckOptions::from_config(const Config& root) {
   o.pixel_margin = c.get<double>("pixel_margin", o.pixel_margin);
   o.max_speed_m_s = c.get<double>("max_speed_m_s", o.max_speed_m_s);
   o.max_yaw_rate_rad_s = c.get<double>("max_yaw_rate_rad_s", o.max_yaw_rate_rad_s);
+  o.levelling_allowance_deg = c.get<double>("levelling_allowance_deg", o.levelling_allowance_deg);
   o.Check();
   return o;
 }
@@ -67,6 +68,8 @@ void InputCheckOptions::Check() const {
   check(pixel_margin >= 0.0 && pixel_margin <= 10000.0, "pixel_margin", "must be in [0, 10000]");
   check(max_speed_m_s > 0.0 && max_speed_m_s <= 10000.0, "max_speed_m_s", "must be in (0, 10000]");
   check(max_yaw_rate_rad_s > 0.0 && max_yaw_rate_rad_s <= 1000.0, "max_yaw_rate_rad_s", "must be in (0, 1000]");
+  check(levelling_allowance_deg >= 0.0 && levelling_allowance_deg <= 45.0, "levelling_allowance_deg",
+        "must be in [0, 45]");
 }
 
 StreamClock::Verdict StreamClock::admit(int64_t utime, const InputCheckOptions& options, int64_t* gate_newest) {
@@ -210,8 +213,13 @@ bool InputGate::admit(const std::string& channel, const vo_delta_t& msg) {
     const double dt = static_cast<double>(msg.utime - msg.prev_utime) * 1e-6;
     if (!(dt > 0.0)) return reject(channel, msg.utime, "prev_utime", "prev_utime not before utime");
     const double distance = std::sqrt(msg.dx * msg.dx + msg.dy * msg.dy + msg.dz * msg.dz);
-    if (distance > options_.max_speed_m_s * dt || std::abs(msg.dyaw) > options_.max_yaw_rate_rad_s * dt) {
-      return reject(channel, msg.utime, "motion", "motion faster than max_speed_m_s / max_yaw_rate_rad_s");
+    // The levelling allowance grows with the height (at most the altimeter's
+    // plausible range), not with the interval.
+    const double height = std::isfinite(msg.altitude_m) ? std::clamp(msg.altitude_m, 0.0, options_.max_range_m) : 0.0;
+    const double allowance = height * std::tan(options_.levelling_allowance_deg * M_PI / 180.0);
+    if (distance > options_.max_speed_m_s * dt + allowance ||
+        std::abs(msg.dyaw) > options_.max_yaw_rate_rad_s * dt) {
+      return reject(channel, msg.utime, "motion", "motion faster than max_speed_m_s (+ levelling allowance) / max_yaw_rate_rad_s");
     }
   }
   return admit_time(channel, msg.utime);

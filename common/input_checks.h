@@ -43,7 +43,13 @@ struct InputCheckOptions {
   double max_range_m = 5000.0;
   double max_abs_normalized = 4.0;        // undistorted track coordinates |x|, |y| (76 deg off axis)
   double pixel_margin = 64.0;             // track pixels this far outside the image: rejected
-  double max_speed_m_s = 250.0;           // VO_DELTA translation over its interval
+  double max_speed_m_s = 250.0;           // VO_DELTA translation over its interval ...
+  // ... plus altitude_m * tan(this): the levelling error of the two frames
+  // (INS roll/pitch error, eps_prev - eps_curr) moves a step by h * that
+  // difference, and the next step takes it back; so the gate must let it
+  // through, or the steps no longer telescope (white 3 deg roll/pitch noise
+  // gives a 4.2 deg sigma difference, 22 m at 300 m in 70 ms).
+  double levelling_allowance_deg = 25.0;
   double max_yaw_rate_rad_s = 6.0;        // VO_DELTA dyaw over its interval
 
   // Section `input_checks` of the config root; absent keys keep the defaults.

@@ -367,6 +367,18 @@ struct PaperFit {
   bool converged = false, degenerate = false;
 };
 
+// The share of the features that the cap on the cut removes: those with a
+// reprojection error above max_threshold_px and inside the cut that the
+// robust spread alone sets.
+double share_cut_by_cap(const PaperProblem& problem, const Params& params, double dz, const SolverOptions& options,
+                        double min_threshold_px, double max_threshold_px, std::vector<double>* ire) {
+  reprojection_errors(problem, params, dz, options.focal_px, ire);
+  if (ire->empty()) return 0.0;
+  const double wide = std::max(min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(*ire));
+  const auto cut = std::count_if(ire->begin(), ire->end(), [&](double e) { return e > max_threshold_px && e < wide; });
+  return static_cast<double>(cut) / static_cast<double>(ire->size());
+}
+
 PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool estimate_tilt, const WarmStart* warm) {
   PaperFit fit;
   Estimate& est = fit.failed;
@@ -424,12 +436,20 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
   const double min_threshold_px = options.min_threshold_px * options.pixel_scale();
   const double max_threshold_px = options.max_threshold_px * options.pixel_scale();
   double damping = 1e-3;
+  // From the second reweighting on, the cut is capped at max_threshold_px, so
+  // that a second depth layer (tree tops) cannot widen it enough to get in.
+  // A converged fit whose cap cut off less than a layer's share
+  // (layers.min_fraction) of the features that the robust spread alone would
+  // keep has no second layer: the spread is the model's own error (a
+  // levelling error of a degree or more), and the cap would cut the features
+  // that balance the fit. The cap is then lifted for good.
+  bool cap_lifted = false;
   for (int outer = 0; outer < options.max_robust_iterations && !fit.degenerate; ++outer) {
     // Line 8: weights from the image reprojection errors (Tukey biweight,
     // zero beyond a threshold that shrinks with the robust spread of the IREs).
     reprojection_errors(problem, params, dz, options.focal_px, &ire);
     double threshold = std::max(min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
-    const bool capped = outer > 0;
+    const bool capped = outer > 0 && !cap_lifted;
     if (capped) threshold = std::min(threshold, max_threshold_px);
     int used = 0;
     for (int i = 0; i < m; ++i) {
@@ -442,9 +462,20 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     const Eigen::Vector3d normal_before = ground_normal(problem.plane, 0, 0);
     fit.iterations += levenberg_marquardt(&problem, &params, w, options, &damping, &fit.degenerate);
     dz = estimate_dz(problem, params, w, nullptr);
-    if (threshold <= max_threshold_px &&
-        negligible_change(problem, before, normal_before, params, w, options.convergence_tolerance,
-                          options.convergence_sigma_fraction)) {
+    const bool settled = (outer > 0 || threshold <= max_threshold_px) &&
+                         negligible_change(problem, before, normal_before, params, w, options.convergence_tolerance,
+                                           options.convergence_sigma_fraction);
+    // Settled, or out of iterations (features at the cap can flip in and
+    // out): is the cap cutting a layer or the spread's tail?
+    if (capped && (settled || outer + 1 == options.max_robust_iterations)) {
+      const double cut = share_cut_by_cap(problem, params, dz, options, min_threshold_px, max_threshold_px, &ire);
+      if (cut > 0 && cut < options.layers.min_fraction) {
+        cap_lifted = true;
+        outer = 0;  // the uncapped fit starts here with a budget of its own (once: the lift is for good)
+        continue;
+      }
+    }
+    if (settled) {
       fit.converged = true;
       break;
     }

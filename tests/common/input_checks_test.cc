@@ -150,6 +150,32 @@ TEST(InputGate, AltimeterTracksAndDeltasOutsideTheirLimitsAreRejected) {
   EXPECT_FALSE(gate.admit(channels::kVoDelta, delta));
 }
 
+// A step that a levelling error moved (h * (eps_prev - eps_curr), taken back
+// by the next step) is plausible at the height the delta reports, not below.
+TEST(InputGate, AStepMovedByTheLevellingErrorIsAllowedInProportionToTheHeight) {
+  InputGate gate{InputCheckOptions()};
+  const double interval_limit = 250.0 * 0.071428;  // 17.9 m at 250 m/s
+  const double allowance = 300.0 * std::tan(25.0 * M_PI / 180.0);  // 139.9 m at 300 m
+  vo_delta_t delta{};
+  int64_t t = kStart;
+  const auto admit = [&](double dx, double altitude) {
+    t += 71428;
+    delta.utime = t;
+    delta.prev_utime = t - 71428;
+    delta.dx = dx;
+    delta.altitude_m = altitude;
+    return gate.admit(channels::kVoDelta, delta);
+  };
+  // 3 deg white roll/pitch noise at 300 m: a 3-sigma difference moves a step by 67 m.
+  EXPECT_TRUE(admit(5.0 + 67.0, 300.0));
+  EXPECT_FALSE(admit(5.0 + 67.0, 0.0));
+  EXPECT_TRUE(admit(interval_limit + allowance - 0.1, 300.0));
+  EXPECT_FALSE(admit(interval_limit + allowance + 0.1, 300.0));
+  // No height, or an impossible one: no more than the altimeter's range.
+  EXPECT_FALSE(admit(5.0 + 67.0, std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_FALSE(admit(1e6, 1e9));
+}
+
 TEST(InputCheckOptions, BadValuesNameTheKey) {
   const Config bad = Config::parse("input_checks: {max_ahead_s: -1}", "test.yaml");
   try {

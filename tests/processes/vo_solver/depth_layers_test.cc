@@ -4,11 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "common/config.h"
 #include "common/geometry.h"
+#include "processes/vo_solver/solver_support.h"
 #include "processes/vo_solver/vo_solver_options.h"
 #include "processes/vo_solver/translation_solver.h"
 #include "tests/processes/vo_solver/synthetic_scene.h"
@@ -92,6 +94,57 @@ TEST(DepthLayers, OnePlaneIsNotFlagged) {
       EXPECT_EQ(est.quality & kDepthLayers, 0) << "step " << step << " seed " << seed;
     }
   }
+}
+
+// One plane seen with a levelling error of a few degrees (white INS roll/pitch
+// noise of 1-3 deg): the model's own error spreads the reprojection errors so
+// that the robust cut is wider than the cap, and the cap cuts a tail of corner
+// features, not a layer. The cap is lifted: the estimate is the uncapped one
+// (what the levelling error moves, h * (eps_prev - eps_curr), must be absorbed
+// the same way in every pair, or the steps stop telescoping), and the fit
+// converges.
+TEST(DepthLayers, ACapCuttingTheTailOfOnePlaneIsLifted) {
+  int in_regime = 0;
+  double sum_sq = 0, sum_var = 0;
+  for (uint32_t seed = 1; seed <= 10; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    SceneSpec s;
+    s.height_m = 300.0;
+    s.ground_roll = deg_to_rad(2.0);
+    s.ground_pitch = deg_to_rad(-3.0);
+    s.prev_roll = deg_to_rad(4.0);
+    s.curr_roll = deg_to_rad(-2.0);
+    s.prev_pitch = deg_to_rad(-3.0);
+    s.curr_pitch = deg_to_rad(1.0);
+    s.translation = Eigen::Vector3d(5.0, 0.3, -0.2);
+    s.noise_px = 0.5;
+    s.outlier_fraction = 0.05;
+    s.seed = seed;
+    Scene scene = make_scene(s);
+    // The INS's levelling errors: 1.5 deg of roll and -1.5 deg of pitch between the frames.
+    scene.pair.prev_roll += deg_to_rad(1.0);
+    scene.pair.curr_roll -= deg_to_rad(0.5);
+    scene.pair.prev_pitch -= deg_to_rad(0.5);
+    scene.pair.curr_pitch += deg_to_rad(1.0);
+    SolverOptions uncapped;
+    uncapped.max_threshold_px = 1000;
+    const Estimate reference = solve(scene.pair, uncapped);
+    const Estimate est = solve(scene.pair, SolverOptions{});
+    const std::vector<double> errors = estimate_reprojection_errors(scene.pair, reference, uncapped.focal_px);
+    std::vector<double> sorted = errors;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double wide = 4.0 * 1.4826 * sorted[sorted.size() / 2];
+    const auto tail = std::count_if(errors.begin(), errors.end(), [&](double e) { return e > 10.0 && e < wide; });
+    in_regime += tail > 0 && tail < 0.15 * static_cast<double>(errors.size());
+    EXPECT_EQ(est.quality & kNotConverged, 0);
+    sum_sq += (est.translation - reference.translation).head<2>().squaredNorm();
+    sum_var += reference.covariance(0, 0) + reference.covariance(1, 1);
+  }
+  EXPECT_GE(in_regime, 8) << "the scene must put a tail of features between the cap and the robust cut";
+  // Two robust fits from different starts stop within their tolerance of
+  // different points; capped for good, the gap was 0.79 sigma rms over these
+  // seeds (lifted: 0.33).
+  EXPECT_LE(std::sqrt(sum_sq / sum_var), 0.5);
 }
 
 TEST(DepthLayers, OptionsAreChecked) {
