@@ -42,6 +42,7 @@ InputCheckOptions InputCheckOptions::from_config(const Config& root) {
   o.max_behind_s = c.get<double>("max_behind_s", o.max_behind_s);
   o.relock_messages = c.get<int>("relock_messages", o.relock_messages);
   o.max_attitude_step_rate_rad_s = c.get<double>("max_attitude_step_rate_rad_s", o.max_attitude_step_rate_rad_s);
+  o.attitude_step_noise_sigmas = c.get<double>("attitude_step_noise_sigmas", o.attitude_step_noise_sigmas);
   o.max_angular_rate_rad_s = c.get<double>("max_angular_rate_rad_s", o.max_angular_rate_rad_s);
   o.min_range_m = c.get<double>("min_range_m", o.min_range_m);
   o.max_range_m = c.get<double>("max_range_m", o.max_range_m);
@@ -60,6 +61,8 @@ void InputCheckOptions::Check() const {
   check(relock_messages >= 2 && relock_messages <= 1000, "relock_messages", "must be in [2, 1000]");
   check(max_attitude_step_rate_rad_s > 0.0 && max_attitude_step_rate_rad_s <= 1000.0, "max_attitude_step_rate_rad_s",
         "must be in (0, 1000]");
+  check(attitude_step_noise_sigmas >= 0.0 && attitude_step_noise_sigmas <= 20.0, "attitude_step_noise_sigmas",
+        "must be in [0, 20]");
   check(max_angular_rate_rad_s > 0.0 && max_angular_rate_rad_s <= 1000.0, "max_angular_rate_rad_s",
         "must be in (0, 1000]");
   check(min_range_m >= 0.0 && min_range_m < max_range_m, "min_range_m", "must be >= 0 and < max_range_m");
@@ -122,13 +125,30 @@ bool InputGate::admit_time(const std::string& channel, int64_t utime) {
                                                             : "sensor time inconsistent with the stream's");
 }
 
+namespace {
+// The white noise the INS reports for one axis of one sample (0 without
+// stddev), at most 0.1 rad: a larger figure says the attitude is not usable.
+double reported_noise(const ins_t& msg, int axis) {
+  if (!msg.has_stddev || !std::isfinite(msg.attitude_stddev[axis])) return 0.0;
+  return std::clamp(msg.attitude_stddev[axis], 0.0, 0.1);
+}
+}  // namespace
+
 bool InputGate::attitude_step_plausible(const ins_t& before, const ins_t& after) const {
   const double dt = std::abs(static_cast<double>(after.utime - before.utime)) * 1e-6;
-  const double step = std::max({std::abs(after.roll - before.roll), std::abs(after.pitch - before.pitch),
-                                std::abs(angle_difference(after.yaw, before.yaw))});
   // Within a short interval the attitude cannot jump; across a long one (a
   // gap, a restart) anything is possible.
-  return dt >= 1.0 || step <= options_.max_attitude_step_rate_rad_s * std::max(dt, 0.01);
+  if (dt >= 1.0) return true;
+  const double steps[3] = {after.roll - before.roll, after.pitch - before.pitch,
+                           angle_difference(after.yaw, before.yaw)};
+  for (int axis = 0; axis < 3; ++axis) {
+    // Two samples' own noise (as the INS reports it) may add to the motion.
+    const double noise = std::hypot(reported_noise(before, axis), reported_noise(after, axis));
+    const double limit = options_.max_attitude_step_rate_rad_s * std::max(dt, 0.01) +
+                         options_.attitude_step_noise_sigmas * noise;
+    if (std::abs(steps[axis]) > limit) return false;
+  }
+  return true;
 }
 
 bool InputGate::admit(const std::string& channel, const ins_t& msg) {

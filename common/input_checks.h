@@ -37,7 +37,8 @@ struct InputCheckOptions {
   double max_ahead_s = 1.0;               // newer than the channel's newest accepted time by more: rejected
   double max_behind_s = 1.0;              // older than it by more: rejected
   int relock_messages = 5;                // agreeing rejected messages that re-anchor a channel
-  double max_attitude_step_rate_rad_s = 6.0;  // attitude change between accepted INS samples per second
+  double max_attitude_step_rate_rad_s = 6.0;  // attitude change between accepted INS samples per second ...
+  double attitude_step_noise_sigmas = 6.0;    // ... plus this many sigmas of the two samples' reported white noise
   double max_angular_rate_rad_s = 10.0;   // INS angular rates
   double min_range_m = 0.05;              // a valid altimeter range outside [min, max]: rejected
   double max_range_m = 5000.0;

@@ -76,6 +76,36 @@ TEST(InputGate, ImpossibleInsValuesAreRejectedAndCountedByReason) {
   EXPECT_EQ(counter("rejected_inputs"), 5);
 }
 
+// An INS that reports 3 deg of white roll/pitch noise per sample (the
+// paper's Fig. 8b) moves 4.2 deg sigma from sample to sample: its steps pass
+// within six sigmas of the two samples' noise; a step the noise cannot explain
+// does not, and without a reported stddev the rate alone decides.
+TEST(InputGate, AnAttitudeStepWithinTheReportedNoiseIsPlausible) {
+  const double sigma = 3.0 * M_PI / 180.0;
+  const auto noisy = [&](int64_t utime, double roll) {
+    ins_t m = ins_at(utime, roll);
+    m.has_stddev = true;
+    m.attitude_stddev[0] = m.attitude_stddev[1] = sigma;
+    m.attitude_stddev[2] = 0.001;
+    return m;
+  };
+  InputGate gate{InputCheckOptions()};
+  ASSERT_TRUE(gate.admit(channels::kIns, noisy(kStart, 0.0)));
+  const double limit = 6.0 * 0.01 + 6.0 * std::sqrt(2.0) * sigma;  // 0.504 rad in 10 ms
+  const double three_sigma = 3.0 * std::sqrt(2.0) * sigma;
+  EXPECT_TRUE(gate.admit(channels::kIns, noisy(kStart + kInsPeriod, three_sigma)));
+  EXPECT_TRUE(gate.admit(channels::kIns, noisy(kStart + 2 * kInsPeriod, three_sigma - (limit - 0.01))));
+  EXPECT_FALSE(gate.admit(channels::kIns, noisy(kStart + 3 * kInsPeriod, three_sigma - (limit - 0.01) + (limit + 0.01))));
+  InputGate quiet{InputCheckOptions()};
+  ASSERT_TRUE(quiet.admit(channels::kIns, ins_at(kStart, 0.0)));
+  EXPECT_FALSE(quiet.admit(channels::kIns, ins_at(kStart + kInsPeriod, 3.0 * std::sqrt(2.0) * sigma)));
+  InputCheckOptions off;
+  off.attitude_step_noise_sigmas = 0.0;
+  InputGate strict{off};
+  ASSERT_TRUE(strict.admit(channels::kIns, noisy(kStart, 0.0)));
+  EXPECT_FALSE(strict.admit(channels::kIns, noisy(kStart + kInsPeriod, 3.0 * std::sqrt(2.0) * sigma)));
+}
+
 TEST(InputGate, AFutureSampleNeverBecomesTheReference) {
   InputGate gate{InputCheckOptions()};
   int64_t t = kStart;
