@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -442,8 +443,11 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
   // (layers.min_fraction) of the features that the robust spread alone would
   // keep has no second layer: the spread is the model's own error (a
   // levelling error of a degree or more), and the cap would cut the features
-  // that balance the fit. The cap is then lifted for good.
+  // that balance the fit. The cap is then lifted for good. Should the
+  // uncapped fit not settle within its own budget, a settled capped fit
+  // stands (the lift never costs a converged pair).
   bool cap_lifted = false;
+  std::optional<std::pair<Params, std::vector<double>>> settled_capped;
   for (int outer = 0; outer < options.max_robust_iterations && !fit.degenerate; ++outer) {
     // Line 8: weights from the image reprojection errors (Tukey biweight,
     // zero beyond a threshold that shrinks with the robust spread of the IREs).
@@ -470,6 +474,7 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     if (capped && (settled || outer + 1 == options.max_robust_iterations)) {
       const double cut = share_cut_by_cap(problem, params, dz, options, min_threshold_px, max_threshold_px, &ire);
       if (cut > 0 && cut < options.layers.min_fraction) {
+        if (settled) settled_capped.emplace(params, w);
         cap_lifted = true;
         outer = 0;  // the uncapped fit starts here with a budget of its own (once: the lift is for good)
         continue;
@@ -479,6 +484,12 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
       fit.converged = true;
       break;
     }
+  }
+  if (!fit.converged && settled_capped) {
+    params = settled_capped->first;
+    w = settled_capped->second;
+    fit.degenerate = false;  // it was not when it settled
+    fit.converged = true;
   }
   fit.ok = true;
   return fit;
