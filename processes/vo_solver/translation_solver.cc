@@ -447,7 +447,12 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
   // uncapped fit not settle within its own budget, a settled capped fit
   // stands (the lift never costs a converged pair).
   bool cap_lifted = false;
-  std::optional<std::pair<Params, std::vector<double>>> settled_capped;
+  struct Snapshot {
+    Params params;
+    std::vector<double> w;
+    PlaneGeometry plane;  // its relevel holds the tilt the params are relative to
+  };
+  std::optional<Snapshot> settled_capped;
   for (int outer = 0; outer < options.max_robust_iterations && !fit.degenerate; ++outer) {
     // Line 8: weights from the image reprojection errors (Tukey biweight,
     // zero beyond a threshold that shrinks with the robust spread of the IREs).
@@ -474,7 +479,7 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     if (capped && (settled || outer + 1 == options.max_robust_iterations)) {
       const double cut = share_cut_by_cap(problem, params, dz, options, min_threshold_px, max_threshold_px, &ire);
       if (cut > 0 && cut < options.layers.min_fraction) {
-        if (settled) settled_capped.emplace(params, w);
+        if (settled) settled_capped = Snapshot{params, w, problem.plane};
         cap_lifted = true;
         outer = 0;  // the uncapped fit starts here with a budget of its own (once: the lift is for good)
         continue;
@@ -486,8 +491,9 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     }
   }
   if (!fit.converged && settled_capped) {
-    params = settled_capped->first;
-    w = settled_capped->second;
+    params = settled_capped->params;
+    w = settled_capped->w;
+    problem.plane = settled_capped->plane;
     fit.degenerate = false;  // it was not when it settled
     fit.converged = true;
   }
