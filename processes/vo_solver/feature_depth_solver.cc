@@ -237,7 +237,7 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
       if (features[i].base_weight > 0) finite_err.push_back(err[i]);
     }
     // The start is the patch's solution, which relief can leave pixels off: no cap at first.
-    double threshold = std::max(min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(finite_err));
+    double threshold = robust_cut_px(options.threshold_mad_scale, min_threshold_px, finite_err);
     if (outer > 0) threshold = std::min(threshold, max_threshold_px);
     int used = 0;
     for (size_t i = 0; i < m; ++i) {

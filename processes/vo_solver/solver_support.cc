@@ -24,6 +24,10 @@ double median_of(const std::vector<double>& values) {
   return copy[mid];
 }
 
+double robust_cut_px(double mad_scale, double min_threshold_px, const std::vector<double>& errors) {
+  return std::max(min_threshold_px, mad_scale * 1.4826 * median_of(errors));
+}
+
 }  // namespace nadir::vo
 
 namespace nadir::vo {

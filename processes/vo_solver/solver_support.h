@@ -17,6 +17,10 @@ bool start_estimate(const FramePair& pair, Estimate* est);
 // Median of the finite values (infinite ones count as larger than all); 0 if empty.
 double median_of(const std::vector<double>& values);
 
+// The robust outlier cut on reprojection errors (pixels): mad_scale robust
+// sigmas (1.4826 x median) of the errors, at least min_threshold_px.
+double robust_cut_px(double mad_scale, double min_threshold_px, const std::vector<double>& errors);
+
 // The virtual camera re-levelled by tilt increments: relevel * Ry(pitch) Rx(roll).
 Eigen::Matrix3d ground_relevel(const PlaneGeometry& plane, double d_roll, double d_pitch);
 

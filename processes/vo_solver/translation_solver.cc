@@ -375,7 +375,7 @@ double share_cut_by_cap(const PaperProblem& problem, const Params& params, doubl
                         double min_threshold_px, double max_threshold_px, std::vector<double>* ire) {
   reprojection_errors(problem, params, dz, options.focal_px, ire);
   if (ire->empty()) return 0.0;
-  const double wide = std::max(min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(*ire));
+  const double wide = robust_cut_px(options.threshold_mad_scale, min_threshold_px, *ire);
   const auto cut = std::count_if(ire->begin(), ire->end(), [&](double e) { return e > max_threshold_px && e < wide; });
   return static_cast<double>(cut) / static_cast<double>(ire->size());
 }
@@ -457,7 +457,7 @@ PaperFit fit_paper(const FramePair& pair, const SolverOptions& options, bool est
     // Line 8: weights from the image reprojection errors (Tukey biweight,
     // zero beyond a threshold that shrinks with the robust spread of the IREs).
     reprojection_errors(problem, params, dz, options.focal_px, &ire);
-    double threshold = std::max(min_threshold_px, options.threshold_mad_scale * 1.4826 * median_of(ire));
+    double threshold = robust_cut_px(options.threshold_mad_scale, min_threshold_px, ire);
     const bool capped = outer > 0 && !cap_lifted;
     if (capped) threshold = std::min(threshold, max_threshold_px);
     int used = 0;
