@@ -8,6 +8,17 @@
 
 namespace nadir {
 
+CameraModel CameraModel::pinhole(int width, int height, double focal_px) {
+  CameraModel c;
+  c.width = width;
+  c.height = height;
+  c.fx = c.fy = focal_px;
+  c.cx = 0.5 * (width - 1);
+  c.cy = 0.5 * (height - 1);
+  c.distortion = {0, 0, 0, 0, 0};
+  return c;
+}
+
 CameraModel CameraModel::from_config(const Config& root) {
   const Config c = root.section("camera");
   CameraModel m;

@@ -23,6 +23,10 @@ struct CameraModel {
 
   // Reads and checks the `camera:` section; throws ConfigError naming the key.
   static CameraModel from_config(const Config& root);
+  // An ideal camera: focal length `focal_px` on both axes, the principal point
+  // at the image centre, no distortion, mounted looking down with its x axis
+  // forward.
+  static CameraModel pinhole(int width, int height, double focal_px);
   void Check(const std::string& source) const;
 
   cv::Matx33d camera_matrix() const;

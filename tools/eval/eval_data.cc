@@ -7,6 +7,7 @@
 #include "common/channels.h"
 #include "common/log_file.h"
 #include "common/message_guard.h"
+#include "nadir/config_t.hpp"
 #include "nadir/vo_delta_t.hpp"
 
 namespace nadir {
@@ -82,6 +83,13 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
         ++data.vo_deltas;
         if (d.quality != 0) ++data.vo_deltas_flagged;
         data.deltas.push_back(d);
+      }
+    } else if (e.channel == channels::kConfig) {
+      config_t c;
+      // The VO solver's camera is the one its pairs were solved with.
+      if (decode(e, &c) && (c.name == "vo_solver" || (c.name == "tracker" && data.estimator_config_name.empty()))) {
+        data.estimator_config_yaml = c.yaml;
+        data.estimator_config_name = c.name;
       }
     } else if (e.channel == channels::kStatus) {
       status_t s;

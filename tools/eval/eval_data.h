@@ -41,6 +41,11 @@ struct EvalData {
   // Per POSE: logged time - its frame's CAMERA_IMAGE logged time (the
   // estimator and its hops, without the image source's own delay).
   std::vector<float> after_image_latency_ms;
+  // The estimator's effective config as its CONFIG message gave it (the VO
+  // solver's, else the tracker's): the camera of the frame-pair footprints.
+  // Empty when the log has neither.
+  std::string estimator_config_yaml;
+  std::string estimator_config_name;
 };
 
 // Reads POSE (and STATUS, counts) from `log_path`, GROUND_TRUTH and INS from

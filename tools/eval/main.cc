@@ -56,6 +56,10 @@ int main(int argc, char** argv) {
                    accounting.c_str());
     }
     const nadir::EvalResult result = nadir::evaluate(data);
+    if (!result.metrics.footprint_problem.empty() && !data.deltas.empty()) {
+      std::fprintf(stderr, "nadir_eval: warning: %s: no pair footprints (%s)\n", log_path.c_str(),
+                   result.metrics.footprint_problem.c_str());
+    }
     fs::create_directories(out_dir);
     const std::string metrics = nadir::metrics_json(result.metrics);
     std::ofstream(out_dir + "/metrics.json") << metrics << "\n";
@@ -90,6 +94,12 @@ int main(int argc, char** argv) {
                     "the step median, %.1f %% p90 (median step %.1f m)\n",
                     static_cast<long long>(m.pairs), static_cast<long long>(m.pairs_solved), m.pairs_solved_pct,
                     m.pair_error_pct_median, m.pair_error_pct_p90, m.pair_step_median_m);
+        if (m.pairs_overlapping_solved_pct >= 0) {
+          std::printf("pair footprints     %10lld pairs share no ground (truth poses, level ground); %.1f %% of the "
+                      "%lld that do solved\n",
+                      static_cast<long long>(m.pairs_apart), m.pairs_overlapping_solved_pct,
+                      static_cast<long long>(m.pairs - m.pairs_apart));
+        }
       }
       std::printf("latency             %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - frame sensor time; "
                   "live runs only)\n",

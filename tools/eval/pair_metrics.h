@@ -4,10 +4,12 @@
 // solved, per-pair horizontal error as % of the step), independent of how the
 // pairs are chained into a trajectory.
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "common/camera_model.h"
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/vo_delta_t.hpp"
 
@@ -26,6 +28,10 @@ struct PairSample {
   int32_t quality = 0;
   int32_t inliers = 0;
   bool solved = false;
+  // Share of the previous frame's ground footprint that this frame's covers
+  // (truth poses, level ground at the truth height below the previous frame),
+  // percent; NaN without a camera.
+  double overlap_pct = std::nan("");
 };
 
 struct PairMetrics {
@@ -36,6 +42,12 @@ struct PairMetrics {
   double error_pct_median = 0;  // over the measured pairs
   double error_pct_p90 = 0;
   double step_median_m = 0;
+  // With a camera: pairs whose footprints share no ground (no tracker can
+  // match them), and the share solved of the others.
+  bool footprints = false;
+  int64_t apart = 0;
+  int64_t overlapping_solved = 0;
+  double overlapping_solved_pct = 0;
   std::vector<PairSample> samples;
 };
 
@@ -45,10 +57,14 @@ struct PairMetrics {
 // pairs count as solved (flagged).
 constexpr int32_t kUnsolvedQualityMask = 1 | 2 | 8 | 16;
 
+// Footprints overlapping by less than this (percent) share no ground.
+constexpr double kApartOverlapPct = 0.1;
+
 // `truth` sorted by utime. Steps under `min_step_m` are counted but not
-// measured as a percentage.
+// measured as a percentage. `camera` (may be null) gives each pair its
+// footprint overlap.
 PairMetrics evaluate_pairs(const std::vector<vo_delta_t>& deltas, const std::vector<ground_truth_t>& truth,
-                           double min_step_m = 0.5);
+                           const CameraModel* camera, double min_step_m = 0.5);
 
 // One row per pair.
 void write_pairs_csv(const PairMetrics& metrics, const std::string& path);

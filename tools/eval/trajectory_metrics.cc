@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include "common/geometry.h"
@@ -121,7 +122,22 @@ EvalResult evaluate(const EvalData& data) {
   m.tracks = data.tracks;
   m.vo_deltas = data.vo_deltas;
   m.vo_deltas_flagged = data.vo_deltas_flagged;
-  result.pairs = evaluate_pairs(data.deltas, data.truth);
+  std::unique_ptr<CameraModel> camera;
+  if (data.estimator_config_yaml.empty()) {
+    m.footprint_problem = "no CONFIG from vo_solver or tracker in the log";
+  } else {
+    try {
+      camera = std::make_unique<CameraModel>(CameraModel::from_config(
+          Config::parse(data.estimator_config_yaml, "CONFIG of " + data.estimator_config_name)));
+    } catch (const ConfigError& e) {
+      m.footprint_problem = e.what();
+    }
+  }
+  result.pairs = evaluate_pairs(data.deltas, data.truth, camera.get());
+  if (result.pairs.footprints) {
+    m.pairs_apart = result.pairs.apart;
+    m.pairs_overlapping_solved_pct = result.pairs.overlapping_solved_pct;
+  }
   m.pairs = result.pairs.pairs;
   m.pairs_solved = result.pairs.solved;
   m.pairs_solved_pct = result.pairs.solved_pct;
@@ -181,6 +197,7 @@ std::string metrics_json(const EvalMetrics& m) {
   j.field("pairs", m.pairs).field("pairs_solved", m.pairs_solved).field("pairs_solved_pct", m.pairs_solved_pct);
   j.field("pair_error_pct_median", m.pair_error_pct_median).field("pair_error_pct_p90", m.pair_error_pct_p90);
   j.field("pair_step_median_m", m.pair_step_median_m);
+  j.field("pairs_apart", m.pairs_apart).field("pairs_overlapping_solved_pct", m.pairs_overlapping_solved_pct);
   j.field("latency_p50_ms", m.latency_p50_ms).field("latency_p99_ms", m.latency_p99_ms);
   j.field("latency_max_ms", m.latency_max_ms);
   j.field("after_image_latency_p50_ms", m.after_image_latency_p50_ms);

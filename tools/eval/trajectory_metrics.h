@@ -78,6 +78,11 @@ struct EvalMetrics {
   double pairs_solved_pct = 0;
   double pair_error_pct_median = 0, pair_error_pct_p90 = 0;  // horizontal, % of the step, solved pairs
   double pair_step_median_m = 0;
+  // With the estimator's camera (its CONFIG): pairs whose ground footprints do
+  // not overlap, and the share solved of the pairs that do (-1: no camera).
+  int64_t pairs_apart = 0;
+  double pairs_overlapping_solved_pct = -1;
+  std::string footprint_problem;  // why there are no footprints, when there are none
   double latency_p50_ms = 0;   // logger receive time - sensor time of POSE
   double latency_p99_ms = 0;
   double latency_max_ms = 0;   // the worst frame

@@ -18,7 +18,10 @@ bool truth_at(const std::vector<ground_truth_t>& truth, int64_t utime, TruthAt* 
     out->position[i] = a.position_ned[i] + w * (b.position_ned[i] - a.position_ned[i]);
     out->velocity[i] = a.velocity_ned[i] + w * (b.velocity_ned[i] - a.velocity_ned[i]);
   }
+  out->roll = wrap_angle(a.roll + w * angle_difference(b.roll, a.roll));
+  out->pitch = a.pitch + w * (b.pitch - a.pitch);
   out->yaw = wrap_angle(a.yaw + w * angle_difference(b.yaw, a.yaw));
+  out->height_agl_m = a.height_agl_m + w * (b.height_agl_m - a.height_agl_m);
   return true;
 }
 

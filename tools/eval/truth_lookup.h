@@ -12,11 +12,12 @@ namespace nadir {
 struct TruthAt {
   std::array<double, 3> position;
   std::array<double, 3> velocity;
-  double yaw;
+  double roll, pitch, yaw;
+  double height_agl_m;  // body height above the terrain below
 };
 
-// Linear interpolation of `truth` (sorted by utime) at `utime`, yaw across the
-// wrap; false outside the truth span.
+// Linear interpolation of `truth` (sorted by utime) at `utime`, angles across
+// the wrap; false outside the truth span.
 bool truth_at(const std::vector<ground_truth_t>& truth, int64_t utime, TruthAt* out);
 
 }  // namespace nadir

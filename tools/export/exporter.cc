@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "common/geometry.h"
+#include "common/ground_footprint.h"
 #include "common/progress.h"
 
 namespace fs = std::filesystem;
@@ -109,39 +110,6 @@ void write_calibration(const CameraModel& camera, const std::string& path) {
   file.release();
 }
 
-std::vector<Eigen::Vector2d> ground_footprint(const CameraModel& camera, const ground_truth_t& truth) {
-  const float w = static_cast<float>(camera.width - 1), h = static_cast<float>(camera.height - 1);
-  const std::vector<cv::Point2f> edge{{0, 0}, {w / 2, 0}, {w, 0}, {w, h / 2}, {w, h}, {w / 2, h}, {0, h}, {0, h / 2}};
-  const Eigen::Matrix3d world_from_camera =
-      rotation_from_rpy(truth.roll, truth.pitch, truth.yaw) * camera.body_from_camera;
-  const Eigen::Vector3d position(truth.position_ned[0], truth.position_ned[1], truth.position_ned[2]);
-  const double ground_z = -truth.terrain_height_m;
-  std::vector<Eigen::Vector2d> out;
-  for (const cv::Point2d& n : camera.undistort(edge)) {
-    const Eigen::Vector3d ray = world_from_camera * Eigen::Vector3d(n.x, n.y, 1.0);
-    if (ray.z() <= 1e-6) continue;  // above the horizon: no footprint corner
-    const double s = (ground_z - position.z()) / ray.z();
-    out.emplace_back(position.x() + s * ray.x(), position.y() + s * ray.y());
-  }
-  return out;
-}
-
-double footprint_overlap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {
-  auto hull = [](const std::vector<Eigen::Vector2d>& p) {
-    std::vector<cv::Point2f> points, out;
-    for (const auto& q : p) points.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()));
-    if (points.size() >= 3) cv::convexHull(points, out);
-    return out;
-  };
-  const std::vector<cv::Point2f> ha = hull(a), hb = hull(b);
-  if (ha.size() < 3 || hb.size() < 3) return 0.0;
-  const double area_a = cv::contourArea(ha);
-  if (area_a <= 0) return 0.0;
-  std::vector<cv::Point2f> common;
-  const float inter = cv::intersectConvexConvex(ha, hb, common, true);
-  return std::max(0.0f, inter) / area_a;
-}
-
 PhotoExportResult export_photos(const SimLog& log, const std::string& out_dir, const PhotoExportOptions& options) {
   options.Check();
   std::error_code ec;
@@ -190,7 +158,9 @@ PhotoExportResult export_photos(const SimLog& log, const std::string& out_dir, c
     }
     write_photo_metadata(path, record.metadata);
     const ground_truth_t& truth = log.truth_for_frame(ref.utime);
-    const std::vector<Eigen::Vector2d> footprint = ground_footprint(log.camera(), truth);
+    const std::vector<Eigen::Vector2d> footprint =
+        ground_footprint(log.camera(), Eigen::Vector3d(truth.position_ned[0], truth.position_ned[1], truth.position_ned[2]),
+                         rotation_from_rpy(truth.roll, truth.pitch, truth.yaw), -truth.terrain_height_m);
     if (previous_truth) {
       record.overlap_with_previous = footprint_overlap(previous_footprint, footprint);
       record.heading_change_deg = rad_to_deg(angle_difference(truth.yaw, previous_truth->yaw));

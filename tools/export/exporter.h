@@ -76,10 +76,4 @@ VideoExportResult export_video(const SimLog& log, const std::string& video_path,
 // including its mount_rpy_deg.
 void write_calibration(const CameraModel& camera, const std::string& path);
 
-// Share of footprint A's area (flat ground) inside footprint B.
-double footprint_overlap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b);
-// Ground footprint (north, east) of the camera at truth pose `truth` on the
-// plane of the terrain height directly below it.
-std::vector<Eigen::Vector2d> ground_footprint(const CameraModel& camera, const ground_truth_t& truth);
-
 }  // namespace nadir::exporter

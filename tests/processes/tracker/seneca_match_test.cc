@@ -59,16 +59,7 @@ std::vector<Photo> load_photos() {
 
 // Half of the 1200x900 photos; the focal length is the README's estimate
 // (832 px at 1200 px), distortion unknown (none).
-CameraModel seneca_camera() {
-  CameraModel c;
-  c.width = 600;
-  c.height = 450;
-  c.fx = c.fy = 416.0;
-  c.cx = 299.5;
-  c.cy = 224.5;
-  c.distortion = {0, 0, 0, 0, 0};
-  return c;
-}
+CameraModel seneca_camera() { return CameraModel::pinhole(600, 450, 416.0); }
 
 TEST(SenecaPhotos, ConsecutivePairsMatch) {
   if (!std::filesystem::exists(kFolder / "metadata.csv")) GTEST_SKIP() << "no " << kFolder;

@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 
 #include "common/channels.h"
 #include "common/log_file.h"
+#include "nadir/config_t.hpp"
 #include "tests/common/test_support.h"
 #include "tools/eval/eval_outputs.h"
 #include "tools/eval/trajectory_metrics.h"
@@ -21,9 +24,21 @@ void put(LogWriter& w, const std::string& channel, const Msg& m) {
 // A straight flight north at 20 m/s for 100 s starting at an arbitrary
 // offset; the estimate has a constant 1 % scale error and drifts 0.5 m east.
 // `hole`: no messages at all from 30 s to 33 s (a logger stopped for 3 s).
-void write_flight(const std::string& path, bool with_truth, bool hole = false) {
+// `pairs`: the VO solver's CONFIG (the default camera) and a VO_DELTA per
+// pose after the first, each the truth step.
+void write_flight(const std::string& path, bool with_truth, bool hole = false, bool pairs = false) {
   LogWriter w(path);
   const int64_t t0 = 1767225600000000;
+  if (pairs) {
+    config_t c{};
+    c.utime = t0;
+    c.name = "vo_solver";
+    c.source = "default.yaml";
+    std::ifstream in(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml");
+    c.yaml.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    put(w, channels::kConfig, c);
+  }
+  int64_t previous_pose = 0;
   for (int i = 0; i <= 10000; ++i) {  // truth at 100 Hz
     const int64_t utime = t0 + i * 10000;
     const double t = i * 0.01;
@@ -35,6 +50,7 @@ void write_flight(const std::string& path, bool with_truth, bool hole = false) {
       g.position_ned[0] = 500.0 + 20.0 * t;
       g.position_ned[1] = -30.0;
       g.position_ned[2] = -300.0;
+      g.height_agl_m = 300.0;
       g.velocity_ned[0] = 20.0;
       g.yaw = 0.0;
       put(w, channels::kGroundTruth, g);
@@ -51,6 +67,15 @@ void write_flight(const std::string& path, bool with_truth, bool hole = false) {
       const int k = (i - 105) / 7;
       p.horizontal_protection_level_m = k % 4 == 0 ? -1.0 : (k % 4 == 1 ? 0.0 : 1000.0);
       put(w, channels::kPose, p);
+      if (pairs && previous_pose != 0) {
+        vo_delta_t d{};
+        d.utime = utime;
+        d.prev_utime = previous_pose;
+        d.dx = 20.0 * 0.07;
+        d.variant = "paper";
+        put(w, channels::kVoDelta, d);
+      }
+      previous_pose = utime;
     }
   }
   w.flush();
@@ -92,6 +117,22 @@ TEST(Eval, MetricsMatchAKnownError) {
               1e-9);
   EXPECT_EQ(r.samples[1].protection_level_m, 0.0);
   EXPECT_EQ(r.samples[2].protection_level_m, 1000.0);
+}
+
+TEST(Eval, PairFootprintsFromTheSolversCamera) {
+  testing::TempDir dir("eval");
+  write_flight(dir.file("without.lcmlog"), true);
+  const EvalMetrics without = evaluate(load_eval_data(dir.file("without.lcmlog"), "")).metrics;
+  EXPECT_EQ(without.pairs_overlapping_solved_pct, -1.0);
+  write_flight(dir.file("pairs.lcmlog"), true, false, true);
+  const EvalResult r = evaluate(load_eval_data(dir.file("pairs.lcmlog"), ""));
+  EXPECT_TRUE(r.metrics.footprint_problem.empty()) << r.metrics.footprint_problem;
+  ASSERT_GT(r.metrics.pairs, 1000);
+  EXPECT_EQ(r.metrics.pairs_apart, 0);
+  EXPECT_NEAR(r.metrics.pairs_overlapping_solved_pct, 100.0, 1e-9);
+  // 1.4 m between frames at 300 m: almost the whole footprint is seen again.
+  for (const PairSample& s : r.pairs.samples) EXPECT_GT(s.overlap_pct, 98.0);
+  EXPECT_NEAR(r.metrics.pair_error_pct_median, 0.0, 1e-6);
 }
 
 TEST(Eval, TruthFromASeparateLog) {

@@ -37,7 +37,7 @@ TEST(PairMetrics, StepInThePreviousLevelFrame) {
   // Pair 3: too few features (unsolved).
   const std::vector<vo_delta_t> d = {delta(0, 5000000, 31, 1, 0, 0), delta(5000000, 10000000, -10, 0, M_PI, 64),
                                      delta(5000000, 10000000, 0, 0, 0, 1)};
-  const PairMetrics m = evaluate_pairs(d, t);
+  const PairMetrics m = evaluate_pairs(d, t, nullptr);
   ASSERT_EQ(m.pairs, 3);
   EXPECT_EQ(m.solved, 2);  // high residual counts as solved (flagged)
   EXPECT_NEAR(m.solved_pct, 200.0 / 3.0, 1e-9);
@@ -54,10 +54,38 @@ TEST(PairMetrics, StepInThePreviousLevelFrame) {
 
 TEST(PairMetrics, PairsOutsideTheTruthAreNotCounted) {
   const std::vector<ground_truth_t> t = {truth(1000, 0, 0, 0), truth(2000, 1, 0, 0)};
-  const PairMetrics m = evaluate_pairs({delta(0, 2000, 1, 0, 0, 0), delta(1000, 2000, 1, 0, 0, 0)}, t);
+  const PairMetrics m = evaluate_pairs({delta(0, 2000, 1, 0, 0, 0), delta(1000, 2000, 1, 0, 0, 0)}, t, nullptr);
   EXPECT_EQ(m.pairs, 1);
   EXPECT_EQ(m.solved, 1);
   EXPECT_NEAR(m.error_pct_median, 0.0, 1e-12);
+  EXPECT_FALSE(m.footprints);
+  EXPECT_TRUE(std::isnan(m.samples[0].overlap_pct));
+}
+
+// 601 x 401 pixels, f = 500 px, camera x = body forward: at 100 m above
+// level ground the footprint is 120 m along track by 80 m across.
+TEST(PairMetrics, FootprintsTellPairsThatShareNoGround) {
+  const CameraModel camera = CameraModel::pinhole(601, 401, 500);
+  std::vector<ground_truth_t> t = {truth(0, 0, 0, 0), truth(1000000, 60, 0, 0), truth(2000000, 60, 0, M_PI),
+                                   truth(3000000, 300, 0, M_PI)};
+  for (ground_truth_t& g : t) {
+    g.position_ned[2] = -100;
+    g.height_agl_m = 100;
+  }
+  // Half a footprint ahead (solved), a half turn in place (solved), 240 m on
+  // (footprints apart, unsolved: too few features).
+  const PairMetrics m = evaluate_pairs(
+      {delta(0, 1000000, 60, 0, 0, 0), delta(1000000, 2000000, 0, 0, M_PI, 0), delta(2000000, 3000000, 0, 0, 0, 1)},
+      t, &camera);
+  ASSERT_TRUE(m.footprints);
+  ASSERT_EQ(m.samples.size(), 3u);
+  EXPECT_NEAR(m.samples[0].overlap_pct, 50.0, 1e-3);
+  EXPECT_NEAR(m.samples[1].overlap_pct, 100.0, 1e-3);
+  EXPECT_NEAR(m.samples[2].overlap_pct, 0.0, 1e-9);
+  EXPECT_EQ(m.apart, 1);
+  EXPECT_EQ(m.overlapping_solved, 2);
+  EXPECT_NEAR(m.overlapping_solved_pct, 100.0, 1e-9);
+  EXPECT_NEAR(m.solved_pct, 200.0 / 3.0, 1e-9);
 }
 
 }  // namespace

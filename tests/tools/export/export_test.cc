@@ -320,13 +320,6 @@ TEST_F(ExportTest, MetadataExplainsTheImageMotionBetweenPhotos) {
   EXPECT_TRUE(saw_turn);
 }
 
-TEST(FootprintOverlap, SquaresShiftedByAQuarter) {
-  const std::vector<Eigen::Vector2d> a{{0, 0}, {4, 0}, {4, 4}, {0, 4}};
-  const std::vector<Eigen::Vector2d> b{{1, 0}, {5, 0}, {5, 4}, {1, 4}};
-  EXPECT_NEAR(footprint_overlap(a, b), 0.75, 1e-6);
-  EXPECT_NEAR(footprint_overlap(a, {{10, 10}, {11, 10}, {11, 11}}), 0.0, 1e-9);
-}
-
 // One SRT block: index, times, "FrameCnt: N, DiffTime: Dms", date-time, fields.
 struct SrtBlock {
   int index = 0;
