@@ -11,7 +11,8 @@
 # --installation: lever arms and beam misalignment from the installation
 #   drawing (camera.lever_arm_m, altimeter.lever_arm_m, altimeter.beam_misalignment_deg),
 #   given to both passes and echoed in the fragment. Other options go to both
-#   passes (--ins-attitude-accuracy-deg R P Y, --ground-height-m H, --from-s S, --until-s S).
+#   passes (--ins-attitude-accuracy-deg R P Y, --ins-attitude-correlation-s TAU, --ground-height-m H,
+#   --from-s S, --until-s S).
 # Output: logs/<UTC>-calibration-<NAME>/calibration.yaml, to replay any flight with
 #   nadir_replay ... --config-overlay calibration.yaml.
 set -euo pipefail
@@ -23,13 +24,14 @@ installation=()
 calibrate_args=()
 while (($#)); do
   case "$1" in
-    -h|--help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --log) log="$(realpath "$2")"; shift 2 ;;
     --name) name="$2"; shift 2 ;;
     --config) config=(--config "$(realpath "$2")"); shift 2 ;;
     --installation) installation+=(--config-overlay "$(realpath "$2")"); shift 2 ;;
     --ins-attitude-accuracy-deg) calibrate_args+=("$1" "$2" "$3" "$4"); shift 4 ;;
-    --ground-height-m|--from-s|--until-s|--attitude-smoothing-s|--cluster-s) calibrate_args+=("$1" "$2"); shift 2 ;;
+    --ground-height-m|--from-s|--until-s|--attitude-smoothing-s|--cluster-s|--ins-attitude-correlation-s)
+      calibrate_args+=("$1" "$2"); shift 2 ;;
     *) echo "calibrate: error: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done

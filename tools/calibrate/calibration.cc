@@ -431,6 +431,8 @@ void CalibrationOptions::Check() const {
   require_option(iterations >= 1 && iterations <= 100, src, "iterations", "must be in [1, 100]");
   for (double a : ins_attitude_accuracy_deg)
     require_option(a >= 0 && a <= 10, src, "ins_attitude_accuracy_deg", "must be in [0, 10] per axis");
+  require_option(ins_attitude_correlation_s >= 0 && ins_attitude_correlation_s <= 1e5, src,
+                 "ins_attitude_correlation_s", "must be in [0, 100000] s");
   require_option(std::isnan(ground_height_m) || std::fabs(ground_height_m) < 1e4, src, "ground_height_m",
                  "must be in (-1e4, 1e4)");
   require_option(altimeter_max_offtrack_m > 0 && altimeter_max_offtrack_m <= 1000, src, "altimeter_max_offtrack_m",
@@ -530,6 +532,12 @@ FlightData restrict_to_segment(const FlightData& all, double from_s, double unti
 
 }  // namespace
 
+double ins_attitude_sigma_of_mean(double sigma, double correlation_s, double segment_s) {
+  if (!(correlation_s > 0) || !(segment_s > 0)) return sigma;
+  const double ratio = correlation_s / segment_s;
+  return sigma * std::sqrt(2.0 * ratio * (1.0 - ratio * -std::expm1(-1.0 / ratio)));
+}
+
 CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera_root,
                             const CalibrationOptions& options) {
   options.Check();
@@ -625,7 +633,9 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   for (int k = 0; k < 3; ++k)
     result.boresight[static_cast<size_t>(k)] =
         make_estimate(names[k], rad_to_deg(cam.theta[k]),
-                      std::hypot(rad_to_deg(std::sqrt(cam.cov(k, k))), options.ins_attitude_accuracy_deg[static_cast<size_t>(k)]),
+                      std::hypot(rad_to_deg(std::sqrt(cam.cov(k, k))),
+                                 ins_attitude_sigma_of_mean(options.ins_attitude_accuracy_deg[static_cast<size_t>(k)],
+                                                            options.ins_attitude_correlation_s, result.segment_s)),
                       camera_data, options.boresight_sigma_limit_deg);
   result.time_offset_ms = make_estimate("time_offset_ms", cam.theta[3] * 1e3, std::sqrt(cam.cov(3, 3)) * 1e3,
                                         camera_data, options.time_offset_sigma_limit_ms);

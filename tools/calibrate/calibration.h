@@ -56,6 +56,10 @@ struct CalibrationOptions {
   // attitude, so its mean error over the segment is not seen in the residuals
   // and is added to the boresight sigmas.
   std::array<double, 3> ins_attitude_accuracy_deg{0.0, 0.0, 0.0};
+  // Correlation time (s) of that error, a first-order Gauss-Markov process
+  // (e.g. 60 s): over a segment of length T its mean has the sigma
+  // ins_attitude_sigma_of_mean(). 0: a constant bias, the accuracy itself.
+  double ins_attitude_correlation_s = 0.0;
   // A parameter whose sigma exceeds its limit is reported as not excited.
   double boresight_sigma_limit_deg = 0.05;
   double time_offset_sigma_limit_ms = 1.0;
@@ -150,6 +154,12 @@ struct CalibrationResult {
 };
 
 // Fits everything the data allows. `camera_root` holds the configured
+// Standard deviation of the mean over `segment_s` of a first-order
+// Gauss-Markov process with standard deviation `sigma` and correlation time
+// `correlation_s` (0: a constant, `sigma` itself):
+// sigma^2 (2 tau / T) (1 - (tau / T)(1 - exp(-T / tau))).
+double ins_attitude_sigma_of_mean(double sigma, double correlation_s, double segment_s);
+
 // `camera:` section (intrinsics and mount the TRACKS were normalized with).
 CalibrationResult calibrate(const FlightData& data, const Config& camera_root, const CalibrationOptions& options);
 

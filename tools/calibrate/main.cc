@@ -41,6 +41,10 @@ int main(int argc, char** argv) {
                  "the INS's slowly varying attitude error, roll pitch yaw (deg, datasheet): added to the boresight "
                  "sigmas (the boresight is relative to the INS)")
       ->expected(3);
+  app.add_option("--ins-attitude-correlation-s", options.ins_attitude_correlation_s,
+                 "correlation time (s) of that error (a Gauss-Markov process, datasheet or Allan variance): the "
+                 "boresight sigmas then carry the sigma of its mean over the segment, which shrinks on a long flight "
+                 "(default 0: a constant error)");
   app.add_flag("--no-focal", no_focal, "hold the focal length scale at 1 (and the distortion at the configured)");
   app.add_flag("--no-distortion", no_distortion,
                "hold the radial distortion k1 at the configured value (by default its error is fitted with the focal "

@@ -227,6 +227,9 @@ TEST(Calibrate, BadOptionsNameTheOption) {
   options = CalibrationOptions();
   options.altimeter_max_offtrack_m = 0;
   expect_check_names(options, "altimeter_max_offtrack_m");
+  options = CalibrationOptions();
+  options.ins_attitude_correlation_s = -1;
+  expect_check_names(options, "ins_attitude_correlation_s");
   EXPECT_THROW(load_flight(kSource + "/config/default.yaml", false), std::runtime_error);  // not a log with INS
 }
 
