@@ -247,19 +247,45 @@ Eigen::MatrixXd robust_covariance(const Eigen::MatrixXd& jacobian, const Eigen::
 }
 
 // The camera fit: parameters boresight roll, pitch, yaw (rad), time offset
-// (s), focal scale - 1 and the error of the first radial distortion
-// coefficient k1: the tracker undistorted with the configured k1, a lens with
-// k1 + e leaves each normalized point x stretched to x (1 + e |x|^2) to first
-// order, so the fit takes x (1 - e |x|^2) (e ~ 0.005: second order 1e-5).
-constexpr int kCameraParams = 6;
+// (s), focal scale - 1 and the errors e1, e2 of the first two radial
+// distortion coefficients k1, k2. The tracker undistorted each point with the
+// configured lens: x~ with distort(x~) = (pixel - c) / f. The true lens
+// (focal f (1 + s), k1 + e1, k2 + e2) puts the point where
+// distort(x) + (e1 |x|^2 + e2 |x|^4) x = distort(x~) / (1 + s), so to first
+// order in s, e1, e2 (each ~0.005: second order 1e-5)
+//   x = x~ - J^-1 (s distort(x~) + (e1 |x~|^2 + e2 |x~|^4) x~),
+// J the Jacobian of the configured distortion at x~.
+constexpr int kCameraParams = 7;
+
+// OpenCV's radial-tangential model (k1, k2, p1, p2, k3) at normalized x, and
+// its Jacobian.
+struct LensModel {
+  double k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;
+  explicit LensModel(const std::vector<double>& d) {
+    const auto at = [&](size_t i) { return i < d.size() ? d[i] : 0.0; };
+    k1 = at(0), k2 = at(1), p1 = at(2), p2 = at(3), k3 = at(4);
+  }
+  Eigen::Vector2d distort(const Eigen::Vector2d& x, Eigen::Matrix2d* jacobian) const {
+    const double r2 = x.squaredNorm(), xy = x.x() * x.y();
+    const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
+    const double d_radial = k1 + r2 * (2.0 * k2 + 3.0 * r2 * k3);  // d radial / d r2
+    *jacobian << radial + 2.0 * x.x() * x.x() * d_radial + 2.0 * p1 * x.y() + 6.0 * p2 * x.x(),
+        2.0 * xy * d_radial + 2.0 * p1 * x.x() + 2.0 * p2 * x.y(),
+        2.0 * xy * d_radial + 2.0 * p1 * x.x() + 2.0 * p2 * x.y(),
+        radial + 2.0 * x.y() * x.y() * d_radial + 6.0 * p1 * x.y() + 2.0 * p2 * x.x();
+    return Eigen::Vector2d(x.x() * radial + 2.0 * p1 * xy + p2 * (r2 + 2.0 * x.x() * x.x()),
+                           x.y() * radial + p1 * (r2 + 2.0 * x.y() * x.y()) + 2.0 * p2 * xy);
+  }
+};
 class EpipolarFit {
  public:
   // `camera_lever`: the camera centre from the INS reference, body frame (installation drawing).
-  EpipolarFit(const FlightData& data, const InsTrack& ins, const Eigen::Matrix3d& configured_body_from_camera,
+  EpipolarFit(const FlightData& data, const InsTrack& ins, const CameraModel& configured_camera,
               const Eigen::Vector3d& camera_lever, const CalibrationOptions& options)
       : data_(data),
         ins_(ins),
-        body_from_camera_(configured_body_from_camera),
+        lens_(configured_camera.distortion),
+        body_from_camera_(configured_camera.body_from_camera),
         camera_lever_(camera_lever),
         options_(options) {
     const double margin_us = 60000.0;  // room for the time offset to move
@@ -288,11 +314,13 @@ class EpipolarFit {
     Eigen::VectorXd r(static_cast<Eigen::Index>(index_.size()));
     const Eigen::Matrix3d r_bc = body_from_camera_ * rotation_from_rpy(theta[0], theta[1], theta[2]);
     const double dt_us = theta[3] * 1e6;
-    const double inv_scale = 1.0 / (1.0 + theta[4]);
-    const double k1_error = theta[5];
+    const double focal_error = theta[4], k1_error = theta[5], k2_error = theta[6];
     auto bearing = [&](const Eigen::Vector2d& norm) {
-      const Eigen::Vector2d x = norm * inv_scale;
-      const Eigen::Vector2d u = x * (1.0 - k1_error * x.squaredNorm());
+      Eigen::Matrix2d jacobian;
+      const Eigen::Vector2d distorted = lens_.distort(norm, &jacobian);
+      const double r2 = norm.squaredNorm();
+      const Eigen::Vector2d u =
+          norm - jacobian.inverse() * (focal_error * distorted + (k1_error * r2 + k2_error * r2 * r2) * norm);
       return Eigen::Vector3d(u.x(), u.y(), 1.0).normalized();
     };
     size_t row = 0;
@@ -314,7 +342,7 @@ class EpipolarFit {
   }
 
   Eigen::MatrixXd jacobian(const Eigen::VectorXd& theta, const std::vector<bool>& active) const {
-    static const double kStep[kCameraParams] = {1e-5, 1e-5, 1e-5, 2e-4, 1e-5, 1e-5};
+    static const double kStep[kCameraParams] = {1e-5, 1e-5, 1e-5, 2e-4, 1e-5, 1e-5, 1e-5};
     Eigen::MatrixXd j = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(size()), kCameraParams);
     for (int k = 0; k < kCameraParams; ++k) {
       if (!active[static_cast<size_t>(k)]) continue;
@@ -332,6 +360,7 @@ class EpipolarFit {
   };
   const FlightData& data_;
   const InsTrack& ins_;
+  LensModel lens_;  // as configured: the lens the tracker undistorted with
   Eigen::Matrix3d body_from_camera_;
   Eigen::Vector3d camera_lever_;
   const CalibrationOptions& options_;
@@ -552,11 +581,12 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   result.segment_s = (ins.last_utime() - ins.first_utime()) * 1e-6;
 
   // --- Camera: boresight, time offset, focal scale, k1 error.
-  const EpipolarFit fit(data, ins, camera.body_from_camera, configured.camera_lever_arm_m, options);
+  const EpipolarFit fit(data, ins, camera, configured.camera_lever_arm_m, options);
   result.frame_pairs = static_cast<int64_t>(fit.pair_count());
   std::vector<bool> active(kCameraParams, true);
   active[4] = options.estimate_focal;
   active[5] = options.estimate_focal && options.estimate_distortion;
+  active[6] = active[5];
   CameraFit cam;
   const bool camera_data = fit.pair_count() >= 20;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(kCameraParams);
@@ -569,9 +599,13 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
       if (!active[index] || std::sqrt(cam.cov(k, k)) <= 5.0 * sigma_limit) return;
       result.warnings.push_back(fmt(warning, std::sqrt(cam.cov(k, k))));
       active[index] = false;
-      if (k == 4) active[5] = false;  // the k1 error is fitted only with the focal scale
+      if (k == 4) active[5] = false;  // the distortion errors are fitted only with the focal scale,
+      if (k <= 5) active[6] = false;  // k2's only with k1's
       cam = fit_camera(fit, active, options, zero, options.iterations);
     };
+    hold_if_unobservable(6, options.distortion_sigma_limit,
+                         "distortion_k2_error: not observable in this flight (sigma %.4f); held at 0. Needs rotation "
+                         "of several degrees between frames.");
     hold_if_unobservable(5, options.distortion_sigma_limit,
                          "distortion_k1_error: not observable in this flight (sigma %.4f); held at 0. Needs rotation "
                          "of several degrees between frames.");
@@ -613,7 +647,7 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
       std::vector<Eigen::VectorXd> draws;
       for (int b = 0; b < options.bootstrap_runs; ++b) {
         const InsTrack other = ins.perturbed(1000 + static_cast<uint64_t>(b));
-        const EpipolarFit refit(data, other, camera.body_from_camera, configured.camera_lever_arm_m, options);
+        const EpipolarFit refit(data, other, camera, configured.camera_lever_arm_m, options);
         draws.push_back(fit_camera(refit, active, options, cam.theta, 2).theta);
       }
       Eigen::VectorXd mean = zero;
@@ -643,12 +677,29 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
                                      camera_data && active[4], options.focal_sigma_limit);
   result.distortion_k1_error = make_estimate("distortion_k1_error", cam.theta[5], std::sqrt(cam.cov(5, 5)),
                                              camera_data && active[5], options.distortion_sigma_limit);
-  if (result.distortion_k1_error.estimated && result.distortion_k1_error.excited &&
-      std::fabs(result.distortion_k1_error.value) > std::max(3.0 * result.distortion_k1_error.sigma, 0.001))
-    result.warnings.push_back(fmt("the lens distortion differs from the configured one (k1 off by %.4f +- %.4f); "
-                                  "recalibrate the lens (a chessboard, OpenCV calibrateCamera). Not written: a k1 "
-                                  "correction alone, without k2, made the VO worse on the realistic set",
-                                  result.distortion_k1_error.value, result.distortion_k1_error.sigma));
+  result.distortion_k2_error = make_estimate("distortion_k2_error", cam.theta[6], std::sqrt(cam.cov(6, 6)),
+                                             camera_data && active[6], options.distortion_sigma_limit);
+  const Estimate& e1 = result.distortion_k1_error;
+  const Estimate& e2 = result.distortion_k2_error;
+  auto significant = [](const Estimate& e) { return std::fabs(e.value) > std::max(3.0 * e.sigma, 0.001); };
+  result.distortion = camera.distortion;
+  result.distortion.resize(std::max<size_t>(result.distortion.size(), 5), 0.0);
+  result.distortion_fitted = e1.estimated && e1.excited && e2.estimated && e2.excited;
+  if (result.distortion_fitted) {
+    result.distortion[0] += e1.value;
+    result.distortion[1] += e2.value;
+  }
+  if (result.distortion_fitted && (significant(e1) || significant(e2))) {
+    result.warnings.push_back(fmt("the lens distortion differs from the configured one (k1 off by %.4f, k2 by %.4f); "
+                                  "written with the fitted errors. A chessboard calibration in the lab "
+                                  "(OpenCV calibrateCamera) is the better reference",
+                                  e1.value, e2.value));
+  } else if (e1.estimated && e1.excited && significant(e1)) {
+    result.warnings.push_back(fmt("the lens distortion differs from the configured one (k1 off by %.4f +- %.4f) but "
+                                  "k2 is not observable here; not written: recalibrate the lens (a chessboard, "
+                                  "OpenCV calibrateCamera)",
+                                  e1.value, e1.sigma));
+  }
   const Eigen::Matrix3d mount = camera.body_from_camera * rotation_from_rpy(cam.theta[0], cam.theta[1], cam.theta[2]);
   result.mount_rpy_deg = rpy_from_rotation(mount) * (180.0 / M_PI);
   result.fx = camera.fx * (1.0 + cam.theta[4]);
@@ -660,10 +711,12 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
       "through the direction of travel)",
       "needs attitude changes (rates of several deg/s that vary: oscillations, turn entries and exits)",
       "needs large rotations between frames",
+      "needs large rotations between frames",
       "needs large rotations between frames"};
   const Estimate* camera_estimates[kCameraParams] = {&result.boresight[0], &result.boresight[1],
                                                      &result.boresight[2], &result.time_offset_ms,
-                                                     &result.focal_scale,  &result.distortion_k1_error};
+                                                     &result.focal_scale,  &result.distortion_k1_error,
+                                                     &result.distortion_k2_error};
   for (int k = 0; k < kCameraParams && camera_data; ++k) {
     const Estimate& e = *camera_estimates[k];
     if (e.estimated && !e.excited)
@@ -812,6 +865,7 @@ std::string CalibrationResult::config_fragment(const std::string& source) const 
   o << "# time offset     " << line(time_offset_ms) << " ms\n";
   o << "# focal scale     " << line(focal_scale) << "\n";
   o << "# k1 error        " << line(distortion_k1_error) << "\n";
+  o << "# k2 error        " << line(distortion_k2_error) << "\n";
   o << "# altimeter scale " << line(altimeter_scale) << "\n";
   o << "# altimeter bias  " << line(altimeter_bias_m) << " m\n";
   o << "# GNSS scale      " << line(gps_scale) << " (GNSS baseline / VO step, " << gps_scale_pairs << " pairs"
@@ -834,6 +888,17 @@ std::string CalibrationResult::config_fragment(const std::string& source) const 
       gps_scale_target == CalibrationOptions::GpsScaleTarget::kFocal) {
     o << "  fx: " << fmt("%.3f", fx) << "\n";
     o << "  fy: " << fmt("%.3f", fy) << "\n";
+  }
+  if (!distortion.empty()) {
+    if (distortion_fitted) {
+      o << "  # the configured k1, k2 with the fitted errors (k1 " << fmt("%+.4f", distortion_k1_error.value)
+        << ", k2 " << fmt("%+.4f", distortion_k2_error.value) << ")\n";
+    } else {
+      o << "  # as configured (not fitted here)\n";
+    }
+    o << "  distortion: [";
+    for (size_t k = 0; k < distortion.size(); ++k) o << (k ? ", " : "") << fmt("%.5g", distortion[k]);
+    o << "]\n";
   }
   o << "  # exposure time = image stamp + offset (vo_solver and yaw_fusion read the INS/altimeter there).\n";
   o << "  time_offset_us: " << fmt("%.0f", time_offset_ms.estimated ? time_offset_ms.value * 1e3 : 0.0) << "\n";
@@ -869,6 +934,7 @@ std::string CalibrationResult::json() const {
   put(time_offset_ms);
   put(focal_scale);
   put(distortion_k1_error);
+  put(distortion_k2_error);
   put(altimeter_scale);
   put(altimeter_bias_m);
   put(gps_scale);

@@ -131,7 +131,14 @@ struct CalibrationResult {
   std::array<Estimate, 3> boresight;  // roll, pitch, yaw (deg), about the configured mount
   Estimate time_offset_ms;            // exposure = image stamp + offset
   Estimate focal_scale;               // true focal length / configured
-  Estimate distortion_k1_error;       // true k1 - configured k1 (a diagnostic: not in the fragment)
+  Estimate distortion_k1_error;       // true k1 - configured k1
+  Estimate distortion_k2_error;       // true k2 - configured k2 (fitted with k1)
+  // The lens distortion the fragment writes: the configured one, with the
+  // fitted k1, k2 errors added when both are excited (`distortion_fitted`).
+  // Always written, so that a second pass about the first's values carries
+  // them on.
+  std::vector<double> distortion;
+  bool distortion_fitted = false;
   Estimate altimeter_scale;           // measured = scale * true range + bias
   Estimate altimeter_bias_m;
   Estimate gps_scale;                 // GNSS baseline / VO step (not estimated without VO_DELTA)
