@@ -580,7 +580,7 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   result.installation = configured;
   result.segment_s = (ins.last_utime() - ins.first_utime()) * 1e-6;
 
-  // --- Camera: boresight, time offset, focal scale, k1 error.
+  // --- Camera: boresight, time offset, focal scale, k1 and k2 errors.
   const EpipolarFit fit(data, ins, camera, configured.camera_lever_arm_m, options);
   result.frame_pairs = static_cast<int64_t>(fit.pair_count());
   std::vector<bool> active(kCameraParams, true);

@@ -39,10 +39,11 @@ struct CalibrationOptions {
   double outlier_sigma = 4.0;    // residuals beyond this many robust sigmas are dropped
   int iterations = 6;            // Gauss-Newton iterations
   bool estimate_focal = true;    // fit the focal length scale (fixed at 1 when unobservable)
-  // With the focal scale: fit the error of the radial distortion coefficient
-  // k1 too (held at 0 when unobservable). A lens calibrated in the lab is
-  // seldom exact, and an unfitted k1 error is absorbed by the focal scale.
-  // Reported (and warned about), not written into the fragment.
+  // With the focal scale: fit the errors of the radial distortion
+  // coefficients k1 and k2 too (held at 0 when unobservable). A lens
+  // calibrated in the lab is seldom exact; an unfitted error is absorbed by
+  // the focal scale and, through the vertical, by the boresight pitch.
+  // Written into the fragment's camera.distortion.
   bool estimate_distortion = true;
   // Height of flat ground (m, the INS height datum) for the altimeter
   // regression when the log has no GROUND_TRUTH; NaN = none.

@@ -47,8 +47,8 @@ int main(int argc, char** argv) {
                  "(default 0: a constant error)");
   app.add_flag("--no-focal", no_focal, "hold the focal length scale at 1 (and the distortion at the configured)");
   app.add_flag("--no-distortion", no_distortion,
-               "hold the radial distortion k1 at the configured value (by default its error is fitted with the focal "
-               "scale and reported, not written)");
+               "hold the radial distortion k1, k2 at the configured values (by default their errors are fitted with "
+               "the focal scale and written into camera.distortion)");
   std::string gps_scale;
   app.add_option("--gps-scale", gps_scale,
                  "write the image scale against GNSS (GNSS baseline / VO step over the log's solved VO_DELTA; always "
