@@ -7,7 +7,8 @@
 # Usage: latency.sh [--set sim|sim_composed] [--runs N] [--attitude-policy propagate|interpolate]
 #        [--nice N] [--rt-priority P] [--keep-captures]   (reports in logs/latency/<UTC>-SET-POLICY/; captures deleted
 #        unless kept; --nice runs the whole set at that niceness, e.g. -10 on a machine others load;
-#        --rt-priority runs the estimator nodes under SCHED_FIFO P, run_set.sh --rt-priority)
+#        --rt-priority runs the estimator nodes, the logger and the simulator's publisher under
+#        SCHED_FIFO P, run_set.sh --rt-priority)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 set_name=sim
@@ -18,7 +19,7 @@ niceness=0
 rt_args=()
 while (($#)); do
   case "$1" in
-    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --set) set_name="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
     --attitude-policy) policy="$2"; shift 2 ;;

@@ -10,7 +10,9 @@
 # the finite source) and the capture logger (the stand-in for the POSE
 # consumer, and the latency instrument: it must not be starved by the nodes)
 # under SCHED_FIFO priority P (1-98; needs root or CAP_SYS_NICE), as an
-# aircraft's computer would run its navigation.
+# aircraft's computer would run its navigation. It is also exported as
+# NADIR_RT_PRIORITY, for a set line to pass on (the simulator's publisher:
+# nadir_sim --publish-rt-priority, the stand-in for the vehicle's drivers).
 #
 # Set file lines (# starts a comment; ${VAR:-default} is expanded when started):
 #   require  BINARY  what it is     the set fails at once if BINARY is not built
@@ -25,7 +27,7 @@
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-usage() { sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; }
 set_arg=""
 capture_enabled=1
 duration=""
@@ -45,11 +47,13 @@ while (($#)); do
   esac
 done
 [ -n "$set_arg" ] || { usage >&2; exit 2; }
+unset NADIR_RT_PRIORITY   # set below from --rt-priority only
 if [ -n "$rt_priority" ]; then
   [[ "$rt_priority" =~ ^[0-9]+$ ]] && ((rt_priority >= 1 && rt_priority <= 98)) ||
     { echo "run_set: error: --rt-priority must be an integer in [1, 98], got '$rt_priority'" >&2; exit 2; }
   chrt -f "$rt_priority" true 2>/dev/null ||
     { echo "run_set: error: --rt-priority $rt_priority: SCHED_FIFO not permitted here (needs root or CAP_SYS_NICE; in nadir_in_netns export NADIR_NETNS_KEEP_CAPS=1)" >&2; exit 2; }
+  export NADIR_RT_PRIORITY="$rt_priority"
 fi
 set_file="$set_arg"
 [ -f "$set_file" ] || set_file="$NADIR_ROOT/launch_scripts/sets/$set_arg"

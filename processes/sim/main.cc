@@ -3,6 +3,8 @@
 // time, on exactly the channels of the real camera and INS/altimeter drivers
 // plus GROUND_TRUTH.
 
+#include <pthread.h>
+#include <sched.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -11,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -39,6 +42,7 @@ struct Arguments {
   std::string out;
   bool live = false;
   int render_nice = 10;
+  int publish_rt_priority = 0;
   double rate = 1.0;
   std::string lcm_url;
   std::string config_path;
@@ -142,6 +146,20 @@ int run_live(const Arguments& args, nadir::sim::Simulator& sim, int64_t epoch_us
   // Render ahead so each message leaves at its due time (a real camera does
   // not take a render time to deliver a frame).
   nadir::sim::RenderAhead ahead(sim, 256, args.render_nice);
+  // After the render thread has started, so that it keeps the ordinary
+  // scheduling it was created with: only the publisher runs in real time.
+  if (args.publish_rt_priority > 0) {
+    sched_param param{};
+    param.sched_priority = args.publish_rt_priority;
+    const int err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+    if (err != 0) {
+      throw std::runtime_error("--publish-rt-priority " + std::to_string(args.publish_rt_priority) +
+                               ": SCHED_FIFO not permitted (" + std::strerror(err) +
+                               "; needs root or CAP_SYS_NICE)");
+    }
+    std::fprintf(stderr, "nadir_sim: publisher under SCHED_FIFO %d, renderer at niceness %d\n",
+                 args.publish_rt_priority, args.render_nice);
+  }
   int64_t next_status = nadir::monotonic_now_us();
   int64_t published = 0;
   auto send_status = [&](int8_t state) {
@@ -200,6 +218,11 @@ int main(int argc, char** argv) {
                  "live mode: niceness of the render-ahead thread, so rendering never delays the estimators "
                  "on a shared machine (default 10; 0 = same priority)")
       ->check(CLI::Range(0, 19));
+  app.add_option("--publish-rt-priority", args.publish_rt_priority,
+                 "live mode: run the publisher thread (the stand-in for the camera and INS drivers) under "
+                 "SCHED_FIFO at this priority, the renderer staying at its niceness (1-98; needs root or "
+                 "CAP_SYS_NICE; default 0 = ordinary scheduling)")
+      ->check(CLI::Range(0, 98));
   app.add_option("--rate", args.rate, "live mode: simulated seconds per wall second")->check(CLI::Range(0.01, 100.0));
   app.add_option("--lcm-url", args.lcm_url, "live mode: LCM URL (default: $LCM_DEFAULT_URL or udpm with TTL 0)");
   app.add_option("--config", args.config_path, "config with the camera: section (default: config/default.yaml)");

@@ -2,12 +2,15 @@
 // that launch_scripts' test runner creates): the same channels as the log,
 // sensor times near the wall clock, STATUS and CONFIG from "sim".
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <sched.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <thread>
 
 #include "common/channels.h"
 #include "common/lcm_bus.h"
@@ -72,6 +75,48 @@ TEST(LiveMode, PublishesEveryChannelInRealTime) {
   EXPECT_GE(earliest_image_us, vehicle_time_at_start_us);
   EXPECT_GE(worst_latency_us, 0);
   std::printf("worst image latency %.1f ms\n", worst_latency_us / 1e3);
+}
+
+// Whether this process may put a thread under SCHED_FIFO (root or
+// CAP_SYS_NICE in the initial user namespace), tried on a throwaway thread.
+bool fifo_permitted() {
+  bool permitted = false;
+  std::thread probe([&] {
+    sched_param param{};
+    param.sched_priority = 1;
+    permitted = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0;
+  });
+  probe.join();
+  return permitted;
+}
+
+// --publish-rt-priority: where the platform allows it the publisher runs
+// under SCHED_FIFO and says so; where it does not, the simulator stops at
+// once with an error naming the option, never flying at ordinary priority
+// as if it had been granted.
+TEST(LiveMode, PublisherUnderRealTimePriorityOrAClearError) {
+  if (!nadir::testing::in_private_netns()) GTEST_SKIP() << "udpm only inside the private network namespace";
+  const char* dir = std::getenv("NADIR_BIN_DIR");
+  const std::string binary = std::string(dir ? dir : NADIR_BINARY_DIR "/bin") + "/nadir_sim";
+  const std::string command = binary +
+                              " --profile demo --seed 3 --duration 1 --live --publish-rt-priority 7"
+                              " --lcm-url 'udpm://239.255.76.67:7612?ttl=0' 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
+  const int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status)) << output;
+  if (fifo_permitted()) {
+    EXPECT_EQ(WEXITSTATUS(status), 0) << output;
+    EXPECT_NE(output.find("publisher under SCHED_FIFO 7, renderer at niceness 10"), std::string::npos) << output;
+    EXPECT_NE(output.find("simulated in"), std::string::npos) << output;
+  } else {
+    EXPECT_EQ(WEXITSTATUS(status), 1) << output;
+    EXPECT_NE(output.find("--publish-rt-priority 7: SCHED_FIFO not permitted"), std::string::npos) << output;
+    EXPECT_EQ(output.find("simulated in"), std::string::npos) << output;  // it did not fly
+  }
 }
 
 }  // namespace
