@@ -29,14 +29,10 @@ for policy in interpolate propagate; do
   nadir_log dump "$dir/replay.lcmlog" POSE -o "$dir/pose.csv" || fail "($policy) nadir_log dump failed"
 done
 
-/usr/bin/python3 - "$work" <<'PY'
+PYTHONDONTWRITEBYTECODE=1 PYTHONPATH="$root/tests/integration" /usr/bin/python3 - "$work" <<'PY'
 import csv, json, math, sys
 work = sys.argv[1]
-failures = []
-def check(ok, text):
-    print(("ok   " if ok else "FAIL ") + text)
-    if not ok:
-        failures.append(text)
+from checklist import check, failures
 
 def poses(policy):
     with open(f"{work}/{policy}/pose.csv") as f:

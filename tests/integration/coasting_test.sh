@@ -56,16 +56,12 @@ case "$mode" in
   *) fail "mode must be altimeter or texture, not '$mode'" ;;
 esac
 
-python3 - "$work" "$mode" "$outage_start" "$outage_s" <<'PY'
+PYTHONDONTWRITEBYTECODE=1 PYTHONPATH="$root/tests/integration" python3 - "$work" "$mode" "$outage_start" "$outage_s" <<'PY'
 import csv, json, math, sys
 work, mode, start, length = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
 end = start + length
 COASTING, VO_GAP = 16, 1
-failures = []
-def check(ok, text):
-    print(("ok   " if ok else "FAIL ") + text)
-    if not ok:
-        failures.append(text)
+from checklist import check, failures
 
 def series(name):
     with open(f"{work}/{name}/eval/series.csv") as f:
