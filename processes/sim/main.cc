@@ -214,15 +214,17 @@ int main(int argc, char** argv) {
   auto* out = app.add_option("--out", args.out, "LCM log file to write");
   auto* live = app.add_flag("--live", args.live, "publish live in (scaled) real time instead of writing a log");
   out->excludes(live);
-  app.add_option("--render-nice", args.render_nice,
+  auto* render_nice = app.add_option("--render-nice", args.render_nice,
                  "live mode: niceness of the render-ahead thread, so rendering never delays the estimators "
                  "on a shared machine (default 10; 0 = same priority)")
       ->check(CLI::Range(0, 19));
-  app.add_option("--publish-rt-priority", args.publish_rt_priority,
+  auto* publish_rt = app.add_option("--publish-rt-priority", args.publish_rt_priority,
                  "live mode: run the publisher thread (the stand-in for the camera and INS drivers) under "
                  "SCHED_FIFO at this priority, the renderer staying at its niceness (1-98; needs root or "
                  "CAP_SYS_NICE; default 0 = ordinary scheduling)")
       ->check(CLI::Range(0, 98));
+  render_nice->needs(live);
+  publish_rt->needs(live);
   app.add_option("--rate", args.rate, "live mode: simulated seconds per wall second")->check(CLI::Range(0.01, 100.0));
   app.add_option("--lcm-url", args.lcm_url, "live mode: LCM URL (default: $LCM_DEFAULT_URL or udpm with TTL 0)");
   app.add_option("--config", args.config_path, "config with the camera: section (default: config/default.yaml)");

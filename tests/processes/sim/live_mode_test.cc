@@ -77,6 +77,16 @@ TEST(LiveMode, PublishesEveryChannelInRealTime) {
   std::printf("worst image latency %.1f ms\n", worst_latency_us / 1e3);
 }
 
+// Runs a shell command; its stdout (give 2>&1 for stderr too) into *output,
+// its wait status returned (-1 if it could not be started).
+int run_command(const std::string& command, std::string* output) {
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return -1;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof buffer, pipe)) *output += buffer;
+  return pclose(pipe);
+}
+
 // Whether this process may put a thread under SCHED_FIFO (root or
 // CAP_SYS_NICE in the initial user namespace), tried on a throwaway thread.
 bool fifo_permitted() {
@@ -101,12 +111,8 @@ TEST(LiveMode, PublisherUnderRealTimePriorityOrAClearError) {
   const std::string command = binary +
                               " --profile demo --seed 3 --duration 1 --live --publish-rt-priority 7"
                               " --lcm-url 'udpm://239.255.76.67:7612?ttl=0' 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
   std::string output;
-  char buffer[512];
-  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  const int status = pclose(pipe);
+  const int status = run_command(command, &output);
   ASSERT_TRUE(WIFEXITED(status)) << output;
   if (fifo_permitted()) {
     EXPECT_EQ(WEXITSTATUS(status), 0) << output;
@@ -116,6 +122,21 @@ TEST(LiveMode, PublisherUnderRealTimePriorityOrAClearError) {
     EXPECT_EQ(WEXITSTATUS(status), 1) << output;
     EXPECT_NE(output.find("--publish-rt-priority 7: SCHED_FIFO not permitted"), std::string::npos) << output;
     EXPECT_EQ(output.find("simulated in"), std::string::npos) << output;  // it did not fly
+  }
+}
+
+// The live-only scheduling options are refused, not ignored, when writing a log.
+TEST(LiveMode, SchedulingOptionsNeedLiveMode) {
+  const char* dir = std::getenv("NADIR_BIN_DIR");
+  const std::string binary = std::string(dir ? dir : NADIR_BINARY_DIR "/bin") + "/nadir_sim";
+  for (const std::string option : {"--publish-rt-priority 7", "--render-nice 5"}) {
+    const std::string command =
+        binary + " --profile demo --duration 1 --out /dev/null " + option + " 2>&1";
+    std::string output;
+    const int status = run_command(command, &output);
+    ASSERT_TRUE(WIFEXITED(status)) << output;
+    EXPECT_NE(WEXITSTATUS(status), 0) << option;
+    EXPECT_NE(output.find(option.substr(0, option.find(' ')) + " requires --live"), std::string::npos) << output;
   }
 }
 
