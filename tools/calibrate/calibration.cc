@@ -592,15 +592,15 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(kCameraParams);
   if (camera_data) {
     cam = fit_camera(fit, active, options, zero, options.iterations);
-    // A parameter the flight does not observe is held (k1 error at 0, focal
-    // scale at 1), so that it does not absorb noise into the others.
+    // A parameter the flight does not observe is held (focal scale at 1, k1
+    // and k2 errors at 0), so that it does not absorb noise into the others.
+    // The lens parameters form a chain, focal scale -> k1 -> k2: each is
+    // fitted only with the ones before it, so holding one holds the rest.
     auto hold_if_unobservable = [&](int k, double sigma_limit, const char* warning) {
       const size_t index = static_cast<size_t>(k);
       if (!active[index] || std::sqrt(cam.cov(k, k)) <= 5.0 * sigma_limit) return;
       result.warnings.push_back(fmt(warning, std::sqrt(cam.cov(k, k))));
-      active[index] = false;
-      if (k == 4) active[5] = false;  // the distortion errors are fitted only with the focal scale,
-      if (k <= 5) active[6] = false;  // k2's only with k1's
+      for (size_t j = index; j < active.size(); ++j) active[j] = false;
       cam = fit_camera(fit, active, options, zero, options.iterations);
     };
     hold_if_unobservable(6, options.distortion_sigma_limit,
