@@ -78,12 +78,13 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   out.variant = vo::variant_name(options_.solver.variant);
   int quality = 0;
   const bool first_frame = (tracks.flags & tracks_t::FLAG_FIRST_FRAME) || tracks.prev_utime >= tracks.utime;
-  if ((tracks.flags & tracks_t::FLAG_FRAME_GAP) ||
-      (!first_frame && tracks.utime - tracks.prev_utime > options_.sync.max_frame_interval_us)) {
-    quality |= vo::kFrameGap;
-  }
-  // Own depths never cross a gap, a tracker reset or a frame without an estimate.
-  if (quality || flush || first_frame) depth_map_.reset();
+  const bool time_gap = !first_frame && tracks.utime - tracks.prev_utime > options_.sync.max_frame_interval_us;
+  if ((tracks.flags & tracks_t::FLAG_FRAME_GAP) || time_gap) quality |= vo::kFrameGap;
+  // Own depths never cross a time gap, a tracker reset or a frame without an
+  // estimate. A dropped frame within max_frame_interval keeps them: they are
+  // for this pair's prev frame, the last one solved (FeatureDepthMap::fill
+  // checks), and the tracks continue over the longer baseline.
+  if (time_gap || flush || first_frame) depth_map_.reset();
   if (flush) {
     // Never got its INS: keep the frame's time but say why there is no estimate.
     out.quality = quality | vo::kNoAttitude;

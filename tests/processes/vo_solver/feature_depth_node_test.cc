@@ -1,6 +1,8 @@
 // The feature_depth variant through the node on a memq:// bus: per-track
 // depths keyed by TRACKS' track ids give the exact motion over non-planar
-// ground, and a TRACKS frame gap clears them (that pair is the paper's).
+// ground. A dropped frame (the tracks go on over two frame periods) keeps
+// them: they belong to the pair's prev frame. A time gap beyond
+// sync.max_frame_interval clears them (that pair is the paper's).
 
 #include <gtest/gtest.h>
 
@@ -24,13 +26,14 @@ namespace {
 constexpr int64_t kStart = 1700000000000000;
 constexpr int64_t kPeriod = 71429;
 
-std::string config(const std::string& variant) {
+std::string config(const std::string& variant, double max_frame_interval_ms) {
   return R"(
 camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5, mount_rpy_deg: [0, 0, 0]}
 altimeter: {beam_body: [0, 0, 1]}
 vo_solver:
   variant: )" + variant + R"(
   feature_depth: {triangulation_noise_px: 0.001, patch_feature_weight: 0}
+  sync: {max_frame_interval_ms: )" + std::to_string(max_frame_interval_ms) + R"(}
 )";
 }
 
@@ -41,12 +44,14 @@ struct NodeRun {
 
 // INS and altimeter samples exactly at the frame times (so the node's
 // interpolation returns them exactly), TRACKS with the points' indices as ids.
-NodeRun run_node(const std::string& variant, int frames, int gap_frame) {
+// Frame dropped_frame never comes: the next TRACKS spans two periods, flagged
+// FLAG_FRAME_GAP as the tracker does.
+NodeRun run_node(const std::string& variant, int frames, int dropped_frame, double max_frame_interval_ms = 250) {
   vo::testing::TerrainSequence seq{vo::testing::TerrainSpec{}};
   LcmBusOptions options;
   options.url = "memq://";
   LcmBus bus(options);
-  std::unique_ptr<Node> node = make_vo_solver_node(Config::parse(config(variant), "feature depth node test"), bus);
+  std::unique_ptr<Node> node = make_vo_solver_node(Config::parse(config(variant, max_frame_interval_ms), "feature depth node test"), bus);
   NodeRun result;
   bus.subscribe<vo_delta_t>(channels::kVoDelta, [&](const vo_delta_t& m) { result.deltas[m.utime] = m; });
   auto deliver = [&] {
@@ -72,15 +77,18 @@ NodeRun run_node(const std::string& variant, int frames, int gap_frame) {
     deliver();
   }
   for (int k = 0; k <= frames; ++k) {
+    if (k == dropped_frame) continue;
+    const bool after_drop = k == dropped_frame + 1;
+    const int prev = after_drop ? k - 2 : k - 1;
     tracks_t m{};
     m.utime = kStart + k * kPeriod;
-    m.prev_utime = k == 0 ? 0 : m.utime - kPeriod;
+    m.prev_utime = k == 0 ? 0 : kStart + prev * kPeriod;
     m.frame_counter = k;
     m.width = 612;
     m.height = 512;
-    m.flags = k == 0 ? tracks_t::FLAG_FIRST_FRAME : (k == gap_frame ? tracks_t::FLAG_FRAME_GAP : 0);
+    m.flags = k == 0 ? tracks_t::FLAG_FIRST_FRAME : (after_drop ? tracks_t::FLAG_FRAME_GAP : 0);
     if (k > 0) {
-      const vo::testing::SequencePair sp = seq.pair(k);
+      const vo::testing::SequencePair sp = seq.pair(prev, k);
       m.num_tracks = static_cast<int32_t>(sp.ids.size());
       for (size_t i = 0; i < sp.ids.size(); ++i) {
         m.track_id.push_back(sp.ids[i]);
@@ -108,18 +116,14 @@ double counter(const StatusReport& r, const std::string& name) {
   return -1;
 }
 
-TEST(FeatureDepthNode, ExactOverReliefAndClearedByAFrameGap) {
-  vo::testing::TerrainSequence seq{vo::testing::TerrainSpec{}};
-  constexpr int kGap = 45;
-  const NodeRun depth = run_node("feature_depth", 50, kGap);
-  const NodeRun paper = run_node("paper", 50, kGap);
-  ASSERT_EQ(depth.deltas.size(), 51u);
-  double worst_paper = 0;
-  for (int k = 30; k < kGap; ++k) {
-    const vo_delta_t& d = depth.deltas.at(kStart + k * kPeriod);
-    const vo::testing::SequencePair truth = seq.pair(k);
+// Frames from..to (skipping `dropped`): exact within 1e-3 m / 1e-5 rad.
+void expect_exact(const NodeRun& run, const vo::testing::TerrainSequence& seq, int from, int to, int dropped) {
+  for (int k = from; k <= to; ++k) {
+    if (k == dropped) continue;
+    const vo_delta_t& d = run.deltas.at(kStart + k * kPeriod);
+    const vo::testing::SequencePair truth = seq.pair(k == dropped + 1 ? k - 2 : k - 1, k);
     EXPECT_EQ(d.variant, "feature_depth");
-    EXPECT_EQ(d.quality, 0) << "frame " << k;
+    EXPECT_EQ(d.quality & ~vo_delta_t::QUALITY_FRAME_GAP, 0) << "frame " << k;
     // Through the node it settles at ~1e-4 m, not the 1e-6 of the direct
     // solver+map run (feature_depth_test.cc): the paper variant's node output
     // differs from its direct solve of the same pair by as much (1.5e-4 m at
@@ -129,16 +133,51 @@ TEST(FeatureDepthNode, ExactOverReliefAndClearedByAFrameGap) {
     EXPECT_NEAR(d.dy, truth.translation.y(), 1e-3) << "frame " << k;
     EXPECT_NEAR(d.dz, truth.translation.z(), 1e-3) << "frame " << k;
     EXPECT_NEAR(d.dyaw, truth.dyaw, 1e-5) << "frame " << k;
+  }
+}
+
+constexpr int kDropped = 44;  // frame 45's pair is (43, 45)
+
+TEST(FeatureDepthNode, ExactOverReliefAndKeptOverADroppedFrame) {
+  vo::testing::TerrainSequence seq{vo::testing::TerrainSpec{}};
+  const NodeRun depth = run_node("feature_depth", 50, kDropped);
+  const NodeRun paper = run_node("paper", 50, kDropped);
+  ASSERT_EQ(depth.deltas.size(), 50u);
+  expect_exact(depth, seq, 30, kDropped - 1, kDropped);
+  expect_exact(depth, seq, kDropped + 2, 50, kDropped);
+  double worst_paper = 0;
+  for (int k = 30; k < kDropped; ++k) {
+    const vo::testing::SequencePair truth = seq.pair(k);
     const vo_delta_t& p = paper.deltas.at(kStart + k * kPeriod);
     worst_paper = std::max(worst_paper, std::hypot(p.dx - truth.translation.x(), p.dy - truth.translation.y()));
   }
   EXPECT_GT(worst_paper, 1e-2);
-  // The gap frame: flagged, no own depth used (the paper's own solve), map cleared.
-  const vo_delta_t& at_gap = depth.deltas.at(kStart + kGap * kPeriod);
-  const vo_delta_t& paper_gap = paper.deltas.at(kStart + kGap * kPeriod);
+  // The pair over the dropped frame: flagged, solved with the own depths (the
+  // paper's patch is centimetres off here), and the map was never cleared.
+  const vo_delta_t& over_drop = depth.deltas.at(kStart + (kDropped + 1) * kPeriod);
+  const vo_delta_t& paper_over_drop = paper.deltas.at(kStart + (kDropped + 1) * kPeriod);
+  EXPECT_TRUE(over_drop.quality & vo_delta_t::QUALITY_FRAME_GAP);
+  EXPECT_EQ(over_drop.prev_utime, kStart + (kDropped - 1) * kPeriod);
+  const vo::testing::SequencePair truth = seq.pair(kDropped - 1, kDropped + 1);
+  // Twice the baseline: 1.6 mm off here against the paper's centimetres.
+  EXPECT_LT((Eigen::Vector3d(over_drop.dx, over_drop.dy, over_drop.dz) - truth.translation).norm(), 5e-3);
+  EXPECT_GT(std::hypot(paper_over_drop.dx - truth.translation.x(), paper_over_drop.dy - truth.translation.y()), 1e-2);
+  EXPECT_EQ(counter(depth.status, "own_depth_resets"), 0);
+  EXPECT_GT(counter(depth.status, "own_depths"), 100);
+}
+
+TEST(FeatureDepthNode, ClearedByATimeGap) {
+  // The same drop, but 143 ms is beyond this max_frame_interval: a time gap.
+  // No own depth crosses it: that pair is the paper's own solve.
+  vo::testing::TerrainSequence seq{vo::testing::TerrainSpec{}};
+  const NodeRun depth = run_node("feature_depth", 50, kDropped, 100);
+  const NodeRun paper = run_node("paper", 50, kDropped, 100);
+  const vo_delta_t& at_gap = depth.deltas.at(kStart + (kDropped + 1) * kPeriod);
+  const vo_delta_t& paper_gap = paper.deltas.at(kStart + (kDropped + 1) * kPeriod);
   EXPECT_TRUE(at_gap.quality & vo_delta_t::QUALITY_FRAME_GAP);
   EXPECT_EQ(at_gap.dx, paper_gap.dx);
   EXPECT_EQ(at_gap.dy, paper_gap.dy);
+  EXPECT_EQ(at_gap.dz, paper_gap.dz);
   EXPECT_GE(counter(depth.status, "own_depth_resets"), 1);
   EXPECT_GT(counter(depth.status, "own_depths"), 100);  // rebuilt after the gap
 }

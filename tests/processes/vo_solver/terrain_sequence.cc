@@ -38,9 +38,11 @@ FramePose TerrainSequence::pose(int k) const {
   return p;
 }
 
-SequencePair TerrainSequence::pair(int k) const {
+SequencePair TerrainSequence::pair(int k) const { return pair(k - 1, k); }
+
+SequencePair TerrainSequence::pair(int j, int k) const {
   SequencePair out;
-  const FramePose a = pose(k - 1), b = pose(k);
+  const FramePose a = pose(j), b = pose(k);
   FramePair& pair = out.pair;
   pair.prev_roll = a.roll;
   pair.prev_pitch = a.pitch;
@@ -64,7 +66,7 @@ SequencePair TerrainSequence::pair(int k) const {
   };
   for (size_t i = 0; i < points_.size(); ++i) {
     Eigen::Vector2d p, q;
-    const Eigen::Vector3d xa = point_motion ? Eigen::Vector3d(points_[i] + point_motion(i, k - 1)) : points_[i];
+    const Eigen::Vector3d xa = point_motion ? Eigen::Vector3d(points_[i] + point_motion(i, j)) : points_[i];
     const Eigen::Vector3d xb = point_motion ? Eigen::Vector3d(points_[i] + point_motion(i, k)) : points_[i];
     if (!project(ra, a.position, xa, &p) || !project(rb, b.position, xb, &q)) continue;
     if (spec_.noise_px > 0) {

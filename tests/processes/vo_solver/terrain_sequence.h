@@ -51,6 +51,8 @@ class TerrainSequence {
   FramePose pose(int k) const;
   // The pair (k-1, k) with every point seen in both frames.
   SequencePair pair(int k) const;
+  // The pair (j, k): a frame skipped between them when k - j = 2.
+  SequencePair pair(int j, int k) const;
   // World points may be changed between frames (moving objects, cliff edges).
   std::vector<Eigen::Vector3d>& points() { return points_; }
   // Moving points: point i is at points()[i] + motion(i, k) in frame k.
