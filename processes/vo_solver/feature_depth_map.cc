@@ -15,6 +15,12 @@ void FeatureDepthMap::reset() {
   utime_ = INT64_MIN;
 }
 
+size_t FeatureDepthMap::size() const {
+  size_t n = 0;
+  for (const auto& entry : depths_) n += std::isfinite(entry.second.depth);
+  return n;
+}
+
 void FeatureDepthMap::fill(const std::vector<int64_t>& ids, int64_t prev_utime, FramePair* pair) {
   if (prev_utime != utime_) reset();
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -22,11 +28,49 @@ void FeatureDepthMap::fill(const std::vector<int64_t>& ids, int64_t prev_utime, 
   pair->prev_depth_sigma_m.assign(ids.size(), nan);
   for (size_t i = 0; i < ids.size(); ++i) {
     const auto it = depths_.find(ids[i]);
-    if (it == depths_.end()) continue;
+    if (it == depths_.end() || !std::isfinite(it->second.depth)) continue;  // tracked, no parallax yet
     pair->prev_depth_m[i] = it->second.depth;
     pair->prev_depth_sigma_m[i] = it->second.sigma;
   }
 }
+
+namespace {
+
+struct Triangulation {
+  double depth = std::numeric_limits<double>::quiet_NaN();  // vertical, below the curr camera
+  double relative_sigma = std::numeric_limits<double>::quiet_NaN();
+  bool off_epipolar = false;
+  bool ok() const { return std::isfinite(depth); }
+};
+
+// The ray origin + mu * ray (first sight of the track) against the curr ray
+// t + lambda * a (a.z = 1), least squares; all in the level frame of prev.
+// No depth below min_parallax (hover); off_epipolar when the rays miss each
+// other by more than max_epipolar (radians at the point).
+Triangulation triangulate(const Eigen::Vector3d& origin, const Eigen::Vector3d& ray, const Eigen::Vector3d& t,
+                          const Eigen::Vector3d& a, double ray_sigma, double floor, double max_epipolar,
+                          double min_parallax) {
+  Triangulation out;
+  const Eigen::Vector3d d = t - origin;
+  const double rr = ray.dot(ray), ra = ray.dot(a), aa = a.dot(a);
+  const double det = rr * aa - ra * ra;
+  const double parallax = std::asin(std::min(1.0, ray.cross(a).norm() / std::sqrt(rr * aa)));
+  if (!(det > 0) || parallax < min_parallax) return out;
+  const double mu = (aa * ray.dot(d) - ra * a.dot(d)) / det;
+  const double lambda = (ra * ray.dot(d) - rr * a.dot(d)) / det;
+  if (!(lambda > 0) || !(mu > 0)) return out;
+  const Eigen::Vector3d gap = origin + mu * ray - t - lambda * a;
+  if (gap.norm() / (lambda * std::sqrt(aa)) > max_epipolar) {
+    out.off_epipolar = true;
+    return out;
+  }
+  const double from_rays = ray_sigma / std::sin(parallax);
+  out.depth = lambda;
+  out.relative_sigma = std::sqrt(from_rays * from_rays + floor * floor);
+  return out;
+}
+
+}  // namespace
 
 void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime, const FramePair& pair,
                              const Estimate& est) {
@@ -44,7 +88,7 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
   // Angular noise of the two rays together, and the epipolar gate, in radians.
   const double ray_sigma = std::sqrt(2.0) * o.triangulation_noise_px / options_.focal_px;
   const double max_epipolar = o.max_epipolar_px * options_.pixel_scale() / options_.focal_px;
-  const bool has_prior = pair.prev_depth_m.size() == n && pair.prev_depth_sigma_m.size() == n;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   std::unordered_map<int64_t, Entry> next;
   next.reserve(n);
   for (size_t i = 0; i < n; ++i) {
@@ -53,72 +97,69 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
     if (!u.allFinite() || !v.allFinite() || u.z() < 1e-6 || v.z() < 1e-6) continue;
     u /= u.z();
     v /= v.z();
+    const Eigen::Vector3d a = rz * v;
     const bool used_own = i < est.used_own_depth.size() && est.used_own_depth[i];
     const double weight = i < est.weights.size() ? est.weights[i] : 0.0;
+    const auto old = depths_.find(ids[i]);
+    bool carried = old != depths_.end();
     // Its own depth was used and the fit rejected it: the surface under the
     // track changed (cliff edge) or moves. Start again from this pair alone.
-    bool prior_ok = has_prior && std::isfinite(pair.prev_depth_m[i]) && pair.prev_depth_m[i] > 0;
     if (used_own && !(weight > 0)) {
-      prior_ok = false;
+      carried = false;
       ++rejected_;
     }
-    // Triangulation: lambda (R v) + t = mu u in the least-squares sense.
-    const Eigen::Vector3d a = rz * v;
-    const double aa = a.dot(a), ab = a.dot(u), bb = u.dot(u);
-    const double det = aa * bb - ab * ab;
-    const double parallax = std::asin(std::min(1.0, a.cross(u).norm() / std::sqrt(aa * bb)));
-    double tri = std::numeric_limits<double>::quiet_NaN(), tri_sigma = tri;
-    if (det > 0 && parallax >= o.min_parallax_rad) {
-      const double lambda = (-bb * a.dot(t) + ab * u.dot(t)) / det;
-      const double mu = (ab * a.dot(t) - aa * u.dot(t)) / -det;
-      const Eigen::Vector3d gap = lambda * a + t - mu * u;
-      if (lambda > 0 && mu > 0) {
-        if (gap.norm() / (lambda * std::sqrt(aa)) > max_epipolar) {
-          // Not a static point under this motion (a mismatch this frame, a
-          // moving object): no depth from this pair. A carried depth stays
-          // only if the fit did not reject it (above).
-          ++off_epipolar_;
-        } else {
-          tri = lambda;
-          tri_sigma = lambda * ray_sigma / std::sin(parallax);
-        }
-      }
-    }
-    // The previous depth carried into curr, re-anchored on this pair's altimeter.
-    double prior = std::numeric_limits<double>::quiet_NaN(), prior_sigma = prior;
-    if (prior_ok) {
-      const double mu = est.depth_scale * pair.prev_depth_m[i];
-      const Eigen::Vector3d in_curr = rz.transpose() * (mu * u - t);
-      if (in_curr.z() > 0) {
-        prior = in_curr.z();
-        const double rel = pair.prev_depth_sigma_m[i] / pair.prev_depth_m[i];
-        prior_sigma = prior * std::sqrt(rel * rel + o.relative_process_noise * o.relative_process_noise);
-      }
-    }
-    // The carried depth and this pair's disagree beyond their noise: the
-    // surface under the track changed (a cliff edge). Start again from this pair.
-    if (std::isfinite(tri) && std::isfinite(prior) &&
-        std::abs(tri - prior) > o.max_depth_jump_sigma * std::hypot(tri_sigma, prior_sigma)) {
-      prior = std::numeric_limits<double>::quiet_NaN();
-      prior_ok = false;
-      ++rejected_;
-    }
-    const auto old = depths_.find(ids[i]);
-    const int seen = prior_ok && old != depths_.end() ? old->second.observations : 0;
+    const Triangulation this_pair =
+        triangulate(Eigen::Vector3d::Zero(), u, t, a, ray_sigma, o.relative_process_noise, max_epipolar,
+                    o.min_parallax_rad);
     Entry e;
-    if (std::isfinite(tri) && std::isfinite(prior)) {
-      const double wt = 1.0 / (tri_sigma * tri_sigma), wp = 1.0 / (prior_sigma * prior_sigma);
-      e.depth = (wt * tri + wp * prior) / (wt + wp);
-      e.sigma = 1.0 / std::sqrt(wt + wp);
-      e.observations = seen + 1;
-    } else if (std::isfinite(tri)) {
-      e = {tri, tri_sigma, 1};
-    } else if (std::isfinite(prior)) {
-      e = {prior, prior_sigma, seen};  // no parallax this pair (hover): carried over only
-    } else {
+    if (this_pair.off_epipolar) {
+      // Not a static point under this motion (a mismatch this frame, a moving
+      // object): nothing from this pair. A carried track stays as it was, moved
+      // into curr, only if the fit did not reject it (above).
+      ++off_epipolar_;
+      if (!carried) continue;
+      e = old->second;
+      e.origin = rz.transpose() * (est.depth_scale * e.origin - t);
+      e.ray = rz.transpose() * e.ray;
+      const Eigen::Vector3d point = rz.transpose() * (est.depth_scale * e.depth * u - t);
+      e.depth = std::isfinite(e.depth) && point.z() > 0 ? point.z() : nan;
+      if (std::isfinite(e.depth)) next[ids[i]] = e;
       continue;
     }
-    if (std::isfinite(e.depth) && e.depth > 0 && std::isfinite(e.sigma)) next[ids[i]] = e;
+    // The track's first ray, re-anchored on this pair's altimeter (its origin
+    // scales with every depth about the prev camera), against the curr ray:
+    // the whole track's baseline, not one pair's, so the depth's noise shrinks
+    // as the track grows and no pair's parallax draw weighs on it.
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero(), ray = u;
+    int observations = 1;
+    if (carried) {
+      origin = est.depth_scale * old->second.origin;
+      ray = old->second.ray;
+      observations = old->second.observations + 1;
+    }
+    Triangulation whole = carried ? triangulate(origin, ray, t, a, ray_sigma, o.relative_process_noise,
+                                                max_epipolar, o.min_parallax_rad)
+                                  : this_pair;
+    // The track slid (off its own first ray), or this pair's depth and the
+    // track's disagree beyond their noise: the surface under the track changed
+    // (a cliff edge). Start again from this pair.
+    const bool jump = whole.ok() && this_pair.ok() &&
+                      std::abs(whole.depth - this_pair.depth) >
+                          o.max_depth_jump_sigma * std::hypot(whole.depth * whole.relative_sigma,
+                                                              this_pair.depth * this_pair.relative_sigma);
+    if (carried && (whole.off_epipolar || jump)) {
+      ++rejected_;
+      origin.setZero();
+      ray = u;
+      observations = 1;
+      whole = this_pair;
+    }
+    e.origin = rz.transpose() * (origin - t);
+    e.ray = rz.transpose() * ray;
+    e.depth = whole.depth;
+    e.sigma = whole.depth * whole.relative_sigma;
+    e.observations = observations;
+    next[ids[i]] = e;
   }
   depths_.swap(next);
   utime_ = curr_utime;

@@ -8,6 +8,8 @@
 // reset, a time jump or a failed estimate clears the map, so no stale depth
 // is used across it.
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -31,7 +33,8 @@ class FeatureDepthMap {
   // clears the map.
   void update(const std::vector<int64_t>& ids, int64_t curr_utime, const FramePair& pair, const Estimate& est);
 
-  size_t size() const { return depths_.size(); }
+  // Tracks with a depth (tracked without parallax yet: not counted).
+  size_t size() const;
   int64_t resets() const { return resets_; }
   // Tracks whose own depth was used and rejected by the fit (a cliff edge, a
   // moving object): the depth is dropped, not fused.
@@ -40,7 +43,11 @@ class FeatureDepthMap {
   int64_t off_epipolar() const { return off_epipolar_; }
 
  private:
+  // A track: its first ray (origin and direction, from the camera that first
+  // saw it) and its depth, all in the level frame of the map's frame. Depth
+  // NaN: no parallax yet (hover); the track is kept so that it can grow one.
   struct Entry {
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero(), ray = Eigen::Vector3d::UnitZ();
     double depth = 0, sigma = 0;  // vertical depth below the camera, metres
     int observations = 0;
   };

@@ -21,11 +21,12 @@ struct FeatureDepthOptions {
   int min_anchor_features = 8;
   // Weight of a feature on the patch (young) beside one with its own depth.
   double patch_feature_weight = 0.25;
-  // Depth filter: image noise assumed for triangulation (pixels), the
-  // parallax (rad) below which a pair says nothing about depth (hover), the
-  // growth of each depth's relative sigma per frame (process noise), and the
-  // distance (pixels) of a track from its epipolar line beyond which it is
-  // not on a static surface (moving object, mismatch): its depth is dropped.
+  // Depth of a track (from its first ray against the curr one): image noise
+  // assumed (pixels), the parallax (rad) below which the track says nothing
+  // about depth yet (hover), the floor of a depth's relative sigma (the error
+  // of the solved motion its baseline is made of), and the distance (pixels)
+  // of a track from its epipolar line beyond which it is not on a static
+  // surface (moving object, mismatch): no depth from that pair.
   double triangulation_noise_px = 0.5;
   double min_parallax_rad = 1e-3;
   double relative_process_noise = 0.002;

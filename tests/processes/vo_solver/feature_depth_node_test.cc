@@ -136,17 +136,19 @@ void expect_exact(const NodeRun& run, const vo::testing::TerrainSequence& seq, i
   }
 }
 
-constexpr int kDropped = 44;  // frame 45's pair is (43, 45)
+// The depths have converged by then (feature_depth_test.cc); frame 205's pair is (203, 205).
+constexpr int kDropped = 204;
+constexpr int kFrames = 220;
 
 TEST(FeatureDepthNode, ExactOverReliefAndKeptOverADroppedFrame) {
   vo::testing::TerrainSequence seq{vo::testing::TerrainSpec{}};
-  const NodeRun depth = run_node("feature_depth", 50, kDropped);
-  const NodeRun paper = run_node("paper", 50, kDropped);
-  ASSERT_EQ(depth.deltas.size(), 50u);
-  expect_exact(depth, seq, 30, kDropped - 1, kDropped);
-  expect_exact(depth, seq, kDropped + 2, 50, kDropped);
+  const NodeRun depth = run_node("feature_depth", kFrames, kDropped);
+  const NodeRun paper = run_node("paper", kFrames, kDropped);
+  ASSERT_EQ(depth.deltas.size(), static_cast<size_t>(kFrames));
+  expect_exact(depth, seq, 180, kDropped - 1, kDropped);
+  expect_exact(depth, seq, kDropped + 2, kFrames, kDropped);
   double worst_paper = 0;
-  for (int k = 30; k < kDropped; ++k) {
+  for (int k = 180; k < kDropped; ++k) {
     const vo::testing::SequencePair truth = seq.pair(k);
     const vo_delta_t& p = paper.deltas.at(kStart + k * kPeriod);
     worst_paper = std::max(worst_paper, std::hypot(p.dx - truth.translation.x(), p.dy - truth.translation.y()));
@@ -170,8 +172,8 @@ TEST(FeatureDepthNode, ClearedByATimeGap) {
   // The same drop, but 143 ms is beyond this max_frame_interval: a time gap.
   // No own depth crosses it: that pair is the paper's own solve.
   vo::testing::TerrainSequence seq{vo::testing::TerrainSpec{}};
-  const NodeRun depth = run_node("feature_depth", 50, kDropped, 100);
-  const NodeRun paper = run_node("paper", 50, kDropped, 100);
+  const NodeRun depth = run_node("feature_depth", kFrames, kDropped, 100);
+  const NodeRun paper = run_node("paper", kFrames, kDropped, 100);
   const vo_delta_t& at_gap = depth.deltas.at(kStart + (kDropped + 1) * kPeriod);
   const vo_delta_t& paper_gap = paper.deltas.at(kStart + (kDropped + 1) * kPeriod);
   EXPECT_TRUE(at_gap.quality & vo_delta_t::QUALITY_FRAME_GAP);

@@ -68,33 +68,42 @@ int own_used(const Estimate& e) {
 }
 
 TEST(FeatureDepth, ExactOverNonPlanarGroundWherePaperIsBiased) {
+  // Each track's depth comes from its first ray and the motion solved since:
+  // the first tracks' origins carry the motion of the start, solved on the
+  // patch (centimetres off here), so the error decays as the tracks of the
+  // start leave the image and later ones, seen from solved motion, replace
+  // them: 1e-4 m at frame 20, 1e-6 m by frame 160.
   TerrainSequence seq{TerrainSpec{}};
   const SolverOptions fd = exact_options();
   FeatureDepthMap map(fd);
-  const SequenceRun depth = run(seq, 60, fd, &map);
-  const SequenceRun paper = run(seq, 60, variant_options(Variant::kPaper), nullptr);
+  constexpr int kLast = 240;
+  const SequenceRun depth = run(seq, kLast, fd, &map);
+  const SequenceRun paper = run(seq, kLast, variant_options(Variant::kPaper), nullptr);
+  auto error = [&](int k) { return (depth.estimates[k].translation - depth.pairs[k].translation).norm(); };
+  EXPECT_LT(error(100), 0.5 * error(20));
+  EXPECT_LT(error(kLast), 0.05 * error(20));
   double worst_paper = 0;
-  for (int k = 30; k <= 60; ++k) {
+  for (int k = 200; k <= kLast; ++k) {
     const Estimate& e = depth.estimates[k];
     const SequencePair& truth = depth.pairs[k];
     EXPECT_EQ(e.quality, 0) << "frame " << k;
     EXPECT_GT(own_used(e), 100) << "frame " << k;
-    EXPECT_NEAR((e.translation - truth.translation).norm(), 0.0, 1e-6) << "frame " << k;
-    EXPECT_NEAR(e.dyaw, truth.dyaw, 1e-9) << "frame " << k;
+    EXPECT_NEAR(error(k), 0.0, 3e-6) << "frame " << k;
+    EXPECT_NEAR(e.dyaw, truth.dyaw, 2e-7) << "frame " << k;
     worst_paper = std::max(worst_paper, (paper.estimates[k].translation - truth.translation).norm());
   }
   // The one-patch model is off by centimetres per 1.5 m step here.
   EXPECT_GT(worst_paper, 1e-2);
   // Depths are the true ones.
-  const SequencePair last = seq.pair(61);
+  const SequencePair last = seq.pair(kLast + 1);
   FramePair probe = last.pair;
-  map.fill(last.ids, 60 * kPeriod, &probe);
-  const SequencePair at60 = seq.pair(60);
+  map.fill(last.ids, kLast * kPeriod, &probe);
+  const SequencePair at_last = seq.pair(kLast);
   int checked = 0;
-  for (size_t i = 0; i < at60.ids.size(); ++i) {
+  for (size_t i = 0; i < at_last.ids.size(); ++i) {
     for (size_t j = 0; j < last.ids.size(); ++j) {
-      if (last.ids[j] != at60.ids[i] || !std::isfinite(probe.prev_depth_m[j])) continue;
-      EXPECT_NEAR(probe.prev_depth_m[j] / at60.curr_depth_m[i], 1.0, 1e-6);
+      if (last.ids[j] != at_last.ids[i] || !std::isfinite(probe.prev_depth_m[j])) continue;
+      EXPECT_NEAR(probe.prev_depth_m[j] / at_last.curr_depth_m[i], 1.0, 3e-5);
       ++checked;
     }
   }
@@ -137,6 +146,50 @@ TEST(FeatureDepth, BoundedErrorWithNoiseAndBetterThanThePatch) {
   EXPECT_LT(sum_depth.norm(), 0.5 * sum_paper.norm()) << "paper: " << sum_paper.norm() / step;
 }
 
+TEST(FeatureDepth, UnbiasedWithNoiseOnOwnDepthsAlone) {
+  // Flat ground, 0.5 px noise, the young features given no weight: the scale
+  // and the vertical come from the own depths alone. A depth fused pair by
+  // pair with each pair's own sigma came out +5 % (the near draws weigh
+  // most) and the translation +2 %; from each track's whole baseline both
+  // are unbiased within noise.
+  TerrainSpec spec;
+  spec.noise_px = 0.5;
+  spec.relief_m = 0.0;
+  TerrainSequence seq{spec};
+  SolverOptions fd = variant_options(Variant::kFeatureDepth);
+  fd.feature_depth.patch_feature_weight = 0.0;
+  FeatureDepthMap map(fd);
+  constexpr int kLast = 300;
+  const SequenceRun r = run(seq, kLast, fd, &map);
+  double along = 0, distance = 0, vertical = 0;
+  for (int k = 40; k <= kLast; ++k) {
+    const Eigen::Vector3d truth = r.pairs[k].translation;
+    const Eigen::Vector3d e = r.estimates[k].translation - truth;
+    EXPECT_GT(own_used(r.estimates[k]), 100) << "frame " << k;
+    along += e.head<2>().dot(truth.head<2>().normalized());
+    distance += truth.head<2>().norm();
+    vertical += e.z();
+  }
+  EXPECT_LT(std::abs(along / distance), 0.002);  // measured 0.00002
+  EXPECT_LT(std::abs(vertical), 3.0);             // metres over 390 m; measured -0.9
+  // The usable depths (sigma under 3 %) at the last frame against the truth.
+  const SequencePair next = seq.pair(kLast + 1), at_last = seq.pair(kLast);
+  FramePair probe = next.pair;
+  map.fill(next.ids, kLast * kPeriod, &probe);
+  double sum = 0;
+  int usable = 0;
+  for (size_t j = 0; j < next.ids.size(); ++j) {
+    if (!(probe.prev_depth_sigma_m[j] < 0.03 * probe.prev_depth_m[j])) continue;
+    for (size_t i = 0; i < at_last.ids.size(); ++i) {
+      if (at_last.ids[i] != next.ids[j]) continue;
+      sum += probe.prev_depth_m[j] / at_last.curr_depth_m[i] - 1.0;
+      ++usable;
+    }
+  }
+  ASSERT_GT(usable, 100);
+  EXPECT_LT(std::abs(sum / usable), 0.01);  // measured -0.002
+}
+
 TEST(FeatureDepth, HoverHasNoDepthAndFallsBackToThePatch) {
   TerrainSequence seq{TerrainSpec{}};
   seq.pose_override = [](int k) {
@@ -163,28 +216,29 @@ TEST(FeatureDepth, MovingObjectIsAnOutlier) {
   TerrainSequence seq{TerrainSpec{}};
   const SolverOptions fd = exact_options();
   FeatureDepthMap map(fd);
-  // From frame 40, the points within 30 m of a car beside the path move 4 m per frame.
+  // From frame 200 (the depths converged, see above), the points within 20 m
+  // of a car beside the path (clear of the altimeter spot) move 4 m per frame.
   std::vector<size_t> car;
-  const SequenceRun r = run(seq, 60, fd, &map, [&](int k, TerrainSequence& s) {
-    if (k == 40) {
-      const testing::FramePose p = s.pose(40);
+  const SequenceRun r = run(seq, 220, fd, &map, [&](int k, TerrainSequence& s) {
+    if (k == 200) {
+      const testing::FramePose p = s.pose(200);
       for (size_t i = 0; i < s.points().size(); ++i) {
         const Eigen::Vector3d d = s.points()[i] - p.position;
-        if (std::hypot(d.x() - 30.0, d.y() + 10.0) < 40.0) car.push_back(i);
+        if (std::hypot(d.x() - 30.0, d.y() + 10.0) < 20.0) car.push_back(i);
       }
     }
-    if (k == 40) {
-      // Parked until frame 39, then 4 m per frame sideways.
+    if (k == 200) {
+      // Parked until frame 199, then 4 m per frame sideways.
       s.point_motion = [&car](size_t i, int frame) {
         const bool on_car = std::find(car.begin(), car.end(), i) != car.end();
-        return Eigen::Vector3d(0.0, on_car ? 4.0 * std::max(0, frame - 39) : 0.0, 0.0);
+        return Eigen::Vector3d(0.0, on_car ? 4.0 * std::max(0, frame - 199) : 0.0, 0.0);
       };
     }
   });
   ASSERT_GT(car.size(), 10u);
-  for (int k = 40; k <= 60; ++k) {
+  for (int k = 200; k <= 220; ++k) {
     const Estimate& e = r.estimates[k];
-    EXPECT_NEAR((e.translation - r.pairs[k].translation).norm(), 0.0, 1e-6) << "frame " << k;
+    EXPECT_NEAR((e.translation - r.pairs[k].translation).norm(), 0.0, 3e-6) << "frame " << k;
     for (size_t j = 0; j < r.pairs[k].ids.size(); ++j) {
       const bool on_car = std::find(car.begin(), car.end(), static_cast<size_t>(r.pairs[k].ids[j])) != car.end();
       if (on_car) {
@@ -199,20 +253,36 @@ TEST(FeatureDepth, CliffEdgeDropsTheDepthInsteadOfBlendingIt) {
   TerrainSequence seq{TerrainSpec{}};
   const SolverOptions fd = exact_options();
   FeatureDepthMap map(fd);
-  // At frame 45 the tracked points beside the corridor slip down a 30 m
-  // cliff: same track, same image point in frame 44, a new depth.
+  // At frame 205 (the depths converged) the tracked points beside the
+  // corridor slip down a 30 m cliff: same track, same image point in frame
+  // 204, a new depth.
   std::vector<size_t> slipped;
   int64_t rejected_before = 0;
-  const SequenceRun r = run(seq, 70, fd, &map, [&](int k, TerrainSequence& s) {
-    if (k != 45) return;
+  int checked = 0;
+  const SequenceRun r = run(seq, 330, fd, &map, [&](int k, TerrainSequence& s) {
+    if (k == 241) {
+      const SequencePair at240 = s.pair(240), next = s.pair(241);
+      FramePair probe = next.pair;
+      map.fill(next.ids, 240 * kPeriod, &probe);
+      for (size_t j = 0; j < next.ids.size(); ++j) {
+        if (std::find(slipped.begin(), slipped.end(), static_cast<size_t>(next.ids[j])) == slipped.end()) continue;
+        if (!std::isfinite(probe.prev_depth_m[j])) continue;
+        for (size_t i = 0; i < at240.ids.size(); ++i) {
+          if (at240.ids[i] != next.ids[j]) continue;
+          EXPECT_NEAR(probe.prev_depth_m[j] / at240.curr_depth_m[i], 1.0, 5e-3);
+          ++checked;
+        }
+      }
+    }
+    if (k != 205) return;
     rejected_before = map.rejected_depths();
-    const testing::FramePose p44 = s.pose(44);
-    const SequencePair at44 = s.pair(44);
+    const testing::FramePose p44 = s.pose(204);
+    const SequencePair at44 = s.pair(204);
     for (size_t j = 0; j < at44.ids.size() && slipped.size() < 40; ++j) {
       const size_t i = static_cast<size_t>(at44.ids[j]);
       Eigen::Vector3d& x = s.points()[i];
       if (x.z() > -1.0) continue;  // on a block beside the corridor
-      // Along the ray from the camera at 44: same image point, 30 m deeper.
+      // Along the ray from the camera at 204: same image point, 30 m deeper.
       const Eigen::Vector3d ray = x - p44.position;
       x = p44.position + ray * (ray.z() + 30.0) / ray.z();
       slipped.push_back(i);
@@ -223,26 +293,18 @@ TEST(FeatureDepth, CliffEdgeDropsTheDepthInsteadOfBlendingIt) {
   // them by under a pixel in this pair (below the robust threshold): the
   // motion is off by centimetres there, once; the map sees the jump against
   // this pair's triangulation and drops those depths (no blend with the old
-  // ones survives), and the sequence converges back to exact.
-  EXPECT_LT((r.estimates[45].translation - r.pairs[45].translation).norm(), 0.05);
-  EXPECT_LT((r.estimates[46].translation - r.pairs[46].translation).norm(), 0.01);
-  EXPECT_NEAR((r.estimates[70].translation - r.pairs[70].translation).norm(), 0.0, 1e-6);
+  // ones survives). That pair's error stays in the baseline of every track
+  // alive then, so the sequence converges back to exact as those tracks are
+  // replaced: 3 mm 35 frames on, 0.2 mm 125 frames on.
+  auto error = [&](int k) { return (r.estimates[k].translation - r.pairs[k].translation).norm(); };
+  EXPECT_LT(error(205), 0.05);
+  EXPECT_LT(error(206), 0.01);
+  EXPECT_LT(error(240), 5e-3);
+  EXPECT_LT(error(270), 0.5 * error(240));
+  EXPECT_LT(error(330), 3e-4);
   EXPECT_GE(map.rejected_depths() - rejected_before, 40);
-  // The slipped tracks hold their new depth exactly.
-  const SequencePair at46 = seq.pair(70);
-  FramePair probe = seq.pair(71).pair;
-  const SequencePair p47 = seq.pair(71);
-  map.fill(p47.ids, 70 * kPeriod, &probe);
-  int checked = 0;
-  for (size_t j = 0; j < p47.ids.size(); ++j) {
-    if (std::find(slipped.begin(), slipped.end(), static_cast<size_t>(p47.ids[j])) == slipped.end()) continue;
-    if (!std::isfinite(probe.prev_depth_m[j])) continue;
-    for (size_t i = 0; i < at46.ids.size(); ++i) {
-      if (at46.ids[i] != p47.ids[j]) continue;
-      EXPECT_NEAR(probe.prev_depth_m[j] / at46.curr_depth_m[i], 1.0, 1e-6);
-      ++checked;
-    }
-  }
+  // The slipped tracks hold their new depth (30 m deeper: 20 %) to 0.5 %,
+  // 35 frames on (checked before frame 241).
   EXPECT_GT(checked, 20);
 }
 
