@@ -131,11 +131,9 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
     // the whole track's baseline, not one pair's, so the depth's noise shrinks
     // as the track grows and no pair's parallax draw weighs on it.
     Eigen::Vector3d origin = Eigen::Vector3d::Zero(), ray = u;
-    int observations = 1;
     if (carried) {
       origin = est.depth_scale * old->second.origin;
       ray = old->second.ray;
-      observations = old->second.observations + 1;
     }
     Triangulation whole = carried ? triangulate(origin, ray, t, a, ray_sigma, o.relative_process_noise,
                                                 max_epipolar, o.min_parallax_rad)
@@ -151,14 +149,12 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
       ++rejected_;
       origin.setZero();
       ray = u;
-      observations = 1;
       whole = this_pair;
     }
     e.origin = rz.transpose() * (origin - t);
     e.ray = rz.transpose() * ray;
     e.depth = whole.depth;
     e.sigma = whole.depth * whole.relative_sigma;
-    e.observations = observations;
     next[ids[i]] = e;
   }
   depths_.swap(next);

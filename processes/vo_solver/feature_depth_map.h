@@ -49,7 +49,6 @@ class FeatureDepthMap {
   struct Entry {
     Eigen::Vector3d origin = Eigen::Vector3d::Zero(), ray = Eigen::Vector3d::UnitZ();
     double depth = 0, sigma = 0;  // vertical depth below the camera, metres
-    int observations = 0;
   };
   SolverOptions options_;
   std::unordered_map<int64_t, Entry> depths_;
