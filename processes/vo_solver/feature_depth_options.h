@@ -5,6 +5,11 @@
 
 namespace nadir::vo {
 
+// The surface fitted to the own depths around the altimeter beam (inverse
+// depth over the ray's offset from the beam): a plane, or a quadratic that
+// follows a crest or a valley under the spot (DERIVATION.md section 13).
+enum class AnchorSurfaceModel { kPlane, kQuadratic };
+
 struct FeatureDepthOptions {
   // A feature's own depth is used when its standard deviation is below this
   // share of the depth; else the ground patch gives its depth.
@@ -12,13 +17,15 @@ struct FeatureDepthOptions {
   // At least this many features with a usable own depth, else the pair is
   // solved by the paper's model alone (identical to variant paper).
   int min_own_depth_features = 30;
-  // Altimeter anchor: a plane fitted to the own-depth points whose level rays
-  // lie within this radius (normalized image units, about 0.25 * focal px)
-  // of the altimeter beam gives the structure's range along the beam; the
+  // Altimeter anchor: a surface fitted to the own-depth points whose level
+  // rays lie within this radius (normalized image units, about 0.25 * focal
+  // px) of the altimeter beam gives the structure's range along the beam; the
   // altimeter's range over it is the scale of every own depth. At least
-  // min_anchor_features of them, else the paper's model alone.
+  // min_anchor_features of them (and twice the surface's unknowns), else the
+  // paper's model alone.
   double anchor_radius = 0.25;
   int min_anchor_features = 8;
+  AnchorSurfaceModel anchor_surface = AnchorSurfaceModel::kQuadratic;
   // Weight of a feature on the patch (young) beside one with its own depth.
   double patch_feature_weight = 0.25;
   // Depth of a track (from its first ray against the curr one): image noise

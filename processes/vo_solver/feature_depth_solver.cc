@@ -44,63 +44,91 @@ struct DepthFeature {
   int index = 0;         // in the input pair
 };
 
-// Scale of the own depths from the prev altimeter: a plane z = a + b x + c y
-// fitted (Gaussian weights by distance to the beam, one pass of outlier
-// rejection) to the own-depth points whose rays lie within `radius` of the
-// beam, met by the beam: range_along_beam(structure) * scale = measured range.
+// The own-depth structure around the prev altimeter beam: inverse depth as a
+// function of the ray's offset d = u_xy - beam_xy from the beam (level rays,
+// z = 1): 1/z = c0 + c1 dx + c2 dy (a plane in space) or with the quadratic
+// terms c3 dx^2 + c4 dx dy + c5 dy^2 (a curved surface: a crest, a valley).
+// The rays are known without error and an own depth's noise is relative, so
+// the fit is linear with noise in 1/z alone. The beam meets it at depth 1/c0.
+struct AnchorSurface {
+  Eigen::VectorXd coef;
+  Eigen::Vector2d beam_xy = Eigen::Vector2d::Zero();
+  Eigen::VectorXd basis(const Eigen::Vector3d& u) const {
+    const Eigen::Vector2d d = u.head<2>() - beam_xy;
+    Eigen::VectorXd x(coef.size());
+    x(0) = 1.0;
+    x(1) = d.x();
+    x(2) = d.y();
+    if (coef.size() == 6) {
+      x(3) = d.x() * d.x();
+      x(4) = d.x() * d.y();
+      x(5) = d.y() * d.y();
+    }
+    return x;
+  }
+};
+
+// Scale of the own depths from the prev altimeter: the surface above fitted
+// (Gaussian weights by the offset, sigma = radius / 2, one pass of 3 MAD
+// outlier rejection on the relative depth residual) to the own-depth features
+// whose rays lie within `anchor_radius` of the beam;
+// range_along_beam(structure) * scale = measured range.
 bool anchor_scale(const std::vector<DepthFeature>& features, const Eigen::Vector3d& beam, double range_m,
                   const FeatureDepthOptions& o, double* scale, double* relative_sigma) {
-  const Eigen::Vector2d beam_xy = beam.head<2>() / beam.z();
+  const int np = o.anchor_surface == AnchorSurfaceModel::kQuadratic ? 6 : 3;
+  AnchorSurface surface;
+  surface.coef = Eigen::VectorXd::Zero(np);
+  surface.beam_xy = beam.head<2>() / beam.z();
   std::vector<int> near;
   std::vector<double> weight;
+  const double sd = 0.5 * o.anchor_radius;
   for (size_t i = 0; i < features.size(); ++i) {
     const DepthFeature& f = features[i];
-    const double d = (f.u.head<2>() - beam_xy).norm();
+    const double d = (f.u.head<2>() - surface.beam_xy).norm();
     if (!f.own || d > o.anchor_radius) continue;
     near.push_back(static_cast<int>(i));
-    const double sd = 0.5 * o.anchor_radius;
-    weight.push_back(std::exp(-0.5 * d * d / (sd * sd)));
+    // 1/z has the relative depth noise over z: weight z^2.
+    weight.push_back(std::exp(-0.5 * d * d / (sd * sd)) * f.depth * f.depth);
   }
-  Eigen::Vector3d coef = Eigen::Vector3d::Zero();
-  std::vector<double> residual(near.size(), 0.0);
+  Eigen::VectorXd coef = Eigen::VectorXd::Zero(np);
+  std::vector<double> residual(near.size(), 0.0);  // relative to the depth
   double cut = std::numeric_limits<double>::infinity();
   double sum_w = 0, sum_w2r2 = 0;
-  int used = 0;
   for (int pass = 0; pass < 2; ++pass) {
-    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d b = Eigen::Vector3d::Zero();
-    used = 0;
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(np, np);
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(np);
+    int used = 0;
     sum_w = 0;
     for (size_t k = 0; k < near.size(); ++k) {
       if (!(std::abs(residual[k]) <= cut)) continue;
       const DepthFeature& f = features[near[k]];
-      const Eigen::Vector3d x(1.0, f.depth * f.u.x(), f.depth * f.u.y());
+      const Eigen::VectorXd x = surface.basis(f.u);
       a += weight[k] * x * x.transpose();
-      b += weight[k] * f.depth * x;
+      b += weight[k] / f.depth * x;
       sum_w += weight[k];
       ++used;
     }
-    if (used < o.min_anchor_features) return false;
-    const Eigen::LDLT<Eigen::Matrix3d> ldlt(a);
+    if (used < std::max(o.min_anchor_features, 2 * np)) return false;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(a);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
     coef = ldlt.solve(b);
     std::vector<double> abs_res;
     sum_w2r2 = 0;
     for (size_t k = 0; k < near.size(); ++k) {
       const DepthFeature& f = features[near[k]];
-      residual[k] = f.depth - coef.dot(Eigen::Vector3d(1.0, f.depth * f.u.x(), f.depth * f.u.y()));
+      const double r = 1.0 / f.depth - coef.dot(surface.basis(f.u));
+      residual[k] = r * f.depth;
       abs_res.push_back(std::abs(residual[k]));
-      if (std::abs(residual[k]) <= cut) sum_w2r2 += weight[k] * weight[k] * residual[k] * residual[k];
+      if (std::abs(residual[k]) <= cut) sum_w2r2 += weight[k] * weight[k] * r * r;
     }
-    cut = std::max(1e-9 * coef(0), 3.0 * 1.4826 * median_of(abs_res));
+    cut = std::max(1e-9, 3.0 * 1.4826 * median_of(abs_res));
   }
-  // The beam point lambda * beam on z = a + b x + c y.
-  const double denom = beam.z() - coef(1) * beam.x() - coef(2) * beam.y();
-  const double lambda = denom > 1e-9 ? coef(0) / denom : -1.0;
-  if (!(lambda > 0) || !std::isfinite(lambda)) return false;
+  // The beam point lambda * beam: depth 1 / c0 on the beam line.
+  if (!(coef(0) > 0) || !(beam.z() > 1e-9)) return false;
+  const double lambda = 1.0 / (coef(0) * beam.z());
   *scale = range_m / lambda;
-  // Standard deviation of the weighted mean depth near the beam, relative.
-  *relative_sigma = std::sqrt(sum_w2r2) / sum_w / (lambda * beam.z());
+  // Standard deviation of the weighted mean inverse depth near the beam, relative.
+  *relative_sigma = std::sqrt(sum_w2r2) / sum_w / coef(0);
   return std::isfinite(*scale) && *scale > 0;
 }
 

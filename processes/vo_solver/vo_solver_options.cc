@@ -64,6 +64,13 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   fd.relative_process_noise = d.get_in_range("relative_process_noise", fd.relative_process_noise, 0.0, 1.0);
   fd.max_epipolar_px = d.get_in_range("max_epipolar_px", fd.max_epipolar_px, 1e-3, 100.0);
   fd.max_depth_jump_sigma = d.get_in_range("max_depth_jump_sigma", fd.max_depth_jump_sigma, 1.0, 100.0);
+  const std::string anchor_surface = d.get<std::string>(
+      "anchor_surface", fd.anchor_surface == vo::AnchorSurfaceModel::kQuadratic ? "quadratic" : "plane");
+  if (anchor_surface != "quadratic" && anchor_surface != "plane") {
+    throw d.error("anchor_surface", "= '" + anchor_surface + "' must be quadratic or plane");
+  }
+  fd.anchor_surface =
+      anchor_surface == "quadratic" ? vo::AnchorSurfaceModel::kQuadratic : vo::AnchorSurfaceModel::kPlane;
   const std::string dz_mode = c.get<std::string>("dz_mode", "symmetric");
   if (dz_mode != "symmetric" && dz_mode != "forward") {
     throw c.error("dz_mode", "= '" + dz_mode + "' must be symmetric or forward");

@@ -23,8 +23,28 @@ TerrainSequence::TerrainSequence(const TerrainSpec& spec) : spec_(spec) {
       std::mt19937 cell_rng(static_cast<uint32_t>(cell) * 2654435761u + spec.seed);
       up = spec.relief_m * (1.5 * std::uniform_real_distribution<double>(0.0, 1.0)(cell_rng) - 0.5);
     }
-    points_.emplace_back(c * a - s * b, s * a + c * b, -up);
+    const double north = c * a - s * b, east = s * a + c * b;
+    points_.emplace_back(north, east, -up - ridge_up(north, east));
   }
+}
+
+double TerrainSequence::ridge_up(double north, double east) const {
+  if (spec_.ridge_amplitude_m == 0.0) return 0.0;
+  const double along = std::cos(spec_.heading) * north + std::sin(spec_.heading) * east;
+  // Crests sharper than the valleys (a second harmonic), as ridges are.
+  const double phase = 2.0 * M_PI * along / spec_.ridge_wavelength_m;
+  return spec_.ridge_amplitude_m * (std::cos(phase) + 0.5 * std::cos(2.0 * phase));
+}
+
+double TerrainSequence::range_to_corridor(const Eigen::Vector3d& position, const Eigen::Vector3d& beam) const {
+  // The beam meets z = -ridge_up(x, y): fixed-point iteration on the range
+  // (the ridges' slopes stay far below the beam's steepness).
+  double range = -position.z() / beam.z();
+  for (int i = 0; i < 100; ++i) {
+    const Eigen::Vector3d spot = position + range * beam;
+    range = (-ridge_up(spot.x(), spot.y()) - position.z()) / beam.z();
+  }
+  return range;
 }
 
 FramePose TerrainSequence::pose(int k) const {
@@ -50,10 +70,10 @@ SequencePair TerrainSequence::pair(int j, int k) const {
   pair.curr_roll = b.roll;
   pair.curr_pitch = b.pitch;
   pair.curr_yaw = b.yaw;
-  // Altimeter along body z onto the level corridor (z = 0).
+  // Altimeter along body z onto the corridor (level, or over the ridges).
   const Eigen::Matrix3d ra = rotation_from_rpy(a.roll, a.pitch, a.yaw), rb = rotation_from_rpy(b.roll, b.pitch, b.yaw);
-  pair.prev_range_m = -a.position.z() / ra.col(2).z();
-  pair.curr_range_m = -b.position.z() / rb.col(2).z();
+  pair.prev_range_m = range_to_corridor(a.position, ra.col(2));
+  pair.curr_range_m = range_to_corridor(b.position, rb.col(2));
   std::mt19937 rng(spec_.seed * 7919u + static_cast<uint32_t>(k));
   std::normal_distribution<double> noise(0.0, spec_.noise_px / spec_.fx);
   auto project = [&](const Eigen::Matrix3d& r, const Eigen::Vector3d& centre, const Eigen::Vector3d& x,

@@ -25,6 +25,11 @@ struct TerrainSpec {
   double yaw_rate = 0.0;            // rad per frame, for the vehicle's heading (the path stays straight)
   double corridor_half_width_m = 45.0;  // level ground either side of the path
   double relief_m = 25.0;           // block heights beside the corridor up to this (and pits down to -relief/2)
+  // Smooth ridges across the path, everywhere (the corridor too, so under the
+  // altimeter): the ground rises by ridge_amplitude_m * (cos p + cos(2 p) / 2), p = 2 pi along /
+  // ridge_wavelength_m: crests sharper than the valleys.
+  double ridge_amplitude_m = 0.0;
+  double ridge_wavelength_m = 160.0;
   int num_points = 6000;
   double noise_px = 0.0;
   uint32_t seed = 1;
@@ -61,6 +66,11 @@ class TerrainSequence {
   std::function<FramePose(int)> pose_override;
 
  private:
+  // Height of the ridges above the level corridor at a north-east position.
+  double ridge_up(double north, double east) const;
+  // Range from the camera at `position` along `beam` (unit) to the ground under the path.
+  double range_to_corridor(const Eigen::Vector3d& position, const Eigen::Vector3d& beam) const;
+
   TerrainSpec spec_;
   std::vector<Eigen::Vector3d> points_;
 };
