@@ -73,9 +73,9 @@ struct AnchorSurface {
 // outlier rejection on the relative depth residual) to the own-depth features
 // whose rays lie within `anchor_radius` of the beam;
 // range_along_beam(structure) * scale = measured range.
-bool anchor_scale(const std::vector<DepthFeature>& features, const Eigen::Vector3d& beam, double range_m,
-                  const FeatureDepthOptions& o, double* scale, double* relative_sigma) {
-  const int np = o.anchor_surface == AnchorSurfaceModel::kQuadratic ? 6 : 3;
+bool fit_anchor(const std::vector<DepthFeature>& features, const Eigen::Vector3d& beam, double range_m,
+                const FeatureDepthOptions& o, AnchorSurfaceModel model, double* scale, double* relative_sigma) {
+  const int np = model == AnchorSurfaceModel::kQuadratic ? 6 : 3;
   AnchorSurface surface;
   surface.coef = Eigen::VectorXd::Zero(np);
   surface.beam_xy = beam.head<2>() / beam.z();
@@ -130,6 +130,15 @@ bool anchor_scale(const std::vector<DepthFeature>& features, const Eigen::Vector
   // Standard deviation of the weighted mean inverse depth near the beam, relative.
   *relative_sigma = std::sqrt(sum_w2r2) / sum_w / coef(0);
   return std::isfinite(*scale) && *scale > 0;
+}
+
+// The configured surface; a quadratic the own depths near the beam cannot
+// hold (too few, or all along one line) falls back to the plane.
+bool anchor_scale(const std::vector<DepthFeature>& features, const Eigen::Vector3d& beam, double range_m,
+                  const FeatureDepthOptions& o, double* scale, double* relative_sigma) {
+  if (fit_anchor(features, beam, range_m, o, o.anchor_surface, scale, relative_sigma)) return true;
+  return o.anchor_surface == AnchorSurfaceModel::kQuadratic &&
+         fit_anchor(features, beam, range_m, o, AnchorSurfaceModel::kPlane, scale, relative_sigma);
 }
 
 // Reprojection of feature f into the curr level frame for motion

@@ -229,6 +229,42 @@ TEST(FeatureDepth, QuadraticAnchorFollowsRidgesUnderTheAltimeter) {
   EXPECT_LT(std::abs(quadratic), std::abs(plane));
 }
 
+TEST(FeatureDepth, QuadraticAnchorWithTooFewDepthsFallsBackToThePlane) {
+  // A small anchor radius (21 m on the ground here) holds about twelve own
+  // depths: on some pairs fewer than the quadratic's twelve. There the anchor
+  // is the plane's, never the paper's solve (which it was at first: over
+  // relief that cost a fifth of a flight's error, README section Rough ground).
+  TerrainSpec spec;
+  spec.relief_m = 0.0;
+  spec.ridge_amplitude_m = 6.0;
+  TerrainSequence seq{spec};
+  SolverOptions plane = exact_options();
+  plane.feature_depth.anchor_radius = 0.14;
+  plane.feature_depth.anchor_surface = AnchorSurfaceModel::kPlane;
+  SolverOptions quadratic = plane;
+  quadratic.feature_depth.anchor_surface = AnchorSurfaceModel::kQuadratic;
+  FeatureDepthMap map(plane);
+  int as_plane = 0, own = 0;
+  for (int k = 1; k <= 160; ++k) {
+    SequencePair sp = seq.pair(k);
+    map.fill(sp.ids, (k - 1) * kPeriod, &sp.pair);
+    const Estimate by_plane = solve(sp.pair, plane);
+    if (k > 60) {
+      const Estimate by_quadratic = solve(sp.pair, quadratic);
+      const Estimate by_paper = solve(sp.pair, variant_options(Variant::kPaper));
+      if (by_plane.translation != by_paper.translation) {  // the plane anchor held
+        EXPECT_NE(by_quadratic.translation, by_paper.translation) << "frame " << k;
+        as_plane += by_quadratic.translation == by_plane.translation;
+        ++own;
+      }
+    }
+    map.update(sp.ids, k * kPeriod, sp.pair, by_plane);
+  }
+  EXPECT_GT(own, 60);
+  EXPECT_GT(as_plane, 0);    // some pairs with too few for the quadratic ...
+  EXPECT_LT(as_plane, own);  // ... and some with enough
+}
+
 TEST(FeatureDepth, HoverHasNoDepthAndFallsBackToThePatch) {
   TerrainSequence seq{TerrainSpec{}};
   seq.pose_override = [](int k) {
