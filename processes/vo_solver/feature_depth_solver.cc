@@ -50,23 +50,22 @@ struct DepthFeature {
 // terms c3 dx^2 + c4 dx dy + c5 dy^2 (a curved surface: a crest, a valley).
 // The rays are known without error and an own depth's noise is relative, so
 // the fit is linear with noise in 1/z alone. The beam meets it at depth 1/c0.
-struct AnchorSurface {
-  Eigen::VectorXd coef;
-  Eigen::Vector2d beam_xy = Eigen::Vector2d::Zero();
-  Eigen::VectorXd basis(const Eigen::Vector3d& u) const {
-    const Eigen::Vector2d d = u.head<2>() - beam_xy;
-    Eigen::VectorXd x(coef.size());
-    x(0) = 1.0;
-    x(1) = d.x();
-    x(2) = d.y();
-    if (coef.size() == 6) {
-      x(3) = d.x() * d.x();
-      x(4) = d.x() * d.y();
-      x(5) = d.y() * d.y();
-    }
-    return x;
+using AnchorVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+using AnchorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+
+AnchorVector anchor_basis(const Eigen::Vector3d& u, const Eigen::Vector2d& beam_xy, int terms) {
+  const Eigen::Vector2d d = u.head<2>() - beam_xy;
+  AnchorVector x(terms);
+  x(0) = 1.0;
+  x(1) = d.x();
+  x(2) = d.y();
+  if (terms == 6) {
+    x(3) = d.x() * d.x();
+    x(4) = d.x() * d.y();
+    x(5) = d.y() * d.y();
   }
-};
+  return x;
+}
 
 // Scale of the own depths from the prev altimeter: the surface above fitted
 // (Gaussian weights by the offset, sigma = radius / 2, one pass of 3 MAD
@@ -76,48 +75,44 @@ struct AnchorSurface {
 bool fit_anchor(const std::vector<DepthFeature>& features, const Eigen::Vector3d& beam, double range_m,
                 const FeatureDepthOptions& o, AnchorSurfaceModel model, double* scale, double* relative_sigma) {
   const int np = model == AnchorSurfaceModel::kQuadratic ? 6 : 3;
-  AnchorSurface surface;
-  surface.coef = Eigen::VectorXd::Zero(np);
-  surface.beam_xy = beam.head<2>() / beam.z();
-  std::vector<int> near;
+  const Eigen::Vector2d beam_xy = beam.head<2>() / beam.z();
+  std::vector<const DepthFeature*> near;
+  std::vector<AnchorVector> basis;
   std::vector<double> weight;
   const double sd = 0.5 * o.anchor_radius;
-  for (size_t i = 0; i < features.size(); ++i) {
-    const DepthFeature& f = features[i];
-    const double d = (f.u.head<2>() - surface.beam_xy).norm();
+  for (const DepthFeature& f : features) {
+    const double d = (f.u.head<2>() - beam_xy).norm();
     if (!f.own || d > o.anchor_radius) continue;
-    near.push_back(static_cast<int>(i));
+    near.push_back(&f);
+    basis.push_back(anchor_basis(f.u, beam_xy, np));
     // 1/z has the relative depth noise over z: weight z^2.
     weight.push_back(std::exp(-0.5 * d * d / (sd * sd)) * f.depth * f.depth);
   }
-  Eigen::VectorXd coef = Eigen::VectorXd::Zero(np);
+  AnchorVector coef = AnchorVector::Zero(np);
   std::vector<double> residual(near.size(), 0.0);  // relative to the depth
   double cut = std::numeric_limits<double>::infinity();
   double sum_w = 0, sum_w2r2 = 0;
   for (int pass = 0; pass < 2; ++pass) {
-    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(np, np);
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(np);
+    AnchorMatrix a = AnchorMatrix::Zero(np, np);
+    AnchorVector b = AnchorVector::Zero(np);
     int used = 0;
     sum_w = 0;
     for (size_t k = 0; k < near.size(); ++k) {
       if (!(std::abs(residual[k]) <= cut)) continue;
-      const DepthFeature& f = features[near[k]];
-      const Eigen::VectorXd x = surface.basis(f.u);
-      a += weight[k] * x * x.transpose();
-      b += weight[k] / f.depth * x;
+      a += weight[k] * basis[k] * basis[k].transpose();
+      b += weight[k] / near[k]->depth * basis[k];
       sum_w += weight[k];
       ++used;
     }
     if (used < std::max(o.min_anchor_features, 2 * np)) return false;
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(a);
+    const Eigen::LDLT<AnchorMatrix> ldlt(a);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
     coef = ldlt.solve(b);
     std::vector<double> abs_res;
     sum_w2r2 = 0;
     for (size_t k = 0; k < near.size(); ++k) {
-      const DepthFeature& f = features[near[k]];
-      const double r = 1.0 / f.depth - coef.dot(surface.basis(f.u));
-      residual[k] = r * f.depth;
+      const double r = 1.0 / near[k]->depth - coef.dot(basis[k]);
+      residual[k] = r * near[k]->depth;
       abs_res.push_back(std::abs(residual[k]));
       if (std::abs(residual[k]) <= cut) sum_w2r2 += weight[k] * weight[k] * r * r;
     }
