@@ -26,8 +26,10 @@ struct FeatureDepthOptions {
   double anchor_radius = 0.25;
   int min_anchor_features = 8;
   AnchorSurfaceModel anchor_surface = AnchorSurfaceModel::kQuadratic;
-  // Weight of a feature on the patch (young) beside one with its own depth.
-  double patch_feature_weight = 0.25;
+  // Weight of a feature on the patch (young) beside one with its own depth,
+  // where the patch holds the own depths within their sigmas; divided by the
+  // square of the patch's misfit to them where that is above 1 (relief).
+  double patch_feature_weight = 1.0;
   // Depth of a track (from its first ray against the curr one): image noise
   // assumed (pixels), the parallax (rad) below which the track says nothing
   // about depth yet (hover), the floor of a depth's relative sigma (the error

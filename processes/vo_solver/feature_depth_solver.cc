@@ -39,6 +39,7 @@ namespace {
 struct DepthFeature {
   Eigen::Vector3d u, v;  // level rays of prev and curr, z = 1
   double depth = 0;      // along u (vertical depth below the prev camera), metres
+  double relative_sigma = 0;  // an own depth's sigma over the depth
   double base_weight = 0;
   bool own = false;
   int index = 0;         // in the input pair
@@ -160,6 +161,25 @@ bool reprojection(const DepthFeature& f, const Motion& m, double focal_px, Eigen
   return error->allFinite();
 }
 
+// How far the patch misses the own depths, in their own sigmas: 1.4826 x the
+// median over the own-depth features of |patch depth / own depth - 1| /
+// relative sigma (a robust normalized residual: an own depth gone wrong does
+// not move it). About 1 or less where the ground is the plane the patch
+// assumes, several over hills; relief under less than half the own depths
+// (a few blocks on level ground) leaves it low. 0 when no own feature sees
+// the patch in front of it.
+double patch_misfit(const std::vector<DepthFeature>& features, const Eigen::Vector3d& prev_normal,
+                    double prev_offset) {
+  std::vector<double> normalized;
+  for (const DepthFeature& f : features) {
+    if (!f.own || !(f.relative_sigma > 0)) continue;
+    const double along = prev_normal.dot(f.u);
+    if (!(along > 1e-9)) continue;
+    normalized.push_back(std::abs(prev_offset / along / f.depth - 1.0) / f.relative_sigma);
+  }
+  return normalized.empty() ? 0.0 : 1.4826 * median_of(normalized);
+}
+
 }  // namespace
 
 Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options) {
@@ -194,6 +214,7 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
     f.index = static_cast<int>(i);
     f.own = own_usable(i);
     f.depth = f.own ? pair.prev_depth_m[i] : 0.0;
+    f.relative_sigma = f.own ? pair.prev_depth_sigma_m[i] / pair.prev_depth_m[i] : 0.0;
     features.push_back(f);
   }
   double scale = 1, scale_sigma = 0;
@@ -209,20 +230,27 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   if (patch.quality & kFailed) return solve_paper(pair, options, true);
 
   // Young features: depth on the patch (through the curr altimeter spot),
-  // seen from prev: n' . X = n . A + n' . t with n' = Rz(dyaw) n.
+  // seen from prev: n' . X = n . A + n' . t with n' = Rz(dyaw) n. Their
+  // weight is patch_feature_weight over the square of how far the patch
+  // misses the own depths in their sigmas: full where the ground is the
+  // patch's plane (and the curr altimeter's range then holds dz), little over
+  // relief, where the plane puts them at wrong depths.
   const Eigen::Vector3d normal = normal_from_tilt(patch.ground_roll, patch.ground_pitch);
   const double plane_offset = normal.dot(pair.curr_range_m * curr_beam);
   const Eigen::Vector3d prev_normal = rot_z(patch.dyaw) * normal;
   const double prev_offset = plane_offset + prev_normal.dot(patch.translation);
   for (DepthFeature& f : features) {
-    if (f.own) {
-      f.depth *= scale;
-      f.base_weight = 1.0;
-      continue;
-    }
+    if (!f.own) continue;
+    f.depth *= scale;
+    f.base_weight = 1.0;
+  }
+  const double misfit = patch_misfit(features, prev_normal, prev_offset);
+  const double patch_weight = o.patch_feature_weight / std::max(1.0, misfit * misfit);
+  for (DepthFeature& f : features) {
+    if (f.own) continue;
     const double along = prev_normal.dot(f.u);
     f.depth = along > 1e-9 ? prev_offset / along : 0.0;
-    f.base_weight = f.depth > 0 ? o.patch_feature_weight : 0.0;
+    f.base_weight = f.depth > 0 ? patch_weight : 0.0;
   }
 
   Motion motion;
@@ -332,6 +360,7 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   est.altitude_m = prev_vertical_height(normal, plane_offset, est.dyaw, est.translation);
   est.iterations = patch.iterations + iterations;
   est.depth_scale = scale;
+  est.patch_misfit = misfit;
   errors(motion);
   double sum_sq = 0, sum_w = 0;
   for (size_t i = 0; i < m; ++i) {

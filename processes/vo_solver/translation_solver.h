@@ -111,6 +111,9 @@ struct Estimate {
   // depths on this pair's altimeter (1 where none was used), and per feature
   // whether its own depth was used (else the patch's).
   double depth_scale = 1.0;
+  // How far the patch missed the own depths, in their sigmas (the young
+  // features' weight went down by its square where above 1); 0 where unused.
+  double patch_misfit = 0.0;
   std::vector<char> used_own_depth;
 };
 

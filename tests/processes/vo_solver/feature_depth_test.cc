@@ -190,6 +190,68 @@ TEST(FeatureDepth, UnbiasedWithNoiseOnOwnDepthsAlone) {
   EXPECT_LT(std::abs(sum / usable), 0.01);  // measured -0.002
 }
 
+double largest_young_weight(const Estimate& e) {
+  double w = 0;
+  for (size_t i = 0; i < e.weights.size(); ++i) {
+    if (!e.used_own_depth[i]) w = std::max(w, e.weights[i]);
+  }
+  return w;
+}
+
+TEST(FeatureDepth, YoungFeaturesCountFullyWhereTheGroundIsThePatch) {
+  // Level ground, noise-free: the patch holds every own depth (misfit 0), so
+  // the young features keep patch_feature_weight (1: as much as a feature
+  // with its own depth) and carry the curr altimeter's range into dz.
+  TerrainSpec spec;
+  spec.relief_m = 0.0;
+  TerrainSequence seq{spec};
+  SolverOptions fd = variant_options(Variant::kFeatureDepth);
+  fd.feature_depth.triangulation_noise_px = 1e-3;
+  ASSERT_EQ(fd.feature_depth.patch_feature_weight, 1.0);
+  FeatureDepthMap map(fd);
+  const SequenceRun r = run(seq, 240, fd, &map);
+  int young = 0;
+  for (int k = 120; k <= 240; ++k) {
+    const Estimate& e = r.estimates[k];
+    EXPECT_GT(own_used(e), 100) << "frame " << k;
+    EXPECT_LT(e.patch_misfit, 1.0) << "frame " << k;
+    const int young_here = static_cast<int>(e.weights.size()) - own_used(e);
+    if (young_here > 0) {
+      EXPECT_GT(largest_young_weight(e), 0.99) << "frame " << k;
+    }
+    young += young_here;
+    EXPECT_NEAR((e.translation - r.pairs[k].translation).norm(), 0.0, 1e-9) << "frame " << k;
+  }
+  EXPECT_GT(young, 500);
+}
+
+TEST(FeatureDepth, YoungFeaturesWeighLittleOverRidges) {
+  // Ridges under the whole view, noise-free: the plane puts the young
+  // features at depths wrong by metres, and the patch misses the own depths
+  // by several of their sigmas (measured 7 to 54). Each young feature's
+  // weight is at most patch_feature_weight / misfit^2, and the motion is the
+  // own depths' (the same run with the young features given no weight).
+  TerrainSpec spec;
+  spec.relief_m = 0.0;
+  spec.ridge_amplitude_m = 6.0;
+  TerrainSequence seq{spec};
+  SolverOptions fd = variant_options(Variant::kFeatureDepth);
+  fd.feature_depth.triangulation_noise_px = 1e-3;
+  FeatureDepthMap map(fd);
+  const SequenceRun r = run(seq, 240, fd, &map);
+  const SolverOptions own_only = exact_options();
+  FeatureDepthMap own_map(own_only);
+  const SequenceRun o = run(seq, 240, own_only, &own_map);
+  double largest_difference = 0;
+  for (int k = 120; k <= 240; ++k) {
+    const Estimate& e = r.estimates[k];
+    EXPECT_GT(e.patch_misfit, 5.0) << "frame " << k;
+    EXPECT_LE(largest_young_weight(e), 1.0 / (e.patch_misfit * e.patch_misfit)) << "frame " << k;
+    largest_difference = std::max(largest_difference, (e.translation - o.estimates[k].translation).norm());
+  }
+  EXPECT_LT(largest_difference, 1e-3);
+}
+
 TEST(FeatureDepth, QuadraticAnchorFollowsRidgesUnderTheAltimeter) {
   // Ridges 160 m apart (crests 13.5 m above the valleys, sharper than them)
   // across the path and under the altimeter, noise-free. The own depths are
