@@ -11,7 +11,8 @@ int main(int argc, char** argv) {
       "INS-assisted monocular VO solver (Zhang & Singh, Algorithm 1). Subscribes TRACKS, INS and ALTIMETER, "
       "synchronises them by sensor time and publishes VO_DELTA: the translation between frames in the level "
       "frame of the previous frame, heading change, ground tilt, covariance and a quality flag. "
-      "Options: vo_solver section of the config (variant: paper | level_ground | homography | flow).";
+      "Options: vo_solver section of the config (variant: feature_depth, the shipped default | paper | "
+      "level_ground | homography | flow).";
   spec.factory = nadir::make_vo_solver_node;
   return nadir::run_node_process(argc, argv, spec);
 }

@@ -21,6 +21,8 @@ Variant variant_from_name(const std::string& name);
 std::string variant_name(Variant variant);
 
 struct SolverOptions {
+  // The paper's solver when unset; config/default.yaml ships feature_depth
+  // (better on Table 1's profiles and over relief: README § Rough ground).
   Variant variant = Variant::kPaper;
   double focal_px = 398.79;            // for image reprojection errors in pixels
   // The *_px thresholds below are pixels of a camera with this focal length;
