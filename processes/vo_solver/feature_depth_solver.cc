@@ -161,6 +161,15 @@ bool reprojection(const DepthFeature& f, const Motion& m, double focal_px, Eigen
   return error->allFinite();
 }
 
+// Depth along the level ray u (z = 1) of the patch seen from prev,
+// n' . X = prev_offset; false when the ray does not meet it in front.
+bool patch_depth(const Eigen::Vector3d& u, const Eigen::Vector3d& prev_normal, double prev_offset, double* depth) {
+  const double along = prev_normal.dot(u);
+  if (!(along > 1e-9)) return false;
+  *depth = prev_offset / along;
+  return true;
+}
+
 // How far the patch misses the own depths, in their own sigmas: 1.4826 x the
 // median over the own-depth features of |patch depth / own depth - 1| /
 // relative sigma (a robust normalized residual: an own depth gone wrong does
@@ -171,11 +180,10 @@ bool reprojection(const DepthFeature& f, const Motion& m, double focal_px, Eigen
 double patch_misfit(const std::vector<DepthFeature>& features, const Eigen::Vector3d& prev_normal,
                     double prev_offset) {
   std::vector<double> normalized;
+  double depth = 0;
   for (const DepthFeature& f : features) {
-    if (!f.own || !(f.relative_sigma > 0)) continue;
-    const double along = prev_normal.dot(f.u);
-    if (!(along > 1e-9)) continue;
-    normalized.push_back(std::abs(prev_offset / along / f.depth - 1.0) / f.relative_sigma);
+    if (!f.own || !(f.relative_sigma > 0) || !patch_depth(f.u, prev_normal, prev_offset, &depth)) continue;
+    normalized.push_back(std::abs(depth / f.depth - 1.0) / f.relative_sigma);
   }
   return normalized.empty() ? 0.0 : 1.4826 * median_of(normalized);
 }
@@ -248,8 +256,7 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   const double patch_weight = o.patch_feature_weight / std::max(1.0, misfit * misfit);
   for (DepthFeature& f : features) {
     if (f.own) continue;
-    const double along = prev_normal.dot(f.u);
-    f.depth = along > 1e-9 ? prev_offset / along : 0.0;
+    if (!patch_depth(f.u, prev_normal, prev_offset, &f.depth)) f.depth = 0.0;
     f.base_weight = f.depth > 0 ? patch_weight : 0.0;
   }
 
