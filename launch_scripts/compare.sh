@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# The solver variants (paper, level_ground, homography, flow) on the same
-# simulated flights: test1-3 with the standard sensor set, each flown with
-# several fixed seeds (the first is table1.sh's). Markdown tables of the final
-# and the RMS 3-D error (% of distance flown), mean over the seeds and per
-# seed, the paper variant's margin over the best baseline, and bar charts.
+# The solver variants (feature_depth, the default; paper; level_ground;
+# homography; flow) on the same simulated flights: test1-3 with the standard
+# sensor set, each flown with several fixed seeds (the first is table1.sh's).
+# Markdown tables of the final and the RMS 3-D error (% of distance flown),
+# mean over the seeds and per seed, the default variant's margin over the best
+# other, and bar charts.
 # Usage: compare.sh [--reuse] [--reuse-evals] [--seeds N]   (N = 1..3 seeds per profile, default 3)
 #   --reuse keeps existing simulations; --reuse-evals also keeps existing evaluations.
 set -euo pipefail
@@ -25,7 +26,7 @@ sims="$NADIR_ROOT/logs/table1"
 out="$NADIR_ROOT/logs/compare"
 mkdir -p "$sims" "$out/sims"
 declare -A seeds=([test1]="101 104 107" [test2]="102 105 108" [test3]="103 106 109")
-variants=(paper level_ground homography flow)
+variants=(feature_depth paper level_ground homography flow)
 runs=()
 for t in test1 test2 test3; do
   read -ra all <<< "${seeds[$t]}"

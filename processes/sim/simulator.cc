@@ -34,6 +34,8 @@ constexpr int64_t kWeekUs = 604800LL * 1000000LL;
 
 bool nonzero(const std::array<double, 3>& v) { return v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0; }
 
+}  // namespace
+
 // The camera as it really is: the configured one with the sensor set's
 // installation and intrinsic errors applied (each only when set, so an exact
 // set renders bit for bit as before).
@@ -54,8 +56,6 @@ SimCamera true_camera(const SimCamera& configured, const CameraSensorOptions& er
   if (!distorted) cam.distortion = configured.distortion;
   return cam;
 }
-
-}  // namespace
 
 Simulator::Simulator(const FlightProfile& profile, const SimCamera& camera, const SensorOptions& sensors,
                      const SimulatorOptions& options)

@@ -22,6 +22,12 @@
 
 namespace nadir::sim {
 
+// The camera as it really is: `configured` with the sensor set's installation
+// and intrinsic errors applied (each only when set). What the simulator
+// renders through; tools that compare against the simulator's truth
+// (nadir_track_truth) use it too.
+SimCamera true_camera(const SimCamera& configured, const CameraSensorOptions& errors);
+
 // 2026-01-01T00:00:00Z in microseconds: the fixed epoch of log mode, so the
 // same profile and seed give a byte-identical log.
 constexpr int64_t kLogEpochUs = 1767225600LL * 1000000LL;
