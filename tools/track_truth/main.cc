@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "common/channels.h"
@@ -75,6 +76,7 @@ std::string report_json(const TrackTruthReport& r, int64_t corrupt, uint64_t see
       .field("corrupt_records", corrupt);
   j.key("flow");
   write_stats(&j, r.flow);
+  j.field("flow_expansion_per_frame", r.flow_expansion_per_frame);
   j.key("drift_by_age").begin_array();
   for (const auto& bin : r.drift_by_age) {
     j.begin_object().field("age_from", bin.from).field("age_to", bin.to);
@@ -97,7 +99,7 @@ int main(int argc, char** argv) {
       "step (--rewrite flow), to run the solver on tracks without the tracker's error. The world (terrain, "
       "true camera, mount) comes from the simulator's CONFIG in the log.",
       "nadir_track_truth"};
-  std::string in_path, truth_path, out_path, config_path, rewrite_name = "exact";
+  std::string in_path, truth_path, out_path, config_path, frames_path, rewrite_name = "exact";
   bool json = false, drop_images = false;
   app.add_option("--in", in_path, "log with TRACKS (a replay of a simulated flight)")->required();
   app.add_option("--truth", truth_path, "log with GROUND_TRUTH and the simulator's CONFIG (default: --in)");
@@ -106,6 +108,8 @@ int main(int argc, char** argv) {
                  "CONFIG in --in, else <checkout>/config/default.yaml)");
   app.add_option("--out", out_path, "write a copy of --in with TRACKS rewritten");
   app.add_option("--rewrite", rewrite_name, "exact | flow (with --out)")->check(CLI::IsMember({"exact", "flow"}));
+  app.add_option("--frames", frames_path,
+                 "write each TRACKS message's flow error as CSV (utime, tracks, mean x/y, rms, expansion)");
   app.add_flag("--drop-images", drop_images, "leave CAMERA_IMAGE out of --out (a tenth of the size)");
   app.add_flag("--json", json, "print the report as JSON");
   try {
@@ -157,6 +161,12 @@ int main(int argc, char** argv) {
                             : rewrite_name == "flow" ? Rewrite::kFlow
                                                      : Rewrite::kExact;
     nadir::track_truth::TrackTruth compare(scene, camera);
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> frames(nullptr, &std::fclose);
+    if (!frames_path.empty()) {
+      frames.reset(std::fopen(frames_path.c_str(), "w"));
+      if (!frames) throw std::runtime_error(frames_path + ": cannot create");
+      std::fprintf(frames.get(), "utime,tracks,mean_x_px,mean_y_px,rms_px,expansion_per_frame\n");
+    }
     std::unique_ptr<nadir::LogWriter> writer;
     if (!out_path.empty()) writer = std::make_unique<nadir::LogWriter>(out_path);
     nadir::ProgressBar progress("track truth", static_cast<double>(reader.size()),
@@ -174,7 +184,11 @@ int main(int argc, char** argv) {
           if (writer) writer->write(e.timestamp, e.channel, e.data, e.size);
           continue;
         }
-        compare.process(&tracks, rewrite);
+        const nadir::track_truth::FrameFlow frame = compare.process(&tracks, rewrite);
+        if (frames && frame.count > 0) {
+          std::fprintf(frames.get(), "%lld,%lld,%.6f,%.6f,%.6f,%.6e\n", static_cast<long long>(frame.utime),
+                       static_cast<long long>(frame.count), frame.mean_x, frame.mean_y, frame.rms, frame.expansion);
+        }
         if (writer) {
           const std::vector<uint8_t> bytes = nadir::encode_message(tracks);
           writer->write(e.timestamp, e.channel, bytes.data(), bytes.size());
@@ -201,6 +215,10 @@ int main(int argc, char** argv) {
                 static_cast<long long>(r.tracks), static_cast<long long>(r.ray_misses),
                 static_cast<long long>(r.occluded), static_cast<long long>(corrupt));
     print_stats("flow (one step)", r.flow);
+    std::printf(
+        "flow expansion         %+.3e per frame (about the principal point; a solver reads it as vertical "
+        "motion)\n",
+        r.flow_expansion_per_frame);
     for (const auto& bin : r.drift_by_age) {
       char label[64];
       if (bin.to == std::numeric_limits<int>::max())

@@ -1,5 +1,6 @@
 #include "tools/track_truth/track_truth.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,6 +11,25 @@ const std::vector<std::array<int, 2>>& drift_age_bins() {
   static const std::vector<std::array<int, 2>> bins = {
       {1, 5}, {5, 10}, {10, 20}, {20, 40}, {40, 80}, {80, 160}, {160, 320}, {320, std::numeric_limits<int>::max()}};
   return bins;
+}
+
+void ExpansionFit::add(const Eigen::Vector2d& error, const Eigen::Vector2d& radius) {
+  ++count_;
+  sum_rx_ += radius.x();
+  sum_ry_ += radius.y();
+  sum_rr_ += radius.squaredNorm();
+  sum_ex_ += error.x();
+  sum_ey_ += error.y();
+  sum_er_ += error.dot(radius);
+}
+
+double ExpansionFit::expansion() const {
+  if (count_ < 3) return 0.0;
+  const double n = static_cast<double>(count_);
+  Eigen::Matrix3d a;
+  a << n, 0, sum_rx_, 0, n, sum_ry_, sum_rx_, sum_ry_, sum_rr_;
+  const Eigen::Vector3d solution = a.ldlt().solve(Eigen::Vector3d(sum_ex_, sum_ey_, sum_er_));
+  return solution.allFinite() ? solution.z() : 0.0;
 }
 
 void TrackTruth::Accumulator::add(const Eigen::Vector2d& e) {
@@ -45,14 +65,18 @@ void TrackTruth::write_position(const Eigen::Vector2d& px, float* pixel, double*
   normalized[1] = n[0].y;
 }
 
-void TrackTruth::process(tracks_t* tracks, Rewrite rewrite) {
+FrameFlow TrackTruth::process(tracks_t* tracks, Rewrite rewrite) {
   const int64_t index = counts_.messages++;
+  FrameFlow frame;
+  frame.utime = tracks->utime;
   CameraPose prev, curr;
-  if (tracks->num_tracks == 0) return;
+  if (tracks->num_tracks == 0) return frame;
   if (!scene_.pose_at(tracks->prev_utime, &prev) || !scene_.pose_at(tracks->utime, &curr)) {
     ++counts_.messages_without_truth;
-    return;
+    return frame;
   }
+  Accumulator frame_errors;
+  ExpansionFit frame_expansion;
   const auto& bins = drift_age_bins();
   for (int i = 0; i < tracks->num_tracks; ++i) {
     ++counts_.tracks;
@@ -71,7 +95,14 @@ void TrackTruth::process(tracks_t* tracks, Rewrite rewrite) {
     const bool seen = scene_.visible(curr, under_prev);
     if (!seen) ++counts_.occluded;
     const bool step_known = seen && scene_.pixel_of(curr, under_prev, &step_px);
-    if (step_known) flow_.add(curr_px - step_px);
+    if (step_known) {
+      const Eigen::Vector2d error = curr_px - step_px;
+      const Eigen::Vector2d radius = step_px - Eigen::Vector2d(scene_.camera().cx, scene_.camera().cy);
+      flow_.add(error);
+      expansion_.add(error, radius);
+      frame_errors.add(error);
+      frame_expansion.add(error, radius);
+    }
     const bool first_in_view = scene_.pixel_of(curr, first->second, &first_curr_px);
     if (first_in_view && scene_.visible(curr, first->second)) {
       const int age = std::max(1, static_cast<int>(tracks->age[i]));
@@ -97,12 +128,20 @@ void TrackTruth::process(tracks_t* tracks, Rewrite rewrite) {
       }
     }
   }
+  const ErrorStats stats = frame_errors.stats();
+  frame.count = stats.count;
+  frame.mean_x = stats.mean_x;
+  frame.mean_y = stats.mean_y;
+  frame.rms = stats.rms;
+  frame.expansion = frame_expansion.expansion();
+  return frame;
 }
 
 TrackTruthReport TrackTruth::report() const {
   TrackTruthReport r = counts_;
   Accumulator flow = flow_;
   r.flow = flow.stats();
+  r.flow_expansion_per_frame = expansion_.expansion();
   const auto& bins = drift_age_bins();
   for (size_t b = 0; b < bins.size(); ++b) {
     Accumulator a = drift_[b];

@@ -48,7 +48,35 @@ struct TrackTruthReport {
   int64_t ray_misses = 0;              // a prev pixel whose ray misses the ground
   int64_t occluded = 0;                // ground point hidden from curr: not in the statistics
   ErrorStats flow;
+  // The flow error's expansion about the principal point: k of the least
+  // squares fit error = shift + k * (curr pixel - principal point), per frame
+  // (a common shift of all tracks kept apart). A spurious
+  // expansion is what a solver reads as vertical motion (about -k * height a
+  // frame), so this is the tracker's vertical walk in one number.
+  double flow_expansion_per_frame = 0;
   std::vector<AgeBin> drift_by_age;
+};
+
+// Least squares fit of error = shift + k * radius over many tracks: k, the
+// expansion about the principal point (a common shift kept apart).
+class ExpansionFit {
+ public:
+  void add(const Eigen::Vector2d& error, const Eigen::Vector2d& radius);
+  int64_t count() const { return count_; }
+  // 0 with fewer than three tracks.
+  double expansion() const;
+
+ private:
+  int64_t count_ = 0;
+  double sum_rx_ = 0, sum_ry_ = 0, sum_rr_ = 0, sum_ex_ = 0, sum_ey_ = 0, sum_er_ = 0;
+};
+
+// One TRACKS message's flow error (pixels).
+struct FrameFlow {
+  int64_t utime = 0;
+  int64_t count = 0;  // tracks compared
+  double mean_x = 0, mean_y = 0, rms = 0;
+  double expansion = 0;  // per frame, as TrackTruthReport::flow_expansion_per_frame
 };
 
 class TrackTruth {
@@ -60,7 +88,8 @@ class TrackTruth {
 
   // Compares one message; with a rewrite, replaces its positions (pixels and
   // normalized) where the truth has them and leaves the rest as tracked.
-  void process(tracks_t* tracks, Rewrite rewrite);
+  // Returns the message's own flow error (count 0: not compared).
+  FrameFlow process(tracks_t* tracks, Rewrite rewrite);
   TrackTruthReport report() const;
 
  private:
@@ -79,6 +108,7 @@ class TrackTruth {
   CameraModel estimator_camera_;
   TrackTruthReport counts_;
   Accumulator flow_;
+  ExpansionFit expansion_;
   std::vector<Accumulator> drift_;
   std::unordered_map<int64_t, Eigen::Vector3d> first_point_;  // track id -> ground point where it started
   std::unordered_map<int64_t, int64_t> last_seen_;            // track id -> message index

@@ -84,31 +84,22 @@ CameraModel estimator_camera() {
   return CameraModel::from_config(Config::load_file(source_path("config/default.yaml")));
 }
 
-// Tracks on a grid of the first frame, followed through every frame along the
-// exact images of their ground points; each step's curr pixel is moved by
-// `step_error` px in x on top of the error the track has accumulated (so a
-// track of age a is off by a * step_error), as a drifting tracker would be.
-std::vector<tracks_t> tracks_along(const SimScene& scene, const Flight& f, double step_error) {
+// Tracks on a grid of the first frame, followed through every frame as a
+// tracker with a known error would: each step lands on the exact image of the
+// ground under the track's prev pixel plus `step_error` px in x plus
+// `expansion` times the offset from the principal point. A track's error so
+// accumulates with its age (its drift).
+std::vector<tracks_t> tracks_along(const SimScene& scene, const Flight& f, double step_error, double expansion = 0.0) {
   const CameraModel camera = estimator_camera();
+  const Eigen::Vector2d principal(scene.camera().cx, scene.camera().cy);
   std::vector<tracks_t> out;
-  std::map<int64_t, Eigen::Vector3d> points;
-  CameraPose first;
-  if (!scene.pose_at(f.frame_utimes.at(0), &first)) return out;
+  std::map<int64_t, Eigen::Vector2d> tracked;  // the "tracker's" position in the last frame
   int64_t id = 0;
   for (int v = 60; v < 480; v += 40)
-    for (int u = 60; u < 560; u += 40) {
-      Eigen::Vector3d p;
-      if (scene.ground_point(first, Eigen::Vector2d(u, v), &p)) points[id] = p;
-      ++id;
-    }
-  std::map<int64_t, Eigen::Vector2d> tracked;  // the "tracker's" position in the last frame
-  for (const auto& [track, p] : points) {
-    Eigen::Vector2d px;
-    if (scene.pixel_of(first, p, &px)) tracked[track] = px;
-  }
+    for (int u = 60; u < 560; u += 40) tracked[id++] = Eigen::Vector2d(u, v);
   for (size_t k = 1; k < f.frame_utimes.size(); ++k) {
-    CameraPose curr;
-    if (!scene.pose_at(f.frame_utimes[k], &curr)) continue;
+    CameraPose prev, curr;
+    if (!scene.pose_at(f.frame_utimes[k - 1], &prev) || !scene.pose_at(f.frame_utimes[k], &curr)) continue;
     tracks_t t;
     t.utime = f.frame_utimes[k];
     t.prev_utime = f.frame_utimes[k - 1];
@@ -117,12 +108,13 @@ std::vector<tracks_t> tracks_along(const SimScene& scene, const Flight& f, doubl
     t.height = 512;
     t.flags = 0;
     t.num_tracks = 0;
-    for (const auto& [track, p] : points) {
+    for (auto& [track, px] : tracked) {
+      Eigen::Vector3d ground;
       Eigen::Vector2d exact;
-      if (!scene.pixel_of(curr, p, &exact)) continue;
-      const Eigen::Vector2d prev_px = tracked[track];
-      const Eigen::Vector2d curr_px = exact + Eigen::Vector2d(step_error * static_cast<double>(k), 0.0);
-      tracked[track] = curr_px;
+      if (!scene.ground_point(prev, px, &ground) || !scene.pixel_of(curr, ground, &exact)) continue;
+      const Eigen::Vector2d prev_px = px;
+      const Eigen::Vector2d curr_px = exact + Eigen::Vector2d(step_error, 0.0) + expansion * (exact - principal);
+      px = curr_px;
       const auto pn = camera.undistort({cv::Point2f(static_cast<float>(prev_px.x()), static_cast<float>(prev_px.y()))});
       const auto cn = camera.undistort({cv::Point2f(static_cast<float>(curr_px.x()), static_cast<float>(curr_px.y()))});
       t.track_id.push_back(track);
@@ -212,11 +204,23 @@ TEST(TrackTruth, MeasuresAKnownStepErrorAndTheDriftItAccumulates) {
   // the ground under it moves with it; what is left is the step's own error.
   EXPECT_NEAR(r.flow.mean_x, step, 2e-3);
   EXPECT_NEAR(r.flow.mean_y, 0.0, 2e-3);
+  EXPECT_NEAR(r.flow_expansion_per_frame, 0.0, 1e-6);
   // Drift: age a is a * step off (ages 1-4, 5-9 and 10-14 here).
   ASSERT_EQ(r.drift_by_age.size(), 3u);
   EXPECT_NEAR(r.drift_by_age[0].drift.mean_x, step * 2.5, 2e-3);   // ages 1..4
   EXPECT_NEAR(r.drift_by_age[1].drift.mean_x, step * 7.0, 2e-3);   // ages 5..9
   EXPECT_NEAR(r.drift_by_age[2].drift.mean_x, step * 12.0, 2e-3);  // ages 10..14
+}
+
+TEST(TrackTruth, MeasuresASpuriousExpansion) {
+  const Flight& f = flight();
+  const SimScene scene = scene_of(f);
+  std::vector<tracks_t> tracks = tracks_along(scene, f, 0.0, 1e-4);
+  TrackTruth compare(scene, estimator_camera());
+  for (tracks_t& t : tracks) compare.process(&t, Rewrite::kNone);
+  const TrackTruthReport r = compare.report();
+  EXPECT_NEAR(r.flow_expansion_per_frame, 1e-4, 1e-6);
+  EXPECT_NEAR(r.flow.mean_x, 0.0, 5e-3);
 }
 
 TEST(TrackTruth, RewrittenTracksAreExactAndTheirNormalizedCoordinatesMatchTheirPixels) {
