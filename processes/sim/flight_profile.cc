@@ -47,19 +47,42 @@ std::string FlightProfile::resolve(const std::string& name_or_path) {
   return checkout_root() + "/config/profiles/" + name_or_path + ".yaml";
 }
 
-void FlightProfile::override_relief_scale(double relief_scale) {
-  if (!(relief_scale >= 0.0 && relief_scale <= 3.0)) {
-    std::ostringstream text;
-    text << source << ": terrain.relief_scale override " << relief_scale << " outside [0, 3]";
-    throw ConfigError(text.str());
-  }
-  terrain.relief_scale = relief_scale;
+namespace {
+
+// Sets `path` (one or two keys) of the profile's YAML text to `value`.
+std::string with_value(const std::string& yaml, const std::vector<std::string>& path, double value) {
   YAML::Node node = YAML::Load(yaml);
-  node["terrain"]["relief_scale"] = relief_scale;
+  if (path.size() == 1) {
+    node[path[0]] = value;
+  } else {
+    node[path[0]][path[1]] = value;
+  }
   YAML::Emitter out;
   out << node;
-  yaml = std::string(out.c_str()) + "\n";
+  return std::string(out.c_str()) + "\n";
+}
+
+void require_override_range(const std::string& source, const std::string& key, double value, double lo, double hi) {
+  if (value >= lo && value <= hi) return;
+  std::ostringstream text;
+  text << source << ": " << key << " override " << value << " outside [" << lo << ", " << hi << "]";
+  throw ConfigError(text.str());
+}
+
+}  // namespace
+
+void FlightProfile::override_relief_scale(double relief_scale) {
+  require_override_range(source, "terrain.relief_scale", relief_scale, 0.0, 3.0);
+  terrain.relief_scale = relief_scale;
+  yaml = with_value(yaml, {"terrain", "relief_scale"}, relief_scale);
   overrides.push_back("terrain.relief_scale");
+}
+
+void FlightProfile::override_altitude_agl(double altitude_agl) {
+  require_override_range(source, "altitude_agl_m", altitude_agl, 30.0, 3000.0);
+  altitude_agl_m = altitude_agl;
+  yaml = with_value(yaml, {"altitude_agl_m"}, altitude_agl);
+  overrides.push_back("altitude_agl_m");
 }
 
 FlightProfile FlightProfile::load(const std::string& path) {

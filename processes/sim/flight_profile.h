@@ -52,6 +52,11 @@ struct FlightProfile {
   // YAML text follows, and the key is listed in `overrides`. Throws
   // ConfigError naming the key when outside [0, 3].
   void override_relief_scale(double relief_scale);
+  // Replaces altitude_agl_m (the same flight shifted up or down: every climb
+  // and turn as before), recorded the same way; e.g. flat ground flown at the
+  // height a relief flight has above its ground. Throws ConfigError naming
+  // the key outside [30, 3000].
+  void override_altitude_agl(double altitude_agl_m);
 };
 
 struct TruthState {

@@ -49,6 +49,7 @@ struct Arguments {
   std::string sensors_path;
   std::string sensor_set = "standard";
   std::optional<double> relief_scale;
+  std::optional<double> altitude_agl_m;
   std::optional<double> roll_pitch_noise_deg, yaw_noise_deg, altimeter_noise_pct;
   std::vector<std::string> outages;
   bool json = false;
@@ -233,6 +234,10 @@ int main(int argc, char** argv) {
   app.add_option("--relief-scale", args.relief_scale,
                  "override the profile's terrain.relief_scale (0 = flat ground .. 3); the same flight and seed "
                  "over other relief. Recorded in CONFIG (profile.terrain, profile_overrides)");
+  app.add_option("--altitude-agl-m", args.altitude_agl_m,
+                 "override the profile's altitude_agl_m (30..3000): the same flight shifted up or down, e.g. flat "
+                 "ground flown at a relief flight's height above its ground. Recorded in CONFIG (profile, "
+                 "profile_overrides)");
   app.add_option("--roll-pitch-noise-deg", args.roll_pitch_noise_deg, "override INS roll/pitch white noise sigma");
   app.add_option("--yaw-noise-deg", args.yaw_noise_deg, "override INS yaw white noise sigma");
   app.add_option("--altimeter-noise-pct", args.altimeter_noise_pct, "override altimeter noise, percent of range");
@@ -274,6 +279,7 @@ int main(int argc, char** argv) {
     const std::string root = nadir::checkout_root() + "/";
     if (profile.source.compare(0, root.size(), root) == 0) profile.source = profile.source.substr(root.size());
     if (args.relief_scale) profile.override_relief_scale(*args.relief_scale);
+    if (args.altitude_agl_m) profile.override_altitude_agl(*args.altitude_agl_m);
 
     nadir::sim::SimulatorOptions options;
     options.seed = args.seed;

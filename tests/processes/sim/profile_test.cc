@@ -116,6 +116,35 @@ TEST(RoughProfiles, ReliefOverrideKeepsTheFlight) {
   }
 }
 
+// --altitude-agl-m: the same flight shifted down by the change, and CONFIG says so.
+TEST(RoughProfiles, AltitudeOverrideShiftsTheFlightAndNothingElse) {
+  FlightProfile p = testing::profile("rough_120");
+  const Trajectory original(p, 2);
+  p.override_relief_scale(0.0);
+  p.override_altitude_agl(59.0);
+  EXPECT_EQ(p.altitude_agl_m, 59.0);
+  ASSERT_EQ(p.overrides.size(), 2u);
+  EXPECT_EQ(p.overrides[1], "altitude_agl_m");
+  const FlightProfile reparsed = FlightProfile::parse(p.yaml, "override");
+  EXPECT_EQ(reparsed.altitude_agl_m, 59.0);
+  EXPECT_EQ(reparsed.terrain.relief_scale, 0.0);
+  const Trajectory lower(p, 2);
+  for (double t = 0.0; t < original.duration_s(); t += 7.3) {
+    const TruthState a = original.at(t), b = lower.at(t);
+    EXPECT_EQ(a.position_ned.x(), b.position_ned.x()) << "t = " << t;
+    EXPECT_EQ(a.position_ned.y(), b.position_ned.y()) << "t = " << t;
+    EXPECT_NEAR(b.position_ned.z() - a.position_ned.z(), 120.0 - 59.0, 1e-9) << "t = " << t;
+    EXPECT_EQ(a.yaw, b.yaw) << "t = " << t;
+    EXPECT_EQ(a.roll, b.roll) << "t = " << t;
+  }
+  try {
+    p.override_altitude_agl(20.0);
+    FAIL() << "20 m accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("altitude_agl_m"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ProfileAttitude, YawFollowsTheTrackAndRollFollowsTheTurn) {
   const FlightProfile p = testing::profile("test1");
   const Trajectory traj(p, 2);
