@@ -78,4 +78,17 @@ std::vector<cv::Point2f> CameraModel::distort(const std::vector<cv::Point2d>& no
   return out;
 }
 
+cv::Matx22d CameraModel::pixel_jacobian(const cv::Point2d& normalized) const {
+  const double k1 = distortion[0], k2 = distortion[1], p1 = distortion[2], p2 = distortion[3];
+  const double k3 = distortion.size() > 4 ? distortion[4] : 0.0;
+  const double x = normalized.x, y = normalized.y, r2 = x * x + y * y;
+  const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
+  const double radial_dr2 = k1 + r2 * (2.0 * k2 + 3.0 * r2 * k3);  // d radial / d r^2
+  const double dxd_dx = radial + 2.0 * x * x * radial_dr2 + 2.0 * p1 * y + 6.0 * p2 * x;
+  const double dxd_dy = 2.0 * x * y * radial_dr2 + 2.0 * p1 * x + 2.0 * p2 * y;
+  const double dyd_dx = 2.0 * x * y * radial_dr2 + 2.0 * p1 * x + 2.0 * p2 * y;
+  const double dyd_dy = radial + 2.0 * y * y * radial_dr2 + 6.0 * p1 * y + 2.0 * p2 * x;
+  return cv::Matx22d(fx * dxd_dx, fx * dxd_dy, fy * dyd_dx, fy * dyd_dy);
+}
+
 }  // namespace nadir

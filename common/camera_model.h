@@ -37,6 +37,9 @@ struct CameraModel {
   std::vector<cv::Point2d> undistort(const std::vector<cv::Point2f>& pixels) const;
   // Normalized coordinates -> distorted pixels.
   std::vector<cv::Point2f> distort(const std::vector<cv::Point2d>& normalized) const;
+  // d pixel / d normalized at `normalized`: the lens's local magnification
+  // (the derivative of distort(), analytic).
+  cv::Matx22d pixel_jacobian(const cv::Point2d& normalized) const;
 };
 
 }  // namespace nadir

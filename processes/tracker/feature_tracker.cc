@@ -26,14 +26,20 @@ LkOptions klt_options(const TrackerOptions& options, int window_px) {
 
 }  // namespace
 
-FeatureTracker::FeatureTracker(const TrackerOptions& options)
+FeatureTracker::FeatureTracker(const TrackerOptions& options, const CameraModel* lens)
     : options_(checked(options)),
       detector_(options),
       forward_klt_(klt_options(options, options.klt_window_px)),
       backward_klt_(klt_options(options, options.fb_window_px)),
       pyramid_border_(LucasKanade::border_for(std::max(options.klt_window_px, options.fb_window_px))),
       max_level_(options.klt_pyramid_levels - 1),
-      fb_max_level_(options.fb_pyramid_levels - 1) {}
+      fb_max_level_(options.fb_pyramid_levels - 1) {
+  if (lens) {
+    lens->Check("FeatureTracker lens");
+    has_lens_ = true;
+    lens_ = *lens;
+  }
+}
 
 void FeatureTracker::reset() {
   have_last_motion_ = false;
@@ -122,19 +128,56 @@ bool FeatureTracker::fit_motion(double fb_sq, cv::Matx23d* motion) const {
   return true;
 }
 
+void FeatureTracker::window_warps(const std::vector<cv::Point2f>& predicted, const cv::Matx23d& motion) {
+  // offsets in curr = J_lens(curr) * M * J_lens(prev)^-1 * offsets in prev,
+  // M the motion's linear part in normalized coordinates (K^-1 L K).
+  const cv::Matx22d linear(motion(0, 0), motion(0, 1), motion(1, 0), motion(1, 1));
+  cv::Matx22d normalized_motion = linear;
+  std::vector<cv::Point2d> curr_norm;
+  if (has_lens_) {
+    const cv::Matx22d k(lens_.fx, 0, 0, lens_.fy), k_inv(1.0 / lens_.fx, 0, 0, 1.0 / lens_.fy);
+    normalized_motion = k_inv * linear * k;
+    curr_norm = lens_.undistort(predicted);
+  }
+  for (size_t g = 0; g < group_index_.size(); ++g) {
+    const size_t i = group_index_[g];
+    const cv::Matx22d a = has_lens_ ? lens_.pixel_jacobian(curr_norm[g]) * normalized_motion * prev_lens_inverse_[i]
+                                    : normalized_motion;
+    bool usable = true;
+    for (int k = 0; k < 4; ++k) {
+      const double deviation = a.val[k] - (k == 0 || k == 3 ? 1.0 : 0.0);
+      usable = usable && std::fabs(deviation) <= 0.5 * LucasKanade::kMaxWarpDeviation;
+    }
+    has_warp_[i] = usable;
+    if (usable) warp_[i] = cv::Matx22f(a);
+  }
+}
+
 void FeatureTracker::track_group(int max_level, const cv::Matx23d* motion) {
   const int back_level = std::min(max_level, fb_max_level_);
+  const cv::Matx23d& m = motion ? *motion : cv::Matx23d(1, 0, 0, 0, 1, 0);
+  std::vector<cv::Point2f> predicted;
+  predicted.reserve(group_index_.size());
   for (size_t i : group_index_) {
     const cv::Point2f p = features_[i].px;
-    const cv::Matx23d& m = motion ? *motion : cv::Matx23d(1, 0, 0, 0, 1, 0);
-    cv::Point2f c(static_cast<float>(m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2)),
-                  static_cast<float>(m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)));
+    predicted.emplace_back(static_cast<float>(m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2)),
+                           static_cast<float>(m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)));
+  }
+  if (options_.klt_window_warp) window_warps(predicted, m);
+  for (size_t g = 0; g < group_index_.size(); ++g) {
+    const size_t i = group_index_[g];
+    const cv::Point2f p = features_[i].px;
+    cv::Point2f c = predicted[g];
     float error = 0.f;
-    const bool forward = forward_klt_.track(prev_pyramid_, curr_pyramid_, p, &c, max_level, &error);
+    const bool warped = options_.klt_window_warp && has_warp_[i];
+    const cv::Matx22f back_warp = warped ? warp_[i].inv() : cv::Matx22f::eye();
+    const bool forward =
+        forward_klt_.track(prev_pyramid_, curr_pyramid_, p, &c, max_level, &error, warped ? &warp_[i] : nullptr);
     // Backward from the original position: a consistent track returns there
     // in a few iterations. A track lost forward is not followed back.
     cv::Point2f back = p;
-    const bool backward = forward && backward_klt_.track(curr_pyramid_, prev_pyramid_, c, &back, back_level, nullptr);
+    const bool backward = forward && backward_klt_.track(curr_pyramid_, prev_pyramid_, c, &back, back_level, nullptr,
+                                                         warped ? &back_warp : nullptr);
     prev_pts_[i] = p;
     curr_pts_[i] = c;
     back_pts_[i] = back;
@@ -163,6 +206,17 @@ void FeatureTracker::track(TrackStepResult& result) {
   patch_error_.assign(n, 0.0f);
   level_used_.assign(n, -1);
   usable_level_.resize(n);
+  if (options_.klt_window_warp) {
+    warp_.resize(n);
+    has_warp_.assign(n, 0);
+    prev_lens_inverse_.resize(n);
+    if (has_lens_) {
+      std::vector<cv::Point2f> prev_px(n);
+      for (size_t i = 0; i < n; ++i) prev_px[i] = features_[i].px;
+      const std::vector<cv::Point2d> prev_norm = lens_.undistort(prev_px);
+      for (size_t i = 0; i < n; ++i) prev_lens_inverse_[i] = lens_.pixel_jacobian(prev_norm[i]).inv();
+    }
+  }
   size_t full_reach = 0;
   for (size_t i = 0; i < n; ++i) {
     usable_level_[i] = usable_levels(features_[i].px);

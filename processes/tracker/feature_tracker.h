@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/camera_model.h"
 #include "processes/tracker/grid_corner_detector.h"
 #include "processes/tracker/lucas_kanade.h"
 #include "processes/tracker/tracker_options.h"
@@ -43,7 +44,10 @@ struct TrackStepResult {
 
 class FeatureTracker {
  public:
-  explicit FeatureTracker(const TrackerOptions& options);
+  // `lens`, when given, is the camera whose distortion the window warp
+  // (options.klt_window_warp) accounts for; without it the warp follows the
+  // image motion alone, as for an undistorted image.
+  explicit FeatureTracker(const TrackerOptions& options, const CameraModel* lens = nullptr);
 
   // Tracks from the reference frame into `image` (CV_8UC1), replenishes, and
   // makes `image` the new reference. The first call (or after reset) only
@@ -88,6 +92,9 @@ class FeatureTracker {
   // levels above full resolution, starting from `motion`'s prediction (or
   // their own position when null), and back again; stores the results.
   void track_group(int max_level, const cv::Matx23d* motion);
+  // Fills warp_ / has_warp_ for the features in group_index_, predicted at
+  // `predicted` (one per group member) under `motion`'s linear part.
+  void window_warps(const std::vector<cv::Point2f>& predicted, const cv::Matx23d& motion);
   // Tracked, but lost by KLT or beyond the forward-backward threshold.
   bool failed(size_t i, double fb_sq) const;
   void replenish(const cv::Mat& image, TrackStepResult& result);
@@ -106,6 +113,14 @@ class FeatureTracker {
   cv::Size image_size_;
   bool have_last_motion_ = false;
   cv::Matx23d last_motion_;  // affine prev -> curr of the last tracked pair
+  bool has_lens_ = false;
+  CameraModel lens_;
+
+  // Window warps: per feature, the lens's inverse magnification at its prev
+  // pixel, and the group's warps (prev -> curr offsets) as the KLT takes them.
+  std::vector<cv::Matx22d> prev_lens_inverse_;
+  std::vector<cv::Matx22f> warp_;
+  std::vector<uchar> has_warp_;
 
   // Buffers reused between frames.
   std::vector<cv::Point2f> prev_pts_, curr_pts_, back_pts_;

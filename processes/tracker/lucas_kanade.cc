@@ -241,8 +241,13 @@ int LucasKanade::border_for(int window_px) {
   // Top-left pixels as far as a window outside, plus what the patch (from one
   // pixel before the window, whole 8-lane blocks and one more block for the
   // derivatives' neighbours) reads beyond the window, plus the bilinear
-  // neighbour.
-  return std::max(window_px + 1, round_up_to_lanes(window_px) + kLanes) + 2;
+  // neighbour. A warped template reaches from the window's centre (half a
+  // window outside at most) as far as the inverse of a warp within
+  // kMaxWarpDeviation takes the patch's corners: under 1.7 times their offset.
+  const int translated = std::max(window_px + 1, round_up_to_lanes(window_px) + kLanes) + 2;
+  const double half = 0.5 * window_px;
+  const int warped = static_cast<int>(std::ceil(half + 1.7 * (half + 1.0))) + 2;
+  return std::max(translated, warped);
 }
 
 bool LucasKanade::load_template(const LkPyramid& prev, int level, cv::Point2f corner) {
@@ -252,6 +257,46 @@ bool LucasKanade::load_template(const LkPyramid& prev, int level, cv::Point2f co
   const float* src = prev.origin(level) + static_cast<ptrdiff_t>(iy - 1) * static_cast<ptrdiff_t>(stride) + (ix - 1);
   const BilinearWeights w(corner, ix, iy);
   sample_block_rows(src, stride, window_ + 2, patch_cols_ / kLanes, w, patch_.data());
+  template_from_patch();
+  return true;
+}
+
+bool LucasKanade::load_warped_template(const LkPyramid& prev, cv::Point2f centre, cv::Point2f corner,
+                                       const cv::Matx22f& inverse_warp) {
+  int ix = 0, iy = 0;
+  if (!window_corner(corner, window_, prev.size(0), &ix, &iy)) return false;
+  // Offsets of the patch's samples from the window's centre; one bilinear
+  // sample each (the deviation bound keeps every read inside the border).
+  const size_t stride = prev.stride(0);
+  const float* origin = prev.origin(0);
+  const float half = static_cast<float>(window_ - 1) * 0.5f;
+  const int cols = window_ + 2;
+  // floor() without a library call (SSE2 has no rounding instruction); exact.
+  auto floor_int = [](float v) {
+    const int t = static_cast<int>(v);
+    return static_cast<float>(t) > v ? t - 1 : t;
+  };
+  for (int r = 0; r < window_ + 2; ++r) {
+    float* row = patch_.data() + static_cast<size_t>(r) * static_cast<size_t>(patch_cols_);
+    const float oy = static_cast<float>(r - 1) - half;
+    const float row_x = centre.x + inverse_warp(0, 1) * oy, row_y = centre.y + inverse_warp(1, 1) * oy;
+    for (int k = 0; k < cols; ++k) {
+      const float ox = static_cast<float>(k - 1) - half;
+      const float x = row_x + inverse_warp(0, 0) * ox;
+      const float y = row_y + inverse_warp(1, 0) * ox;
+      const int sx = floor_int(x), sy = floor_int(y);
+      const float a = x - static_cast<float>(sx), b = y - static_cast<float>(sy);
+      const float* p0 = origin + static_cast<ptrdiff_t>(sy) * static_cast<ptrdiff_t>(stride) + sx;
+      const float* p1 = p0 + stride;
+      row[k] = (1.f - a) * (1.f - b) * p0[0] + a * (1.f - b) * p0[1] + (1.f - a) * b * p1[0] + a * b * p1[1];
+    }
+    std::fill(row + cols, row + patch_cols_, 0.f);  // beyond the window: masked lanes
+  }
+  template_from_patch();
+  return true;
+}
+
+void LucasKanade::template_from_patch() {
   float lane_sums[3 * kLanes];
   template_gradients(patch_.data(), static_cast<size_t>(patch_cols_), window_, blocks_, lane_mask_.data(),
                      templ_.data(), grad_x_.data(), grad_y_.data(), lane_sums);
@@ -261,7 +306,6 @@ bool LucasKanade::load_template(const LkPyramid& prev, int level, cv::Point2f co
     a12_ += static_cast<double>(lane_sums[kLanes + l]);
     a22_ += static_cast<double>(lane_sums[2 * kLanes + l]);
   }
-  return true;
 }
 
 float LucasKanade::mean_abs_difference(const LkPyramid& curr, int level, cv::Point2f corner, int ix, int iy) const {
@@ -276,11 +320,25 @@ float LucasKanade::mean_abs_difference(const LkPyramid& curr, int level, cv::Poi
 }
 
 bool LucasKanade::track(const LkPyramid& prev, const LkPyramid& curr, cv::Point2f prev_px, cv::Point2f* next_px,
-                        int max_level, float* patch_error) {
+                        int max_level, float* patch_error, const cv::Matx22f* warp) {
   if (max_level < 0 || max_level >= prev.levels() || max_level >= curr.levels())
     throw std::invalid_argument("LucasKanade::track: max_level " + std::to_string(max_level) + " beyond the pyramids");
   if (prev.border() < border_for(window_) || curr.border() < border_for(window_))
     throw std::invalid_argument("LucasKanade::track: pyramid border below border_for(" + std::to_string(window_) + ")");
+  cv::Matx22f inverse_warp;
+  if (warp) {
+    const cv::Matx22f& a = *warp;
+    for (int k = 0; k < 4; ++k) {
+      const float deviation = a.val[k] - (k == 0 || k == 3 ? 1.f : 0.f);
+      if (!(std::fabs(deviation) <= kMaxWarpDeviation))
+        throw std::invalid_argument("LucasKanade::track: warp element " + std::to_string(k) + " = " +
+                                    std::to_string(a.val[k]) + " deviates from identity by more than " +
+                                    std::to_string(kMaxWarpDeviation));
+    }
+    const double det = static_cast<double>(a(0, 0)) * a(1, 1) - static_cast<double>(a(0, 1)) * a(1, 0);
+    inverse_warp = cv::Matx22f(static_cast<float>(a(1, 1) / det), static_cast<float>(-a(0, 1) / det),
+                               static_cast<float>(-a(1, 0) / det), static_cast<float>(a(0, 0) / det));
+  }
   const float half = static_cast<float>(window_ - 1) * 0.5f;
   const cv::Point2f half_win(half, half);
   const double epsilon_sq = options_.epsilon_px * options_.epsilon_px;
@@ -291,7 +349,9 @@ bool LucasKanade::track(const LkPyramid& prev, const LkPyramid& curr, cv::Point2
   for (int level = max_level; level >= 0; --level) {
     if (level != max_level) next *= 2.f;
     const cv::Point2f corner = prev_px * (1.f / static_cast<float>(1 << level)) - half_win;
-    if (!load_template(prev, level, corner)) {
+    const bool loaded = warp && level == 0 ? load_warped_template(prev, prev_px, corner, inverse_warp)
+                                           : load_template(prev, level, corner);
+    if (!loaded) {
       if (level == 0) return false;
       continue;
     }

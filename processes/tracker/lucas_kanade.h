@@ -70,13 +70,29 @@ class LucasKanade {
   // lost at full resolution: too little texture (minimum eigenvalue) or a
   // window outside the image. `patch_error`, when given, receives the mean
   // absolute grey-level difference between the two windows at the end.
+  // `warp`, when given, is the window's expected deformation at full
+  // resolution: offsets around the feature in `curr` = warp * offsets around
+  // it in `prev` (lens and camera motion make a window that is a square in one
+  // image a slightly sheared, scaled, rotated one in the other). The template
+  // is then resampled through it, so the translation that is solved for is
+  // the feature's own, not one biased by the deformation. Each element of
+  // warp - identity must lie within +-kMaxWarpDeviation (std::invalid_argument
+  // otherwise).
   bool track(const LkPyramid& prev, const LkPyramid& curr, cv::Point2f prev_px, cv::Point2f* next_px, int max_level,
-             float* patch_error);
+             float* patch_error, const cv::Matx22f* warp = nullptr);
+
+  static constexpr float kMaxWarpDeviation = 0.2f;
 
  private:
   // Samples the window around top-left `corner` of `prev` level `level` and
   // its gradients; false when the window is too far outside the image.
   bool load_template(const LkPyramid& prev, int level, cv::Point2f corner);
+  // The same with the patch sampled through `inverse_warp` (prev offsets per
+  // curr offset) about `centre` (level-0 pixels of `prev`).
+  bool load_warped_template(const LkPyramid& prev, cv::Point2f centre, cv::Point2f corner,
+                            const cv::Matx22f& inverse_warp);
+  // Template gradients and structure tensor from patch_.
+  void template_from_patch();
   // The window at `corner`, whose top-left pixel is (ix, iy), against the template.
   float mean_abs_difference(const LkPyramid& curr, int level, cv::Point2f corner, int ix, int iy) const;
 

@@ -26,7 +26,7 @@ TrackerNode::TrackerNode(const Config& root, Bus& bus)
       camera_(CameraModel::from_config(root)),
       gate_(image_checks(root)),
       max_ahead_us_(static_cast<int64_t>(gate_.options().max_ahead_s * 1e6)),
-      tracker_(options_) {
+      tracker_(options_, &camera_) {
   if (options_.mode != TrackerMode::kKlt) matcher_ = std::make_unique<DescriptorMatcher>(options_.descriptor, camera_);
   bus_.subscribe<image_t>(channels::kCameraImage, [this](const image_t& msg) { on_image(msg); });
 }

@@ -87,6 +87,7 @@ TrackerOptions TrackerOptions::from_config(const Config& root) {
   o.klt_min_eig_threshold = c.get<double>("klt_min_eig_threshold", o.klt_min_eig_threshold);
   o.klt_scout_features = c.get<int>("klt_scout_features", o.klt_scout_features);
   o.klt_predicted_levels = c.get<int>("klt_predicted_levels", o.klt_predicted_levels);
+  o.klt_window_warp = c.get<bool>("klt_window_warp", o.klt_window_warp);
   o.fb_threshold_px = c.get<double>("fb_threshold_px", o.fb_threshold_px);
   o.fb_pyramid_levels = c.get<int>("fb_pyramid_levels", o.fb_pyramid_levels);
   o.fb_window_px = c.get<int>("fb_window_px", o.fb_window_px);

@@ -105,6 +105,12 @@ struct TrackerOptions {
   // pyramid. klt_predicted_levels = klt_pyramid_levels turns it off.
   int klt_scout_features = 48;
   int klt_predicted_levels = 1;
+  // Resample each KLT template through the window's expected deformation
+  // (the lens's local magnification at both ends and the pair's fitted image
+  // motion), so that a translation-only KLT does not read the deformation as
+  // a shift. Without it the shift biases grow with the step between frames:
+  // a spurious expansion of the flow field that a solver takes for descent.
+  bool klt_window_warp = false;
   // Forward-backward check: a track survives when tracking it back from the
   // current frame lands within this distance of where it started.
   double fb_threshold_px = 1.0;

@@ -39,6 +39,35 @@ TEST(CameraModel, DistortMatchesTheHandComputedModel) {
   EXPECT_NEAR(px[0].y, camera.fy * yd + camera.cy, 1e-3);
 }
 
+TEST(CameraModel, PixelJacobianIsTheDerivativeOfTheLens) {
+  CameraModel camera = load_default();
+  camera.distortion = {-0.12, 0.05, 0.004, -0.003, 0.02};  // every term, tangential included
+  camera.fy = camera.fx * 1.01;
+  auto pixel = [&](double x, double y) {  // the model in double, as DistortMatchesTheHandComputedModel
+    const auto& d = camera.distortion;
+    const double r2 = x * x + y * y;
+    const double radial = 1 + d[0] * r2 + d[1] * r2 * r2 + d[4] * r2 * r2 * r2;
+    return cv::Vec2d(camera.fx * (x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x)) + camera.cx,
+                     camera.fy * (y * radial + d[2] * (r2 + 2 * y * y) + 2 * d[3] * x * y) + camera.cy);
+  };
+  const double h = 1e-6;
+  for (const cv::Point2d n : {cv::Point2d(0, 0), cv::Point2d(0.45, -0.3), cv::Point2d(-0.7, 0.55), cv::Point2d(0.1, 0.6)}) {
+    const cv::Matx22d j = camera.pixel_jacobian(n);
+    const cv::Vec2d dx = (pixel(n.x + h, n.y) - pixel(n.x - h, n.y)) / (2 * h);
+    const cv::Vec2d dy = (pixel(n.x, n.y + h) - pixel(n.x, n.y - h)) / (2 * h);
+    EXPECT_NEAR(j(0, 0), dx[0], 1e-4) << n;
+    EXPECT_NEAR(j(1, 0), dx[1], 1e-4) << n;
+    EXPECT_NEAR(j(0, 1), dy[0], 1e-4) << n;
+    EXPECT_NEAR(j(1, 1), dy[1], 1e-4) << n;
+  }
+  // At the centre without tangential terms it is the focal length.
+  camera.distortion = {-0.12, 0.05, 0, 0, 0.02};
+  const cv::Matx22d centre = camera.pixel_jacobian(cv::Point2d(0, 0));
+  EXPECT_DOUBLE_EQ(centre(0, 0), camera.fx);
+  EXPECT_DOUBLE_EQ(centre(1, 1), camera.fy);
+  EXPECT_DOUBLE_EQ(centre(0, 1), 0.0);
+}
+
 TEST(Geometry, RpyRoundTripAndConvention) {
   const Eigen::Matrix3d r = rotation_from_rpy(0.1, -0.2, 2.5);
   const Eigen::Vector3d rpy = rpy_from_rotation(r);

@@ -83,13 +83,17 @@ const std::vector<cv::Mat>& sim_frames() {
 
 using FrameSource = const std::vector<cv::Mat>& (*)();
 
-// Argument: pyramid levels of the backward (forward-backward check) pass.
+// Arguments: pyramid levels of the backward (forward-backward check) pass;
+// 1 for the window warp (klt_window_warp, with the default camera's lens).
 void BM_FeatureTracker(benchmark::State& state, FrameSource source) {
   cv::setNumThreads(1);
   const auto& seq = source();
   nadir::TrackerOptions options;
   options.fb_pyramid_levels = static_cast<int>(state.range(0));
-  nadir::FeatureTracker tracker{options};
+  options.klt_window_warp = state.range(1) != 0;
+  const nadir::CameraModel lens =
+      nadir::CameraModel::from_config(nadir::Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml"));
+  nadir::FeatureTracker tracker{options, &lens};
   size_t k = 0;
   int64_t tracks = 0, replenished = 0, steps = 0;
   tracker.process(seq[k++]);
@@ -102,8 +106,13 @@ void BM_FeatureTracker(benchmark::State& state, FrameSource source) {
   state.counters["tracks"] = static_cast<double>(tracks) / static_cast<double>(steps);
   state.counters["new_per_frame"] = static_cast<double>(replenished) / static_cast<double>(steps);
 }
-BENCHMARK_CAPTURE(BM_FeatureTracker, synthetic, frames)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_FeatureTracker, sim_test1, sim_frames)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FeatureTracker, synthetic, frames)
+    ->Args({1, 0})
+    ->Args({2, 0})
+    ->Args({3, 0})
+    ->Args({2, 1})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FeatureTracker, sim_test1, sim_frames)->Args({2, 0})->Args({2, 1})->Unit(benchmark::kMillisecond);
 
 // Counts what the node publishes; the transport is not what is measured.
 class SinkBus : public nadir::Bus {

@@ -31,6 +31,13 @@ TEST(TrackerOptions, MissingSectionMeansDefaults) {
   EXPECT_EQ(o.features_per_cell, 50);
 }
 
+TEST(TrackerOptions, WindowWarpIsOffUnlessAsked) {
+  EXPECT_FALSE(TrackerOptions::from_config(Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml")).klt_window_warp);
+  EXPECT_TRUE(TrackerOptions::from_config(Config::parse("tracker: {klt_window_warp: true}", "t.yaml")).klt_window_warp);
+  const std::string bad = error_of("tracker: {klt_window_warp: sometimes}");
+  EXPECT_NE(bad.find("klt_window_warp"), std::string::npos) << bad;
+}
+
 TEST(TrackerOptions, BadValuesNameTheKeyAndTheRange) {
   const std::string small = error_of("tracker: {klt_window_px: 4}");
   EXPECT_NE(small.find("test.yaml"), std::string::npos) << small;
