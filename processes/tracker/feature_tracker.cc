@@ -141,6 +141,11 @@ void FeatureTracker::window_warps(const std::vector<cv::Point2f>& predicted, con
   }
   for (size_t g = 0; g < group_index_.size(); ++g) {
     const size_t i = group_index_[g];
+    if (options_.klt_local_warp && features_[i].has_local_warp) {
+      has_warp_[i] = true;
+      warp_[i] = features_[i].local_warp;
+      continue;
+    }
     const cv::Matx22d a = has_lens_ ? lens_.pixel_jacobian(curr_norm[g]) * normalized_motion * prev_lens_inverse_[i]
                                     : normalized_motion;
     bool usable = true;
@@ -291,6 +296,7 @@ void FeatureTracker::track(TrackStepResult& result) {
     patch_limit = static_cast<float>(std::max(options_.patch_error_floor, options_.patch_error_factor * *mid));
   }
   std::vector<Feature> survivors;
+  std::vector<size_t> track_index;  // survivors' indices into prev_pts_ / curr_pts_
   survivors.reserve(n);
   for (size_t i = 0; i < n; ++i) {
     if (!status_fwd_[i] || !status_bwd_[i]) {
@@ -315,9 +321,50 @@ void FeatureTracker::track(TrackStepResult& result) {
     f.age += 1;
     f.px = c;
     survivors.push_back(f);
+    track_index.push_back(i);
     result.tracks.push_back({f.id, f.age, prev_pts_[i], c});
   }
+  if (options_.klt_window_warp && options_.klt_local_warp) fit_local_warps(survivors, track_index);
   features_ = std::move(survivors);
+}
+
+void FeatureTracker::fit_local_warps(std::vector<Feature>& survivors, const std::vector<size_t>& track_index) const {
+  // Per survivor: G minimising sum w |(c_j - c_s) - G (p_j - p_s)|^2 over the
+  // neighbours j within the radius (prev positions), a Gaussian weight of
+  // half the radius; a neighbour moving more than 3 px unlike it (another
+  // object) is left out. Plain sums in index order: deterministic.
+  const double radius = options_.klt_local_warp_radius_px;
+  const double radius_sq = radius * radius, inv_two_sigma_sq = 2.0 / radius_sq;
+  for (size_t s = 0; s < survivors.size(); ++s) {
+    const cv::Point2f ps = prev_pts_[track_index[s]], cs = curr_pts_[track_index[s]];
+    cv::Matx22d cp = cv::Matx22d::zeros(), pp = cv::Matx22d::zeros();
+    int used = 0;
+    for (size_t j = 0; j < survivors.size(); ++j) {
+      if (j == s) continue;
+      const cv::Point2f pj = prev_pts_[track_index[j]], cj = curr_pts_[track_index[j]];
+      const double dx = pj.x - ps.x, dy = pj.y - ps.y, d2 = dx * dx + dy * dy;
+      if (d2 > radius_sq) continue;
+      const double ex = cj.x - ps.x - (cs.x - ps.x) - dx, ey = cj.y - ps.y - (cs.y - ps.y) - dy;
+      const double qx = cj.x - cs.x, qy = cj.y - cs.y;
+      if (ex * ex + ey * ey > 9.0) continue;
+      const double w = std::exp(-d2 * inv_two_sigma_sq);
+      cp += w * cv::Matx22d(qx * dx, qx * dy, qy * dx, qy * dy);
+      pp += w * cv::Matx22d(dx * dx, dx * dy, dy * dx, dy * dy);
+      ++used;
+    }
+    Feature& f = survivors[s];
+    f.has_local_warp = false;
+    if (used < 8) continue;
+    const double det = pp(0, 0) * pp(1, 1) - pp(0, 1) * pp(1, 0);
+    if (!(det > 1e-6 * (pp(0, 0) + pp(1, 1)) * (pp(0, 0) + pp(1, 1)))) continue;
+    const cv::Matx22d g = cp * pp.inv();
+    bool usable = true;
+    for (int k = 0; k < 4; ++k)
+      usable = usable && std::fabs(g.val[k] - (k == 0 || k == 3 ? 1.0 : 0.0)) <= 0.5 * LucasKanade::kMaxWarpDeviation;
+    if (!usable) continue;
+    f.has_local_warp = true;
+    f.local_warp = cv::Matx22f(g);
+  }
 }
 
 void FeatureTracker::replenish(const cv::Mat& image, TrackStepResult& result) {

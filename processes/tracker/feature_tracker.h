@@ -76,6 +76,10 @@ class FeatureTracker {
     int64_t id;
     int32_t age;
     cv::Point2f px;
+    // The last pair's local linear map prev -> curr around this feature,
+    // fitted to its neighbours' tracks (klt_local_warp); unset for new ones.
+    bool has_local_warp = false;
+    cv::Matx22f local_warp = cv::Matx22f::eye();
   };
   // Features carried into the next frame (tracked survivors + new corners).
   const std::vector<Feature>& features() const { return features_; }
@@ -95,6 +99,8 @@ class FeatureTracker {
   // Fills warp_ / has_warp_ for the features in group_index_, predicted at
   // `predicted` (one per group member) under `motion`'s linear part.
   void window_warps(const std::vector<cv::Point2f>& predicted, const cv::Matx23d& motion);
+  // Fits each survivor's local_warp to the tracks around it (prev -> curr).
+  void fit_local_warps(std::vector<Feature>& survivors, const std::vector<size_t>& track_index) const;
   // Tracked, but lost by KLT or beyond the forward-backward threshold.
   bool failed(size_t i, double fb_sq) const;
   void replenish(const cv::Mat& image, TrackStepResult& result);

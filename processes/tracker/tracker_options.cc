@@ -88,6 +88,8 @@ TrackerOptions TrackerOptions::from_config(const Config& root) {
   o.klt_scout_features = c.get<int>("klt_scout_features", o.klt_scout_features);
   o.klt_predicted_levels = c.get<int>("klt_predicted_levels", o.klt_predicted_levels);
   o.klt_window_warp = c.get<bool>("klt_window_warp", o.klt_window_warp);
+  o.klt_local_warp = c.get<bool>("klt_local_warp", o.klt_local_warp);
+  o.klt_local_warp_radius_px = c.get<double>("klt_local_warp_radius_px", o.klt_local_warp_radius_px);
   o.fb_threshold_px = c.get<double>("fb_threshold_px", o.fb_threshold_px);
   o.fb_pyramid_levels = c.get<int>("fb_pyramid_levels", o.fb_pyramid_levels);
   o.fb_window_px = c.get<int>("fb_window_px", o.fb_window_px);
@@ -130,6 +132,7 @@ void TrackerOptions::Check(const std::string& source) const {
   check_range(source, "fb_threshold_px", fb_threshold_px, 0.01, 1e6);
   check_range(source, "fb_pyramid_levels", fb_pyramid_levels, 1, klt_pyramid_levels);
   check_range(source, "fb_window_px", fb_window_px, 5, klt_window_px);
+  check_range(source, "klt_local_warp_radius_px", klt_local_warp_radius_px, 10.0, 500.0);
   check_range(source, "patch_error_factor", patch_error_factor, 1.0, 1e6);
   check_range(source, "patch_error_floor", patch_error_floor, 0.0, 255.0);
   check_range(source, "min_tracks", min_tracks, 0, max_features());

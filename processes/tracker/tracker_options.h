@@ -111,6 +111,12 @@ struct TrackerOptions {
   // a shift. Without it the shift biases grow with the step between frames:
   // a spurious expansion of the flow field that a solver takes for descent.
   bool klt_window_warp = false;
+  // With klt_window_warp: a feature's warp is the last pair's linear map
+  // around it, fitted to its neighbours' tracks within klt_local_warp_radius_px
+  // (relief deforms windows differently across the image); the lens-and-
+  // motion warp for features without one.
+  bool klt_local_warp = false;
+  double klt_local_warp_radius_px = 60.0;
   // Forward-backward check: a track survives when tracking it back from the
   // current frame lands within this distance of where it started.
   double fb_threshold_px = 1.0;

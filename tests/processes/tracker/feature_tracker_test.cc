@@ -220,6 +220,45 @@ TEST(FeatureTracker, WindowWarpFollowsTheLensMagnification) {
   EXPECT_LT(medians[1], 0.7 * medians[0]) << "plain " << medians[0] << " px, warped " << medians[1] << " px";
 }
 
+// A deformation the tracker knows nothing about (the lens is not given to
+// it: as unmodelled relief would) is learnt from the neighbours' tracks: with
+// klt_local_warp each feature's window follows the last pair's linear map
+// around it, and from the second pair on the error falls below the global
+// warp's.
+TEST(FeatureTracker, LocalWarpLearnsADeformationFromTheNeighbours) {
+  CameraModel lens = CameraModel::pinhole(kFrame.width, kFrame.height, 400.0);
+  lens.distortion = {-0.3, 0.08, 0.0, 0.0, 0.0};
+  const LensView view(lens);
+  std::vector<ViewPose> poses;
+  for (int k = 0; k < 6; ++k) poses.push_back({{800.0 - 12.0 * k, 800.0 + 6.0 * k}, 0.0});
+  double medians[2] = {0, 0};
+  for (const bool local : {false, true}) {
+    TrackerOptions options;
+    options.klt_window_warp = true;
+    options.klt_local_warp = local;
+    FeatureTracker tracker{options};  // no lens: the image motion is all it knows
+    tracker.process(view.render(poses[0]));
+    std::vector<double> errors;
+    int with_local = 0;
+    for (size_t k = 1; k < poses.size(); ++k) {
+      for (const auto& f : tracker.features()) with_local += f.has_local_warp;
+      const TrackStepResult step = tracker.process(view.render(poses[k]));
+      if (k < 2) continue;  // the first pair has no local maps yet
+      for (const FeatureTrack& t : step.tracks) {
+        const cv::Point2d truth = view.map_point(t.prev_px, poses[k - 1], poses[k]);
+        errors.push_back(std::hypot(t.curr_px.x - truth.x, t.curr_px.y - truth.y));
+      }
+    }
+    ASSERT_GT(errors.size(), 1000u);
+    if (local) EXPECT_GT(with_local, 1500);
+    else EXPECT_EQ(with_local, 0);
+    medians[local] = percentile(errors, 0.5);
+  }
+  RecordProperty("median_global_mpx", static_cast<int>(medians[0] * 1e3));
+  RecordProperty("median_local_mpx", static_cast<int>(medians[1] * 1e3));
+  EXPECT_LT(medians[1], 0.8 * medians[0]) << "global " << medians[0] << " px, local " << medians[1] << " px";
+}
+
 // Replaces a square of `frame` by unrelated texture (an occluder).
 cv::Mat occlude(const cv::Mat& frame, const cv::Rect& box) {
   cv::Mat out = frame.clone();

@@ -36,6 +36,10 @@ TEST(TrackerOptions, WindowWarpIsOffUnlessAsked) {
   EXPECT_TRUE(TrackerOptions::from_config(Config::parse("tracker: {klt_window_warp: true}", "t.yaml")).klt_window_warp);
   const std::string bad = error_of("tracker: {klt_window_warp: sometimes}");
   EXPECT_NE(bad.find("klt_window_warp"), std::string::npos) << bad;
+  EXPECT_FALSE(TrackerOptions::from_config(Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml")).klt_local_warp);
+  const std::string radius = error_of("tracker: {klt_local_warp: true, klt_local_warp_radius_px: 5}");
+  EXPECT_NE(radius.find("tracker.klt_local_warp_radius_px"), std::string::npos) << radius;
+  EXPECT_NE(radius.find("[10, 500]"), std::string::npos) << radius;
 }
 
 TEST(TrackerOptions, BadValuesNameTheKeyAndTheRange) {
