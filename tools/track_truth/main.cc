@@ -82,6 +82,7 @@ std::string report_json(const TrackTruthReport& r, int64_t corrupt, uint64_t see
     j.begin_object().field("age_from", bin.from).field("age_to", bin.to);
     j.key("drift");
     write_stats(&j, bin.drift);
+    j.field("drift_expansion", bin.drift_expansion);
     j.end_object();
   }
   j.end_array().end_object();
@@ -226,6 +227,7 @@ int main(int argc, char** argv) {
       else
         std::snprintf(label, sizeof label, "drift age %d-%d", bin.from, bin.to - 1);
       print_stats(label, bin.drift);
+      std::printf("%-22s %+.3e (about the principal point)\n", "  its expansion", bin.drift_expansion);
     }
     if (writer) std::printf("wrote %s (%s tracks)\n", out_path.c_str(), rewrite_name.c_str());
     return 0;

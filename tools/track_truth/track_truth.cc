@@ -54,7 +54,7 @@ ErrorStats TrackTruth::Accumulator::stats() {
 }
 
 TrackTruth::TrackTruth(const SimScene& scene, const CameraModel& estimator_camera)
-    : scene_(scene), estimator_camera_(estimator_camera), drift_(drift_age_bins().size()) {}
+    : scene_(scene), estimator_camera_(estimator_camera), drift_(drift_age_bins().size()), drift_expansion_(drift_age_bins().size()) {}
 
 void TrackTruth::write_position(const Eigen::Vector2d& px, float* pixel, double* normalized) const {
   const std::vector<cv::Point2d> n =
@@ -107,7 +107,11 @@ FrameFlow TrackTruth::process(tracks_t* tracks, Rewrite rewrite) {
     if (first_in_view && scene_.visible(curr, first->second)) {
       const int age = std::max(1, static_cast<int>(tracks->age[i]));
       for (size_t b = 0; b < bins.size(); ++b) {
-        if (age >= bins[b][0] && age < bins[b][1]) drift_[b].add(curr_px - first_curr_px);
+        if (age >= bins[b][0] && age < bins[b][1]) {
+          drift_[b].add(curr_px - first_curr_px);
+          drift_expansion_[b].add(curr_px - first_curr_px,
+                                  first_curr_px - Eigen::Vector2d(scene_.camera().cx, scene_.camera().cy));
+        }
       }
     }
     if (rewrite == Rewrite::kFlow && step_known)
@@ -150,6 +154,7 @@ TrackTruthReport TrackTruth::report() const {
     bin.from = bins[b][0];
     bin.to = bins[b][1];
     bin.drift = a.stats();
+    bin.drift_expansion = drift_expansion_[b].expansion();
     r.drift_by_age.push_back(bin);
   }
   return r;

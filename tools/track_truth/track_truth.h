@@ -39,6 +39,10 @@ struct ErrorStats {
 struct AgeBin {
   int from = 0, to = 0;  // track age (frames, as the tracker counts) in [from, to)
   ErrorStats drift;
+  // The drift's expansion about the principal point (as the flow's, below,
+  // but accumulated over the track's life): what a depth triangulated from
+  // the track's first ray reads as a depth error.
+  double drift_expansion = 0;
 };
 
 struct TrackTruthReport {
@@ -110,6 +114,7 @@ class TrackTruth {
   Accumulator flow_;
   ExpansionFit expansion_;
   std::vector<Accumulator> drift_;
+  std::vector<ExpansionFit> drift_expansion_;
   std::unordered_map<int64_t, Eigen::Vector3d> first_point_;  // track id -> ground point where it started
   std::unordered_map<int64_t, int64_t> last_seen_;            // track id -> message index
 };

@@ -210,6 +210,10 @@ TEST(TrackTruth, MeasuresAKnownStepErrorAndTheDriftItAccumulates) {
   EXPECT_NEAR(r.drift_by_age[0].drift.mean_x, step * 2.5, 2e-3);   // ages 1..4
   EXPECT_NEAR(r.drift_by_age[1].drift.mean_x, step * 7.0, 2e-3);   // ages 5..9
   EXPECT_NEAR(r.drift_by_age[2].drift.mean_x, step * 12.0, 2e-3);  // ages 10..14
+  // A shift, not an expansion: carried along by the flow's own deformation
+  // (lens, perspective) it reads as a little one (-0.8 to -2.3e-5 here),
+  // far below what a per-step expansion of 1e-4 accumulates (next test).
+  for (const AgeBin& bin : r.drift_by_age) EXPECT_LT(std::fabs(bin.drift_expansion), 5e-5) << bin.from;
 }
 
 TEST(TrackTruth, MeasuresASpuriousExpansion) {
@@ -221,6 +225,11 @@ TEST(TrackTruth, MeasuresASpuriousExpansion) {
   const TrackTruthReport r = compare.report();
   EXPECT_NEAR(r.flow_expansion_per_frame, 1e-4, 1e-6);
   EXPECT_NEAR(r.flow.mean_x, 0.0, 5e-3);
+  // The drift accumulates it: age a has expanded by about a * 1e-4.
+  ASSERT_EQ(r.drift_by_age.size(), 3u);
+  EXPECT_NEAR(r.drift_by_age[0].drift_expansion, 2.5e-4, 0.1e-4);   // ages 1..4
+  EXPECT_NEAR(r.drift_by_age[1].drift_expansion, 7.0e-4, 0.2e-4);   // ages 5..9
+  EXPECT_NEAR(r.drift_by_age[2].drift_expansion, 12.0e-4, 0.3e-4);  // ages 10..14
 }
 
 TEST(TrackTruth, RewrittenTracksAreExactAndTheirNormalizedCoordinatesMatchTheirPixels) {
