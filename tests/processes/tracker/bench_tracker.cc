@@ -84,13 +84,15 @@ const std::vector<cv::Mat>& sim_frames() {
 using FrameSource = const std::vector<cv::Mat>& (*)();
 
 // Arguments: pyramid levels of the backward (forward-backward check) pass;
-// 1 for the window warp (klt_window_warp, with the default camera's lens).
+// 1 for the window warp (klt_window_warp, with the default camera's lens),
+// 2 for it with the local warp (klt_local_warp).
 void BM_FeatureTracker(benchmark::State& state, FrameSource source) {
   cv::setNumThreads(1);
   const auto& seq = source();
   nadir::TrackerOptions options;
   options.fb_pyramid_levels = static_cast<int>(state.range(0));
   options.klt_window_warp = state.range(1) != 0;
+  options.klt_local_warp = state.range(1) == 2;
   const nadir::CameraModel lens =
       nadir::CameraModel::from_config(nadir::Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml"));
   nadir::FeatureTracker tracker{options, &lens};
@@ -112,7 +114,11 @@ BENCHMARK_CAPTURE(BM_FeatureTracker, synthetic, frames)
     ->Args({3, 0})
     ->Args({2, 1})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_FeatureTracker, sim_test1, sim_frames)->Args({2, 0})->Args({2, 1})->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FeatureTracker, sim_test1, sim_frames)
+    ->Args({2, 0})
+    ->Args({2, 1})
+    ->Args({2, 2})
+    ->Unit(benchmark::kMillisecond);
 
 // Counts what the node publishes; the transport is not what is measured.
 class SinkBus : public nadir::Bus {
