@@ -8,8 +8,12 @@
 # Simulator logs are cached in logs/rough_study/sims/ and reused when present.
 # Usage: rough_study.sh [--profiles rough_120,rough_250] [--seeds "1 2 3"]
 #          [--variants paper[,feature_depth]] [--duration S] [--nice N]
+#          [--config-overlay FILE]... [--set section.key=value]...
 #   --duration S   simulate only the first S seconds (a quick look; cached apart)
 #   --nice N       niceness of every step (default 10)
+#   --config-overlay FILE  a config overlay for every replay (before the variant's)
+#   --set K=V      a config override for every replay (after the overlays), e.g.
+#                  --set tracker.klt_window_warp=true
 # Needs nadir_sim, nadir_replay and nadir_eval built (launch_scripts/setup.sh).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
@@ -18,7 +22,10 @@ seeds="1 2 3"
 variants=paper
 duration=""
 niceness=10
-usage() { sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; }
+overlays=()  # add_config_overlay (eval_common.sh) appends here
+report_suffix=""
+extra_sets=()
+usage() { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; }
 while (($#)); do
   case "$1" in
     --profiles) profiles="$2"; shift 2 ;;
@@ -26,6 +33,8 @@ while (($#)); do
     --variants) variants="$2"; shift 2 ;;
     --duration) duration="$2"; shift 2 ;;
     --nice) niceness="$2"; shift 2 ;;
+    --config-overlay) add_config_overlay rough_study "$2"; shift 2 ;;
+    --set) extra_sets+=(--set "$2"); shift 2 ;;
     -h|--help) usage; exit 0 ;;
     *) echo "rough_study: error: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
@@ -80,7 +89,7 @@ for p in "${profile_list[@]}"; do
         d="$out/$p/seed$s/$ground/$v"
         mkdir -p "$d"
         printf 'vo_solver:\n  variant: %s\n' "$v" >"$d/overlay.yaml"
-        replay_and_eval "$log" "$d" --config-overlay "$d/overlay.yaml"
+        replay_and_eval "$log" "$d" "${overlays[@]}" --config-overlay "$d/overlay.yaml" "${extra_sets[@]}"
         echo "$p,$s,$ground,$v,$(metric "$d" error_pct_3d),$(metric "$d" final_error_3d_m),$(metric "$d" distance_m)" >>"$rows"
         echo "  $v: final error $(metric "$d" error_pct_3d) % of distance"
       done
