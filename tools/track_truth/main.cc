@@ -83,6 +83,7 @@ std::string report_json(const TrackTruthReport& r, int64_t corrupt, uint64_t see
     j.key("drift");
     write_stats(&j, bin.drift);
     j.field("drift_expansion", bin.drift_expansion);
+    j.field("flow_expansion", bin.flow_expansion);
     j.end_object();
   }
   j.end_array().end_object();
@@ -227,7 +228,8 @@ int main(int argc, char** argv) {
       else
         std::snprintf(label, sizeof label, "drift age %d-%d", bin.from, bin.to - 1);
       print_stats(label, bin.drift);
-      std::printf("%-22s %+.3e (about the principal point)\n", "  its expansion", bin.drift_expansion);
+      std::printf("%-22s %+.3e (about the principal point); one step's at these ages %+.3e\n", "  its expansion",
+                  bin.drift_expansion, bin.flow_expansion);
     }
     if (writer) std::printf("wrote %s (%s tracks)\n", out_path.c_str(), rewrite_name.c_str());
     return 0;

@@ -54,7 +54,9 @@ ErrorStats TrackTruth::Accumulator::stats() {
 }
 
 TrackTruth::TrackTruth(const SimScene& scene, const CameraModel& estimator_camera)
-    : scene_(scene), estimator_camera_(estimator_camera), drift_(drift_age_bins().size()), drift_expansion_(drift_age_bins().size()) {}
+    : scene_(scene), estimator_camera_(estimator_camera), drift_(drift_age_bins().size()),
+      drift_expansion_(drift_age_bins().size()),
+      flow_expansion_by_age_(drift_age_bins().size()) {}
 
 void TrackTruth::write_position(const Eigen::Vector2d& px, float* pixel, double* normalized) const {
   const std::vector<cv::Point2d> n =
@@ -102,6 +104,9 @@ FrameFlow TrackTruth::process(tracks_t* tracks, Rewrite rewrite) {
       expansion_.add(error, radius);
       frame_errors.add(error);
       frame_expansion.add(error, radius);
+      const int age = std::max(1, static_cast<int>(tracks->age[i]));
+      for (size_t b = 0; b < bins.size(); ++b)
+        if (age >= bins[b][0] && age < bins[b][1]) flow_expansion_by_age_[b].add(error, radius);
     }
     const bool first_in_view = scene_.pixel_of(curr, first->second, &first_curr_px);
     if (first_in_view && scene_.visible(curr, first->second)) {
@@ -155,6 +160,7 @@ TrackTruthReport TrackTruth::report() const {
     bin.to = bins[b][1];
     bin.drift = a.stats();
     bin.drift_expansion = drift_expansion_[b].expansion();
+    bin.flow_expansion = flow_expansion_by_age_[b].expansion();
     r.drift_by_age.push_back(bin);
   }
   return r;

@@ -43,6 +43,8 @@ struct AgeBin {
   // but accumulated over the track's life): what a depth triangulated from
   // the track's first ray reads as a depth error.
   double drift_expansion = 0;
+  // The one-step flow error's expansion for the tracks of these ages.
+  double flow_expansion = 0;
 };
 
 struct TrackTruthReport {
@@ -115,6 +117,7 @@ class TrackTruth {
   ExpansionFit expansion_;
   std::vector<Accumulator> drift_;
   std::vector<ExpansionFit> drift_expansion_;
+  std::vector<ExpansionFit> flow_expansion_by_age_;
   std::unordered_map<int64_t, Eigen::Vector3d> first_point_;  // track id -> ground point where it started
   std::unordered_map<int64_t, int64_t> last_seen_;            // track id -> message index
 };

@@ -230,6 +230,7 @@ TEST(TrackTruth, MeasuresASpuriousExpansion) {
   EXPECT_NEAR(r.drift_by_age[0].drift_expansion, 2.5e-4, 0.1e-4);   // ages 1..4
   EXPECT_NEAR(r.drift_by_age[1].drift_expansion, 7.0e-4, 0.2e-4);   // ages 5..9
   EXPECT_NEAR(r.drift_by_age[2].drift_expansion, 12.0e-4, 0.3e-4);  // ages 10..14
+  for (const AgeBin& bin : r.drift_by_age) EXPECT_NEAR(bin.flow_expansion, 1e-4, 1e-6) << "every step's, " << bin.from;
 }
 
 TEST(TrackTruth, RewrittenTracksAreExactAndTheirNormalizedCoordinatesMatchTheirPixels) {
