@@ -330,11 +330,12 @@ void FeatureTracker::track(TrackStepResult& result) {
 
 void FeatureTracker::fit_local_warps(std::vector<Feature>& survivors, const std::vector<size_t>& track_index) const {
   // Per survivor: G minimising sum w |(c_j - c_s) - G (p_j - p_s)|^2 over the
-  // neighbours j within the radius (prev positions), a Gaussian weight of
-  // half the radius; a neighbour moving more than 3 px unlike it (another
-  // object) is left out. Plain sums in index order: deterministic.
+  // neighbours j within the radius (prev positions), weighted (1 - d^2/r^2)^2
+  // (no libm call: the same bits on every machine); a neighbour moving more
+  // than 3 px unlike it (another object) is left out. Plain sums in index
+  // order: deterministic.
   const double radius = options_.klt_local_warp_radius_px;
-  const double radius_sq = radius * radius, inv_two_sigma_sq = 2.0 / radius_sq;
+  const double radius_sq = radius * radius;
   for (size_t s = 0; s < survivors.size(); ++s) {
     const cv::Point2f ps = prev_pts_[track_index[s]], cs = curr_pts_[track_index[s]];
     cv::Matx22d cp = cv::Matx22d::zeros(), pp = cv::Matx22d::zeros();
@@ -344,10 +345,11 @@ void FeatureTracker::fit_local_warps(std::vector<Feature>& survivors, const std:
       const cv::Point2f pj = prev_pts_[track_index[j]], cj = curr_pts_[track_index[j]];
       const double dx = pj.x - ps.x, dy = pj.y - ps.y, d2 = dx * dx + dy * dy;
       if (d2 > radius_sq) continue;
-      const double ex = cj.x - ps.x - (cs.x - ps.x) - dx, ey = cj.y - ps.y - (cs.y - ps.y) - dy;
-      const double qx = cj.x - cs.x, qy = cj.y - cs.y;
+      const double qx = cj.x - cs.x, qy = cj.y - cs.y;  // its curr offset; (dx, dy) the prev one
+      const double ex = qx - dx, ey = qy - dy;            // how much more it moved than s
       if (ex * ex + ey * ey > 9.0) continue;
-      const double w = std::exp(-d2 * inv_two_sigma_sq);
+      const double taper = 1.0 - d2 / radius_sq;
+      const double w = taper * taper;
       cp += w * cv::Matx22d(qx * dx, qx * dy, qy * dx, qy * dy);
       pp += w * cv::Matx22d(dx * dx, dx * dy, dy * dx, dy * dy);
       ++used;

@@ -112,9 +112,9 @@ struct TrackerOptions {
   // a spurious expansion of the flow field that a solver takes for descent.
   bool klt_window_warp = false;
   // With klt_window_warp: a feature's warp is the last pair's linear map
-  // around it, fitted to its neighbours' tracks within klt_local_warp_radius_px
-  // (relief deforms windows differently across the image); the lens-and-
-  // motion warp for features without one.
+  // around it (relief deforms windows differently across the image), fitted
+  // to its neighbours' tracks within klt_local_warp_radius_px, weighted
+  // (1 - d^2/r^2)^2; the lens-and-motion warp for features without one.
   bool klt_local_warp = false;
   double klt_local_warp_radius_px = 60.0;
   // Forward-backward check: a track survives when tracking it back from the
