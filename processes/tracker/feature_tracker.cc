@@ -148,13 +148,8 @@ void FeatureTracker::window_warps(const std::vector<cv::Point2f>& predicted, con
     }
     const cv::Matx22d a = has_lens_ ? lens_.pixel_jacobian(curr_norm[g]) * normalized_motion * prev_lens_inverse_[i]
                                     : normalized_motion;
-    bool usable = true;
-    for (int k = 0; k < 4; ++k) {
-      const double deviation = a.val[k] - (k == 0 || k == 3 ? 1.0 : 0.0);
-      usable = usable && std::fabs(deviation) <= 0.5 * LucasKanade::kMaxWarpDeviation;
-    }
-    has_warp_[i] = usable;
-    if (usable) warp_[i] = cv::Matx22f(a);
+    has_warp_[i] = LucasKanade::warp_within(a, 0.5 * LucasKanade::kMaxWarpDeviation);
+    if (has_warp_[i]) warp_[i] = cv::Matx22f(a);
   }
 }
 
@@ -360,10 +355,7 @@ void FeatureTracker::fit_local_warps(std::vector<Feature>& survivors, const std:
     const double det = pp(0, 0) * pp(1, 1) - pp(0, 1) * pp(1, 0);
     if (!(det > 1e-6 * (pp(0, 0) + pp(1, 1)) * (pp(0, 0) + pp(1, 1)))) continue;
     const cv::Matx22d g = cp * pp.inv();
-    bool usable = true;
-    for (int k = 0; k < 4; ++k)
-      usable = usable && std::fabs(g.val[k] - (k == 0 || k == 3 ? 1.0 : 0.0)) <= 0.5 * LucasKanade::kMaxWarpDeviation;
-    if (!usable) continue;
+    if (!LucasKanade::warp_within(g, 0.5 * LucasKanade::kMaxWarpDeviation)) continue;
     f.has_local_warp = true;
     f.local_warp = cv::Matx22f(g);
   }

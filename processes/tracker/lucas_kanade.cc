@@ -237,6 +237,12 @@ LucasKanade::LucasKanade(const LkOptions& options)
   grad_y_.assign(window_floats, 0.f);
 }
 
+bool LucasKanade::warp_within(const cv::Matx22d& warp, double bound) {
+  for (int k = 0; k < 4; ++k)
+    if (!(std::fabs(warp.val[k] - (k == 0 || k == 3 ? 1.0 : 0.0)) <= bound)) return false;
+  return true;
+}
+
 int LucasKanade::border_for(int window_px) {
   // Top-left pixels as far as a window outside, plus what the patch (from one
   // pixel before the window, whole 8-lane blocks and one more block for the
@@ -328,13 +334,11 @@ bool LucasKanade::track(const LkPyramid& prev, const LkPyramid& curr, cv::Point2
   cv::Matx22f inverse_warp;
   if (warp) {
     const cv::Matx22f& a = *warp;
-    for (int k = 0; k < 4; ++k) {
-      const float deviation = a.val[k] - (k == 0 || k == 3 ? 1.f : 0.f);
-      if (!(std::fabs(deviation) <= kMaxWarpDeviation))
-        throw std::invalid_argument("LucasKanade::track: warp element " + std::to_string(k) + " = " +
-                                    std::to_string(a.val[k]) + " deviates from identity by more than " +
-                                    std::to_string(kMaxWarpDeviation));
-    }
+    if (!warp_within(cv::Matx22d(a), kMaxWarpDeviation))
+      throw std::invalid_argument("LucasKanade::track: warp (" + std::to_string(a(0, 0)) + ", " +
+                                  std::to_string(a(0, 1)) + "; " + std::to_string(a(1, 0)) + ", " +
+                                  std::to_string(a(1, 1)) + ") deviates from identity by more than " +
+                                  std::to_string(kMaxWarpDeviation));
     const double det = static_cast<double>(a(0, 0)) * a(1, 1) - static_cast<double>(a(0, 1)) * a(1, 0);
     inverse_warp = cv::Matx22f(static_cast<float>(a(1, 1) / det), static_cast<float>(-a(0, 1) / det),
                                static_cast<float>(-a(1, 0) / det), static_cast<float>(a(0, 0) / det));

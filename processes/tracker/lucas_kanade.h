@@ -82,6 +82,8 @@ class LucasKanade {
              float* patch_error, const cv::Matx22f* warp = nullptr);
 
   static constexpr float kMaxWarpDeviation = 0.2f;
+  // True when every element of warp - identity is within +-bound (NaN: false).
+  static bool warp_within(const cv::Matx22d& warp, double bound);
 
  private:
   // Samples the window around top-left `corner` of `prev` level `level` and
