@@ -74,9 +74,8 @@ Triangulation triangulate(const Eigen::Vector3d& origin, const Eigen::Vector3d& 
 
 void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime, const FramePair& pair,
                              const Estimate& est) {
-  constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
   const size_t n = ids.size();
-  if ((est.quality & kFailed) || pair.prev_norm.size() != n || pair.curr_norm.size() != n) {
+  if ((est.quality & kEstimateFailed) || pair.prev_norm.size() != n || pair.curr_norm.size() != n) {
     reset();
     return;
   }

@@ -43,6 +43,13 @@ struct FeatureDepthOptions {
   // A pair's triangulated depth this many combined sigmas from the carried
   // one: the surface under the track changed (cliff edge); restart from the pair.
   double max_depth_jump_sigma = 5.0;
+  // Each frame's altimeter range and beam as seen from the camera at the
+  // frame: a range older than its frame (altimeter_mode latest, up to one
+  // altimeter period) is moved from where the aircraft was when it was
+  // sampled, with the velocity of the pairs before (range_at_frame.h).
+  // Without it a climb, a descent or a slope under the beam biases each
+  // pair's scale by range rate x age / range.
+  bool range_from_sample_position = true;
   // Throws std::invalid_argument naming the field and the allowed range.
   void Check() const;
 };

@@ -234,8 +234,7 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   SolverOptions forward = options;
   forward.symmetric_dz = false;
   const Estimate patch = solve_paper(pair, forward, true);
-  constexpr int kFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
-  if (patch.quality & kFailed) return solve_paper(pair, options, true);
+  if (patch.quality & kEstimateFailed) return solve_paper(pair, options, true);
 
   // Young features: depth on the patch (through the curr altimeter spot),
   // seen from prev: n' . X = n . A + n' . t with n' = Rz(dyaw) n. Their

@@ -116,6 +116,8 @@ FrameState FrameSync::compute(int64_t stamp_utime) const {
   const int64_t utime = options_.calibration.exposure_utime(stamp_utime);
   FrameState state;
   attitude_at(utime, &state);
+  state.range_roll = state.roll;
+  state.range_pitch = state.pitch;
   range_at(utime, &state);
   return state;
 }
@@ -223,6 +225,13 @@ void FrameSync::range_at(int64_t utime, FrameState* state) const {
   }
   const auto& nearest = dt_before <= dt_after ? before->second : after->second;
   state->range_m = nearest.range_m;
+  state->range_age_us = dt_before <= dt_after ? dt_before : -dt_after;
+  FrameState then;
+  attitude_at(utime - state->range_age_us, &then);
+  if (then.has_attitude) {
+    state->range_roll = then.roll;
+    state->range_pitch = then.pitch;
+  }
   state->beam_body = nearest.beam_body;
   state->range_stale = std::min(dt_before, dt_after) > limit;
 }

@@ -62,6 +62,13 @@ struct FrameState {
   bool has_range = false;   // a valid range was found (maybe stale)
   bool range_stale = false;
   double range_m = 0;
+  // The range's sample time before the frame's exposure (0: interpolated to
+  // it, or a sample at it; negative: a sample after it) and the attitude
+  // then (the frame's where the INS does not cover it). A range sampled
+  // before the frame was measured from where the aircraft was then
+  // (range_at_frame.h).
+  int64_t range_age_us = 0;
+  double range_roll = 0, range_pitch = 0;
   Eigen::Vector3d beam_body = Eigen::Vector3d::UnitZ();
 };
 

@@ -92,6 +92,8 @@ enum Quality : int {
   kHighResidual = 64,
   kDepthLayers = 128,
 };
+// An estimate with any of these has no motion to build on (own depths, velocity).
+constexpr int kEstimateFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;
 
 struct Estimate {
   // Translation of the camera from prev to curr in the level frame of prev

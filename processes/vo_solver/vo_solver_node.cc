@@ -84,7 +84,10 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   // estimate. A dropped frame within max_frame_interval keeps them: they are
   // for this pair's prev frame, the last one solved (FeatureDepthMap::fill
   // checks), and the tracks continue over the longer baseline.
-  if (time_gap || flush || first_frame) depth_map_.reset();
+  if (time_gap || flush || first_frame) {
+    depth_map_.reset();
+    velocity_.reset();
+  }
   if (flush) {
     // Never got its INS: keep the frame's time but say why there is no estimate.
     out.quality = quality | vo::kNoAttitude;
@@ -141,8 +144,25 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
     if (own_depths) ids.push_back(i < static_cast<int>(tracks.track_id.size()) ? tracks.track_id[i] : -1 - i);
   }
   if (own_depths) depth_map_.fill(ids, tracks.prev_utime, &pair);
+  Eigen::Vector3d velocity;
+  if (own_depths && options_.solver.feature_depth.range_from_sample_position &&
+      velocity_.at(tracks.prev_utime, &velocity)) {
+    // Ranges older than their frames, moved to the cameras at the frames
+    // with the velocity up to prev (this pair's own is not solved yet).
+    vo::move_range_to_frame(1e-6 * static_cast<double>(prev.range_age_us), velocity,
+                            {prev.range_roll, prev.range_pitch}, {prev.roll, prev.pitch}, &pair.prev_range_m,
+                            &pair.prev_beam_body);
+    vo::move_range_to_frame(1e-6 * static_cast<double>(curr.range_age_us), velocity,
+                            {curr.range_roll, curr.range_pitch}, {curr.roll, curr.pitch}, &pair.curr_range_m,
+                            &pair.curr_beam_body);
+  }
   vo::Estimate est = vo::solve(pair, options_.solver);
   if (own_depths) depth_map_.update(ids, tracks.utime, pair, est);
+  if (est.quality & vo::kEstimateFailed) {
+    velocity_.reset();
+  } else {
+    velocity_.add(tracks.prev_utime, tracks.utime, est.translation, est.dyaw);
+  }
   vo::add_sensor_uncertainty(pair, options_.solver, options_.uncertainty, &est);  // INS and altimeter errors
   vo::move_to_ins_reference(pair, options_.sync.calibration.camera_lever_arm_m, &est);
   out.dx = est.translation.x();

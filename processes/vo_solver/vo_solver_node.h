@@ -15,6 +15,7 @@
 #include "nadir/vo_delta_t.hpp"
 #include "processes/vo_solver/feature_depth_map.h"
 #include "processes/vo_solver/frame_sync.h"
+#include "processes/vo_solver/range_at_frame.h"
 #include "processes/vo_solver/vo_solver_options.h"
 
 namespace nadir {
@@ -43,6 +44,7 @@ class VoSolverNode : public Node {
   Bus& bus_;
   vo::FrameSync sync_;
   vo::FeatureDepthMap depth_map_;  // feature_depth variant: per-track depths
+  vo::LevelVelocity velocity_{0.5};  // moves a range sampled before its frame (range_at_frame.h)
   InputGate gate_;
   std::map<int64_t, tracks_t> pending_;  // by utime
   int64_t last_published_utime_ = INT64_MIN;

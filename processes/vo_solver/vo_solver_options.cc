@@ -64,6 +64,7 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   fd.relative_process_noise = d.get_in_range("relative_process_noise", fd.relative_process_noise, 0.0, 1.0);
   fd.max_epipolar_px = d.get_in_range("max_epipolar_px", fd.max_epipolar_px, 1e-3, 100.0);
   fd.max_depth_jump_sigma = d.get_in_range("max_depth_jump_sigma", fd.max_depth_jump_sigma, 1.0, 100.0);
+  fd.range_from_sample_position = d.get<bool>("range_from_sample_position", fd.range_from_sample_position);
   const std::string anchor_surface = d.get<std::string>(
       "anchor_surface", fd.anchor_surface == vo::AnchorSurfaceModel::kQuadratic ? "quadratic" : "plane");
   if (anchor_surface != "quadratic" && anchor_surface != "plane") {

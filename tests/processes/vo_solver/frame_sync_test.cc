@@ -104,6 +104,35 @@ TEST(FrameSync, LatestModeUsesOnlyEarlierRangesAndNeverWaits) {
   EXPECT_NEAR(sync.frame_state(995000).range_m, 150, 1e-12);
 }
 
+TEST(FrameSync, ALatestRangeCarriesItsAgeAndTheAttitudeItWasSampledAt) {
+  // The range is 30 ms older than the frame: it was measured from where the
+  // aircraft was then, along the beam as the body was turned then.
+  FrameSync sync(interpolating(), Eigen::Vector3d::UnitZ());  // altimeter_mode latest
+  sync.add_ins(ins_at(960000, 0.00, 0.10, 0));
+  sync.add_ins(ins_at(980000, 0.04, 0.06, 0));
+  sync.add_ins(ins_at(1000000, 0.08, 0.02, 0));
+  sync.add_altimeter(altimeter_at(970000, 150));
+  const FrameState s = sync.frame_state(1000000);
+  EXPECT_EQ(s.range_age_us, 30000);
+  EXPECT_NEAR(s.roll, 0.08, 1e-12);
+  // Slerped between the INS samples at 960 and 980 ms: within 1e-4 of linear.
+  EXPECT_NEAR(s.range_roll, 0.02, 1e-4);
+  EXPECT_NEAR(s.range_pitch, 0.08, 1e-4);
+  // Interpolated to the frame: no age, the frame's own attitude.
+  SyncOptions interpolate = interpolating();
+  interpolate.altimeter_interpolate = true;
+  FrameSync at_frame(interpolate, Eigen::Vector3d::UnitZ());
+  at_frame.add_ins(ins_at(980000, 0.04, 0.06, 0));
+  at_frame.add_ins(ins_at(1000000, 0.08, 0.02, 0));
+  at_frame.add_altimeter(altimeter_at(970000, 150));
+  at_frame.add_altimeter(altimeter_at(1070000, 160));
+  const FrameState t = at_frame.frame_state(1000000);
+  EXPECT_NEAR(t.range_m, 153, 1e-9);
+  EXPECT_EQ(t.range_age_us, 0);
+  EXPECT_EQ(t.range_roll, t.roll);
+  EXPECT_EQ(t.range_pitch, t.pitch);
+}
+
 TEST(FrameSync, AltimeterRangeIsInterpolatedAndStalenessFlagged) {
   SyncOptions options;
   options.altimeter_interpolate = true;

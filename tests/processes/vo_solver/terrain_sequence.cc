@@ -47,6 +47,10 @@ double TerrainSequence::range_to_corridor(const Eigen::Vector3d& position, const
   return range;
 }
 
+double TerrainSequence::range_at(const FramePose& pose) const {
+  return range_to_corridor(pose.position, rotation_from_rpy(pose.roll, pose.pitch, pose.yaw).col(2));
+}
+
 FramePose TerrainSequence::pose(int k) const {
   if (pose_override) return pose_override(k);
   FramePose p;

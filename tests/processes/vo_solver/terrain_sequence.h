@@ -64,6 +64,9 @@ class TerrainSequence {
   std::function<Eigen::Vector3d(size_t, int)> point_motion;
   // Overrides the pose of frame k (hover, custom motion).
   std::function<FramePose(int)> pose_override;
+  // The altimeter's range (along body z) from a camera at `pose`: any time,
+  // not only a frame's (a range sampled between frames).
+  double range_at(const FramePose& pose) const;
 
  private:
   // Height of the ridges above the level corridor at a north-east position.
