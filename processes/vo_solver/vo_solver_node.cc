@@ -87,6 +87,7 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   if (time_gap || flush || first_frame) {
     depth_map_.reset();
     velocity_.reset();
+    curr_range_ = {};
   }
   if (flush) {
     // Never got its INS: keep the frame's time but say why there is no estimate.
@@ -144,17 +145,27 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
     if (own_depths) ids.push_back(i < static_cast<int>(tracks.track_id.size()) ? tracks.track_id[i] : -1 - i);
   }
   if (own_depths) depth_map_.fill(ids, tracks.prev_utime, &pair);
-  Eigen::Vector3d velocity;
-  if (own_depths && options_.solver.feature_depth.range_from_sample_position &&
-      velocity_.at(tracks.prev_utime, &velocity)) {
+  if (own_depths && options_.solver.feature_depth.range_from_sample_position) {
     // Ranges older than their frames, moved to the cameras at the frames
-    // with the velocity up to prev (this pair's own is not solved yet).
-    vo::move_range_to_frame(1e-6 * static_cast<double>(prev.range_age_us), velocity,
-                            {prev.range_roll, prev.range_pitch}, {prev.roll, prev.pitch}, &pair.prev_range_m,
-                            &pair.prev_beam_body);
-    vo::move_range_to_frame(1e-6 * static_cast<double>(curr.range_age_us), velocity,
-                            {curr.range_roll, curr.range_pitch}, {curr.roll, curr.pitch}, &pair.curr_range_m,
-                            &pair.curr_beam_body);
+    // with the velocity up to prev (this pair's own is not solved yet). A
+    // frame keeps the range it was given as curr for the pair where it is
+    // prev: one range per frame, as one attitude, so that they telescope.
+    Eigen::Vector3d velocity;
+    const bool moving = velocity_.at(tracks.prev_utime, &velocity);
+    if (curr_range_.utime == tracks.prev_utime) {
+      pair.prev_range_m = curr_range_.range_m;
+      pair.prev_beam_body = curr_range_.beam_body;
+    } else if (moving) {
+      vo::move_range_to_frame(1e-6 * static_cast<double>(prev.range_age_us), velocity,
+                              {prev.range_roll, prev.range_pitch}, {prev.roll, prev.pitch}, &pair.prev_range_m,
+                              &pair.prev_beam_body);
+    }
+    if (moving) {
+      vo::move_range_to_frame(1e-6 * static_cast<double>(curr.range_age_us), velocity,
+                              {curr.range_roll, curr.range_pitch}, {curr.roll, curr.pitch}, &pair.curr_range_m,
+                              &pair.curr_beam_body);
+    }
+    curr_range_ = {tracks.utime, pair.curr_range_m, pair.curr_beam_body};
   }
   vo::Estimate est = vo::solve(pair, options_.solver);
   if (own_depths) depth_map_.update(ids, tracks.utime, pair, est);

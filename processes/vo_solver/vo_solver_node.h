@@ -45,6 +45,12 @@ class VoSolverNode : public Node {
   vo::FrameSync sync_;
   vo::FeatureDepthMap depth_map_;  // feature_depth variant: per-track depths
   vo::LevelVelocity velocity_{0.5};  // moves a range sampled before its frame (range_at_frame.h)
+  struct FrameRange {
+    int64_t utime = INT64_MIN;
+    double range_m = 0;
+    Eigen::Vector3d beam_body = Eigen::Vector3d::UnitZ();
+  };
+  FrameRange curr_range_;  // the last pair's curr range as given to the solver (moved or not)
   InputGate gate_;
   std::map<int64_t, tracks_t> pending_;  // by utime
   int64_t last_published_utime_ = INT64_MIN;
