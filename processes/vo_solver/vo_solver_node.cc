@@ -145,22 +145,19 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
     if (own_depths) ids.push_back(i < static_cast<int>(tracks.track_id.size()) ? tracks.track_id[i] : -1 - i);
   }
   if (own_depths) depth_map_.fill(ids, tracks.prev_utime, &pair);
-  if (own_depths && options_.solver.feature_depth.range_from_sample_position) {
-    // Ranges older than their frames, moved to the cameras at the frames
-    // with the velocity up to prev (this pair's own is not solved yet). A
-    // frame keeps the range it was given as curr for the pair where it is
-    // prev: one range per frame, as one attitude, so that they telescope.
-    Eigen::Vector3d velocity;
-    const bool moving = velocity_.at(tracks.prev_utime, &velocity);
+  const bool move_ranges = own_depths && options_.solver.feature_depth.range_from_sample_position;
+  if (move_ranges) {
+    // A range older than its frame, moved to the camera at the frame with the
+    // velocity up to prev (this pair's own is not solved yet). Worked out once
+    // per frame, when it is curr, and kept for the pair where it is prev (one
+    // range per frame, as one attitude, so that they telescope); a prev frame
+    // solved without a velocity keeps its range as sampled.
     if (curr_range_.utime == tracks.prev_utime) {
       pair.prev_range_m = curr_range_.range_m;
       pair.prev_beam_body = curr_range_.beam_body;
-    } else if (moving) {
-      vo::move_range_to_frame(1e-6 * static_cast<double>(prev.range_age_us), velocity,
-                              {prev.range_roll, prev.range_pitch}, {prev.roll, prev.pitch}, &pair.prev_range_m,
-                              &pair.prev_beam_body);
     }
-    if (moving) {
+    Eigen::Vector3d velocity;
+    if (velocity_.at(tracks.prev_utime, &velocity)) {
       vo::move_range_to_frame(1e-6 * static_cast<double>(curr.range_age_us), velocity,
                               {curr.range_roll, curr.range_pitch}, {curr.roll, curr.pitch}, &pair.curr_range_m,
                               &pair.curr_beam_body);
@@ -169,10 +166,12 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   }
   vo::Estimate est = vo::solve(pair, options_.solver);
   if (own_depths) depth_map_.update(ids, tracks.utime, pair, est);
-  if (est.quality & vo::kEstimateFailed) {
-    velocity_.reset();
-  } else {
-    velocity_.add(tracks.prev_utime, tracks.utime, est.translation, est.dyaw);
+  if (move_ranges) {
+    if (est.quality & vo::kEstimateFailed) {
+      velocity_.reset();
+    } else {
+      velocity_.add(tracks.prev_utime, tracks.utime, est.translation, est.dyaw);
+    }
   }
   vo::add_sensor_uncertainty(pair, options_.solver, options_.uncertainty, &est);  // INS and altimeter errors
   vo::move_to_ins_reference(pair, options_.sync.calibration.camera_lever_arm_m, &est);
