@@ -82,7 +82,9 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
   const FeatureDepthOptions& o = options_.feature_depth;
   const Eigen::Matrix3d prev_level = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
   const Eigen::Matrix3d curr_level = level_from_camera(pair.curr_roll, pair.curr_pitch, pair.body_from_camera);
-  const Eigen::Matrix3d rz = rot_z(est.dyaw);
+  // Into curr's level frame (with the pair's fitted relative tilt, if any),
+  // the frame the next pair's INS-levelled rays are in.
+  const Eigen::Matrix3d to_curr = curr_from_prev(est);
   const Eigen::Vector3d& t = est.translation;
   // Angular noise of the two rays together, and the epipolar gate, in radians.
   const double ray_sigma = std::sqrt(2.0) * o.triangulation_noise_px / options_.focal_px;
@@ -96,7 +98,7 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
     if (!u.allFinite() || !v.allFinite() || u.z() < 1e-6 || v.z() < 1e-6) continue;
     u /= u.z();
     v /= v.z();
-    const Eigen::Vector3d a = rz * v;
+    const Eigen::Vector3d a = to_curr.transpose() * v;
     const bool used_own = i < est.used_own_depth.size() && est.used_own_depth[i];
     const double weight = i < est.weights.size() ? est.weights[i] : 0.0;
     const auto old = depths_.find(ids[i]);
@@ -118,9 +120,9 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
       ++off_epipolar_;
       if (!carried) continue;
       e = old->second;
-      e.origin = rz.transpose() * (est.depth_scale * e.origin - t);
-      e.ray = rz.transpose() * e.ray;
-      const Eigen::Vector3d point = rz.transpose() * (est.depth_scale * e.depth * u - t);
+      e.origin = to_curr * (est.depth_scale * e.origin - t);
+      e.ray = to_curr * e.ray;
+      const Eigen::Vector3d point = to_curr * (est.depth_scale * e.depth * u - t);
       e.depth = std::isfinite(e.depth) && point.z() > 0 ? point.z() : nan;
       if (std::isfinite(e.depth)) next[ids[i]] = e;
       continue;
@@ -150,8 +152,8 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
       ray = u;
       whole = this_pair;
     }
-    e.origin = rz.transpose() * (origin - t);
-    e.ray = rz.transpose() * ray;
+    e.origin = to_curr * (origin - t);
+    e.ray = to_curr * ray;
     e.depth = whole.depth;
     e.sigma = whole.depth * whole.relative_sigma;
     next[ids[i]] = e;

@@ -50,6 +50,13 @@ struct FeatureDepthOptions {
   // Without it a climb, a descent or a slope under the beam biases each
   // pair's scale by range rate x age / range.
   bool range_from_sample_position = true;
+  // The INS roll/pitch error between two frames (sigma of the difference,
+  // degrees): each pair fits that relative tilt to the images as well, with
+  // this prior. Without it (0) the tilt is taken as the INS says, and image
+  // motion that is the tilt is read as translation: first order across the
+  // image (it telescopes), second order as an expansion, a descent of about
+  // height x tilt^2 in every pair that does not (DERIVATION.md section 13).
+  double relative_tilt_sigma_deg = 0.1;
   // Throws std::invalid_argument naming the field and the allowed range.
   void Check() const;
 };

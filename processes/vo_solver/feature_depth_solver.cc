@@ -32,6 +32,7 @@ void FeatureDepthOptions::Check() const {
   require(relative_process_noise >= 0 && relative_process_noise <= 1, "relative_process_noise", "in [0, 1]");
   require(max_epipolar_px > 0 && max_epipolar_px <= 100, "max_epipolar_px", "in (0, 100]");
   require(max_depth_jump_sigma >= 1 && max_depth_jump_sigma <= 100, "max_depth_jump_sigma", "in [1, 100]");
+  require(relative_tilt_sigma_deg >= 0 && relative_tilt_sigma_deg <= 5, "relative_tilt_sigma_deg", "in [0, 5]");
 }
 
 namespace {
@@ -138,25 +139,39 @@ bool anchor_scale(const std::vector<DepthFeature>& features, const Eigen::Vector
 }
 
 // Reprojection of feature f into the curr level frame for motion
-// (dx, dy, dz, dyaw): Y = Rz(-dyaw) (depth u - t), error (Y_xy / Y_z - v_xy)
-// in pixels; Jacobian 2 x 4 if asked. False when the point is behind curr.
-using Motion = Eigen::Matrix<double, 4, 1>;
+// m = (dx, dy, dz, dyaw, tilt x, tilt y): Y = Rx(tilt x) Ry(tilt y) Rz(-dyaw)
+// (depth u - t) (curr_from_prev), error (Y_xy / Y_z - v_xy) in pixels;
+// Jacobian 2 x 6 if asked. False when the point is behind curr.
+using Motion = Eigen::Matrix<double, 6, 1>;
+using MotionMatrix = Eigen::Matrix<double, 6, 6>;
 bool reprojection(const DepthFeature& f, const Motion& m, double focal_px, Eigen::Vector2d* error,
-                  Eigen::Matrix<double, 2, 4>* jacobian) {
+                  Eigen::Matrix<double, 2, 6>* jacobian) {
   const double c = std::cos(m(3)), s = std::sin(m(3));
+  const double ca = std::cos(m(4)), sa = std::sin(m(4)), cb = std::cos(m(5)), sb = std::sin(m(5));
+  Eigen::Matrix3d rx, ry;
+  rx << 1, 0, 0, 0, ca, -sa, 0, sa, ca;
+  ry << cb, 0, sb, 0, 1, 0, -sb, 0, cb;
+  const Eigen::Matrix3d tilt = rx * ry;
   const Eigen::Vector3d p = f.depth * f.u - m.head<3>();
-  const Eigen::Vector3d y(c * p.x() + s * p.y(), -s * p.x() + c * p.y(), p.z());
+  const Eigen::Vector3d q(c * p.x() + s * p.y(), -s * p.x() + c * p.y(), p.z());
+  const Eigen::Vector3d y = tilt * q;
   if (!(y.z() > 1e-9)) return false;
   const double iz = 1.0 / y.z();
   *error = focal_px * Eigen::Vector2d(y.x() * iz - f.v.x(), y.y() * iz - f.v.y());
   if (jacobian) {
     Eigen::Matrix<double, 2, 3> dproj;
     dproj << iz, 0, -y.x() * iz * iz, 0, iz, -y.y() * iz * iz;
-    Eigen::Matrix3d dy_dt;  // -Rz(-dyaw)
-    dy_dt << -c, -s, 0, s, -c, 0, 0, 0, -1;
-    const Eigen::Vector3d dy_dyaw(-s * p.x() + c * p.y(), -c * p.x() - s * p.y(), 0.0);
-    jacobian->leftCols<3>() = focal_px * dproj * dy_dt;
-    jacobian->col(3) = focal_px * dproj * dy_dyaw;
+    Eigen::Matrix3d dq_dt;  // -Rz(-dyaw)
+    dq_dt << -c, -s, 0, s, -c, 0, 0, 0, -1;
+    const Eigen::Vector3d dq_dyaw(-s * p.x() + c * p.y(), -c * p.x() - s * p.y(), 0.0);
+    Eigen::Matrix3d drx, dry;
+    drx << 0, 0, 0, 0, -sa, -ca, 0, ca, -sa;
+    dry << -sb, 0, cb, 0, 0, 0, -cb, 0, -sb;
+    const Eigen::Matrix<double, 2, 3> dproj_tilt = focal_px * dproj * tilt;
+    jacobian->leftCols<3>() = dproj_tilt * dq_dt;
+    jacobian->col(3) = dproj_tilt * dq_dyaw;
+    jacobian->col(4) = focal_px * dproj * (drx * ry * q);
+    jacobian->col(5) = focal_px * dproj * (rx * dry * q);
   }
   return error->allFinite();
 }
@@ -259,8 +274,14 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
     f.base_weight = f.depth > 0 ? patch_weight : 0.0;
   }
 
+  // The relative tilt's prior, in the units of the fit's cost (pixels^2
+  // over the image noise): the tilt is not fitted at all without it.
+  const bool fit_tilt = o.relative_tilt_sigma_deg > 0;
+  const double image_sigma_px = o.triangulation_noise_px * options.pixel_scale();
+  const double tilt_prior = fit_tilt ? std::pow(image_sigma_px / deg_to_rad(o.relative_tilt_sigma_deg), 2) : 0.0;
+  const int unknowns = fit_tilt ? 6 : 4;
   Motion motion;
-  motion << patch.translation, patch.dyaw;
+  motion << patch.translation, patch.dyaw, 0.0, 0.0;
   const size_t m = features.size();
   std::vector<double> w(m, 0.0), err(m, std::numeric_limits<double>::infinity());
   auto errors = [&](const Motion& mo) {
@@ -271,12 +292,14 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
                    : std::numeric_limits<double>::infinity();
     }
   };
-  auto normal_equations = [&](const Motion& mo, Eigen::Matrix4d* h, Eigen::Vector4d* g) {
-    double cost = 0;
+  auto normal_equations = [&](const Motion& mo, MotionMatrix* h, Motion* g) {
+    double cost = tilt_prior * mo.tail<2>().squaredNorm();
     if (h) h->setZero();
     if (g) g->setZero();
+    if (h) h->diagonal().tail<2>().setConstant(tilt_prior);
+    if (g) g->tail<2>() = tilt_prior * mo.tail<2>();
     Eigen::Vector2d e;
-    Eigen::Matrix<double, 2, 4> j;
+    Eigen::Matrix<double, 2, 6> j;
     for (size_t i = 0; i < m; ++i) {
       if (w[i] <= 0) continue;
       if (!reprojection(features[i], mo, options.focal_px, &e, h ? &j : nullptr)) {
@@ -294,6 +317,28 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   const double min_threshold_px = options.min_threshold_px * options.pixel_scale();
   const double max_threshold_px = options.max_threshold_px * options.pixel_scale();
   const int min_used = std::max(options.min_features, 4);
+  // The LM step of the unknowns fitted (the tilt's stays 0 where it is not
+  // fitted); false where the damped system is not positive definite.
+  auto lm_step = [&](const MotionMatrix& h, const Motion& g, double lambda, Motion* step) {
+    step->setZero();
+    MotionMatrix a = h;
+    a.diagonal() *= 1.0 + lambda;
+    if (fit_tilt) {
+      const Eigen::LDLT<MotionMatrix> ldlt(a);
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+      *step = ldlt.solve(g);
+      return true;
+    }
+    const Eigen::LDLT<Eigen::Matrix4d> ldlt(a.topLeftCorner<4, 4>());
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+    step->head<4>() = ldlt.solve(g.head<4>());
+    return true;
+  };
+  // How far the motion moved: translation over the range, angles in rad.
+  auto change_between = [&](const Motion& a, const Motion& b) {
+    return std::max((a - b).head<3>().cwiseAbs().maxCoeff() / pair.curr_range_m,
+                    (a - b).tail<3>().cwiseAbs().maxCoeff());
+  };
   bool converged = false, degenerate = false;
   int iterations = 0;
   for (int outer = 0; outer < options.max_robust_iterations && !degenerate; ++outer) {
@@ -314,28 +359,25 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
     if (used < min_used) break;
     const Motion before = motion;
     double lambda = 1e-3;
-    Eigen::Matrix4d h;
-    Eigen::Vector4d g;
+    MotionMatrix h;
+    Motion g;
     double cost = normal_equations(motion, &h, &g);
     for (int it = 0; it < options.max_lm_iterations; ++it) {
-      Eigen::Matrix4d a = h;
-      a.diagonal() *= 1.0 + lambda;
-      const Eigen::LDLT<Eigen::Matrix4d> ldlt(a);
-      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
+      Motion step;
+      if (!lm_step(h, g, lambda, &step)) {
         degenerate = true;
         break;
       }
-      const Motion trial = motion - ldlt.solve(g);
+      const Motion trial = motion - step;
       if (!trial.allFinite()) {
         degenerate = true;
         break;
       }
-      Eigen::Matrix4d trial_h;
-      Eigen::Vector4d trial_g;
+      MotionMatrix trial_h;
+      Motion trial_g;
       const double trial_cost = normal_equations(trial, &trial_h, &trial_g);
       if (trial_cost <= cost) {
-        const double change = std::max((trial - motion).head<3>().cwiseAbs().maxCoeff() / pair.curr_range_m,
-                                       std::abs(trial(3) - motion(3)));
+        const double change = change_between(trial, motion);
         motion = trial;
         cost = trial_cost;
         h = trial_h;
@@ -348,19 +390,17 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
         if (lambda > 1e10) break;
       }
     }
-    const double change = std::max((motion - before).head<3>().cwiseAbs().maxCoeff() / pair.curr_range_m,
-                                   std::abs(motion(3) - before(3)));
-    if (change < options.convergence_tolerance && threshold <= max_threshold_px) {
+    if (change_between(motion, before) < options.convergence_tolerance && threshold <= max_threshold_px) {
       converged = true;
       break;
     }
   }
-
   Estimate est;
   est.weights.assign(n, 0.0);
   est.used_own_depth.assign(n, 0);
   est.translation = motion.head<3>();
   est.dyaw = wrap_angle(motion(3));
+  est.relative_tilt = motion.tail<2>();
   est.ground_roll = patch.ground_roll;
   est.ground_pitch = patch.ground_pitch;
   est.altitude_m = prev_vertical_height(normal, plane_offset, est.dyaw, est.translation);
@@ -386,19 +426,21 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
     est.quality |= kHighResidual;
   }
   if (!converged || degenerate) est.quality |= kNotConverged;
-  // Covariance: sigma^2 (J^T W J)^-1 of (dx, dy, dz, dyaw); the ground
+  // Covariance: sigma^2 (J^T W J)^-1 of (dx, dy, dz, dyaw), the relative
+  // tilt (where fitted, with its prior) marginalised out; the ground
   // attitude's from the patch; the anchor's scale uncertainty along t.
-  Eigen::Matrix4d h;
-  Eigen::Vector4d g;
-  const double cost = normal_equations(motion, &h, &g);
+  MotionMatrix h;
+  Motion g;
+  const double data_cost = normal_equations(motion, &h, &g) - tilt_prior * motion.tail<2>().squaredNorm();
   est.covariance = patch.covariance;
   est.covariance.topLeftCorner<4, 4>().setZero();
   est.covariance.block<4, 2>(0, 4).setZero();
   est.covariance.block<2, 4>(4, 0).setZero();
-  const Eigen::LDLT<Eigen::Matrix4d> ldlt(h);
-  if (est.inliers > 4 && sum_w > 0 && ldlt.info() == Eigen::Success && ldlt.isPositive()) {
-    const double sigma2 = cost / sum_w * est.inliers / (est.inliers - 4);
-    est.covariance.topLeftCorner<4, 4>() = sigma2 * ldlt.solve(Eigen::Matrix4d::Identity());
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(h.topLeftCorner(unknowns, unknowns));
+  if (est.inliers > unknowns && sum_w > 0 && ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+    const double sigma2 = data_cost / sum_w * est.inliers / (est.inliers - unknowns);
+    const Eigen::MatrixXd inverse = ldlt.solve(Eigen::MatrixXd::Identity(unknowns, unknowns));
+    est.covariance.topLeftCorner<4, 4>() = sigma2 * inverse.topLeftCorner<4, 4>();
     est.covariance.topLeftCorner<3, 3>() += scale_sigma * scale_sigma * est.translation * est.translation.transpose();
   } else {
     est.quality |= kNotConverged;

@@ -69,7 +69,7 @@ std::vector<double> estimate_reprojection_errors(const FramePair& pair, const Es
   const Eigen::Vector3d spot = pair.curr_range_m * (curr_level_from_body * pair.curr_beam_body).normalized();
   const Eigen::Vector3d normal = normal_from_tilt(est.ground_roll, est.ground_pitch);
   const double offset = normal.dot(spot);
-  const Eigen::Matrix3d rotation = prev_camera_from_level * rot_z(est.dyaw);
+  const Eigen::Matrix3d rotation = prev_camera_from_level * curr_from_prev(est).transpose();
   const Eigen::Vector3d shift = prev_camera_from_level * est.translation;
   std::vector<double> errors(pair.prev_norm.size(), std::numeric_limits<double>::infinity());
   if (depth_offsets) depth_offsets->assign(errors.size(), std::numeric_limits<double>::quiet_NaN());

@@ -654,6 +654,13 @@ Estimate solve_paper_symmetric(const FramePair& pair, const SolverOptions& optio
 
 }  // namespace
 
+Eigen::Matrix3d curr_from_prev(const Estimate& est) {
+  const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(est.relative_tilt.x(), Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(est.relative_tilt.y(), Eigen::Vector3d::UnitY()))
+                                   .toRotationMatrix();
+  return tilt * rot_z(est.dyaw).transpose();
+}
+
 FramePair reversed_in_time(const FramePair& pair) {
   FramePair r = pair;
   std::swap(r.prev_norm, r.curr_norm);

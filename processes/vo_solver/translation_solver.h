@@ -119,7 +119,16 @@ struct Estimate {
   // features' weight went down by its square where above 1); 0 where unused.
   double patch_misfit = 0.0;
   std::vector<char> used_own_depth;
+  // feature_depth variant with relative_tilt_sigma_deg > 0: the tilt of the
+  // curr level frame against the prev one beyond what the INS roll/pitch say
+  // (rotation about level x, then y, rad), fitted to the images; 0 otherwise.
+  Eigen::Vector2d relative_tilt = Eigen::Vector2d::Zero();
 };
+
+// The rotation from the level frame of prev to the (INS-levelled) level frame
+// of curr: Rx(tilt x) Ry(tilt y) Rz(-dyaw). A point X in prev's frame is at
+// curr_from_prev(est) (X - est.translation) in curr's.
+Eigen::Matrix3d curr_from_prev(const Estimate& est);
 
 // The same pair seen backwards in time: curr becomes prev and vice versa
 // (points, attitudes, headings, altimeter ranges and beams all swap).
