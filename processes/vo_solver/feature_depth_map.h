@@ -24,7 +24,8 @@ class FeatureDepthMap {
 
   void reset();
   // Fills pair->prev_depth_m / prev_depth_sigma_m (NaN: unknown) for the
-  // tracks `ids` (parallel to the pair's points). The stored depths are for
+  // tracks `ids` (parallel to the pair's points), and pair->prev_tilt /
+  // prev_tilt_variance (the frame's INS tilt error as estimated). The stored depths are for
   // the frame at the utime they were stored at: if that is not prev_utime
   // (a frame was skipped), the map is cleared first.
   void fill(const std::vector<int64_t>& ids, int64_t prev_utime, FramePair* pair);
@@ -53,6 +54,8 @@ class FeatureDepthMap {
   SolverOptions options_;
   std::unordered_map<int64_t, Entry> depths_;
   int64_t utime_ = INT64_MIN;
+  // The map frame's INS roll/pitch error as estimated (FramePair::prev_tilt).
+  Eigen::Vector2d tilt_ = Eigen::Vector2d::Zero(), tilt_variance_ = Eigen::Vector2d::Zero();
   int64_t resets_ = 0, rejected_ = 0, off_epipolar_ = 0;
 };
 

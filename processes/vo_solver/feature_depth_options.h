@@ -50,13 +50,16 @@ struct FeatureDepthOptions {
   // Without it a climb, a descent or a slope under the beam biases each
   // pair's scale by range rate x age / range.
   bool range_from_sample_position = true;
-  // The INS roll/pitch error between two frames (sigma of the difference,
-  // degrees): each pair fits that relative tilt to the images as well, with
-  // this prior. Without it (0) the tilt is taken as the INS says, and image
-  // motion that is the tilt is read as translation: first order across the
-  // image (it telescopes), second order as an expansion, a descent of about
-  // height x tilt^2 in every pair that does not (DERIVATION.md section 13).
-  double relative_tilt_sigma_deg = 0.1;
+  // The INS roll/pitch error of one frame (sigma, degrees, white from frame
+  // to frame). Each pair fits the tilt between its two frames to the images,
+  // and a filter keeps each frame's own tilt error from those tilts and the
+  // INS (this sigma): a pair's tilt is the difference of its frames' errors,
+  // so the sideways image motion a tilt error leaves still telescopes. Without
+  // it (0) the tilt is taken as the INS says, and its image motion is read as
+  // translation: first order across the image (it telescopes) and, to second
+  // order, as a climb of about height x tilt^2 in every pair, which does not
+  // (DERIVATION.md section 13).
+  double ins_tilt_sigma_deg = 0.05;
   // Throws std::invalid_argument naming the field and the allowed range.
   void Check() const;
 };

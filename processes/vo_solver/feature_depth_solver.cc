@@ -32,7 +32,7 @@ void FeatureDepthOptions::Check() const {
   require(relative_process_noise >= 0 && relative_process_noise <= 1, "relative_process_noise", "in [0, 1]");
   require(max_epipolar_px > 0 && max_epipolar_px <= 100, "max_epipolar_px", "in (0, 100]");
   require(max_depth_jump_sigma >= 1 && max_depth_jump_sigma <= 100, "max_depth_jump_sigma", "in [1, 100]");
-  require(relative_tilt_sigma_deg >= 0 && relative_tilt_sigma_deg <= 5, "relative_tilt_sigma_deg", "in [0, 5]");
+  require(ins_tilt_sigma_deg >= 0 && ins_tilt_sigma_deg <= 5, "ins_tilt_sigma_deg", "in [0, 5]");
 }
 
 namespace {
@@ -207,6 +207,14 @@ double patch_misfit(const std::vector<DepthFeature>& features, const Eigen::Vect
 
 Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options) {
   const FeatureDepthOptions& o = options.feature_depth;
+  // The paper's model alone: the INS tilt as it is, so curr keeps prev's
+  // estimated tilt error (the chain of tilts still telescopes).
+  auto paper_alone = [&]() {
+    Estimate est = solve_paper(pair, options, true);
+    est.curr_tilt = pair.prev_tilt;
+    est.curr_tilt_variance = pair.prev_tilt_variance;
+    return est;
+  };
   const size_t n = pair.prev_norm.size();
   auto own_usable = [&](size_t i) {
     if (i >= pair.prev_depth_m.size() || i >= pair.prev_depth_sigma_m.size()) return false;
@@ -216,7 +224,7 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   int own_count = 0;
   for (size_t i = 0; i < n; ++i) own_count += own_usable(i);
   // Too few own depths (the start of a track set, a hover, after a gap): the paper's model alone.
-  if (own_count < o.min_own_depth_features || pair.curr_norm.size() != n) return solve_paper(pair, options, true);
+  if (own_count < o.min_own_depth_features || pair.curr_norm.size() != n) return paper_alone();
 
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d prev_level = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
@@ -243,13 +251,13 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   double scale = 1, scale_sigma = 0;
   if (!(pair.prev_range_m > 0) ||
       !anchor_scale(features, prev_beam, pair.prev_range_m, o, &scale, &scale_sigma)) {
-    return solve_paper(pair, options, true);
+    return paper_alone();
   }
   // The patch: ground attitude, young features' depths, the start and the fallback.
   SolverOptions forward = options;
   forward.symmetric_dz = false;
   const Estimate patch = solve_paper(pair, forward, true);
-  if (patch.quality & kEstimateFailed) return solve_paper(pair, options, true);
+  if (patch.quality & kEstimateFailed) return paper_alone();
 
   // Young features: depth on the patch (through the curr altimeter spot),
   // seen from prev: n' . X = n . A + n' . t with n' = Rz(dyaw) n. Their
@@ -274,11 +282,17 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
     f.base_weight = f.depth > 0 ? patch_weight : 0.0;
   }
 
-  // The relative tilt's prior, in the units of the fit's cost (pixels^2
-  // over the image noise): the tilt is not fitted at all without it.
-  const bool fit_tilt = o.relative_tilt_sigma_deg > 0;
-  const double image_sigma_px = o.triangulation_noise_px * options.pixel_scale();
-  const double tilt_prior = fit_tilt ? std::pow(image_sigma_px / deg_to_rad(o.relative_tilt_sigma_deg), 2) : 0.0;
+  // The relative tilt (curr's INS tilt error minus prev's): its prior from
+  // prev's estimated error (mean -prev, variance prev's + the INS's), in the
+  // units of the fit's cost (over the image noise, set from the residuals at
+  // each robust pass). Not fitted at all without an INS sigma.
+  const bool fit_tilt = o.ins_tilt_sigma_deg > 0;
+  const double ins_tilt_variance = std::pow(deg_to_rad(o.ins_tilt_sigma_deg), 2);
+  const Eigen::Vector2d tilt_prior_mean = -pair.prev_tilt;
+  const Eigen::Vector2d tilt_prior_variance =
+      pair.prev_tilt_variance.cwiseMax(0.0) + Eigen::Vector2d::Constant(ins_tilt_variance);
+  Eigen::Vector2d tilt_prior = Eigen::Vector2d::Zero();  // weights; set per robust pass
+  double image_variance = 1.0;  // px^2, the prior's unit
   const int unknowns = fit_tilt ? 6 : 4;
   Motion motion;
   motion << patch.translation, patch.dyaw, 0.0, 0.0;
@@ -293,11 +307,12 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
     }
   };
   auto normal_equations = [&](const Motion& mo, MotionMatrix* h, Motion* g) {
-    double cost = tilt_prior * mo.tail<2>().squaredNorm();
+    const Eigen::Vector2d off_prior = mo.tail<2>() - tilt_prior_mean;
+    double cost = tilt_prior.dot(off_prior.cwiseAbs2());
     if (h) h->setZero();
     if (g) g->setZero();
-    if (h) h->diagonal().tail<2>().setConstant(tilt_prior);
-    if (g) g->tail<2>() = tilt_prior * mo.tail<2>();
+    if (h) h->diagonal().tail<2>() = tilt_prior;
+    if (g) g->tail<2>() = tilt_prior.cwiseProduct(off_prior);
     Eigen::Vector2d e;
     Eigen::Matrix<double, 2, 6> j;
     for (size_t i = 0; i < m; ++i) {
@@ -357,6 +372,16 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
       used += w[i] > 0;
     }
     if (used < min_used) break;
+    if (fit_tilt) {
+      double sum_sq = 0, sum_w = 0;
+      for (size_t i = 0; i < m; ++i) {
+        if (w[i] <= 0) continue;
+        sum_sq += w[i] * err[i] * err[i];
+        sum_w += w[i];
+      }
+      image_variance = std::max(sum_sq / sum_w, 1e-12);
+      tilt_prior = image_variance * tilt_prior_variance.cwiseInverse();
+    }
     const Motion before = motion;
     double lambda = 1e-3;
     MotionMatrix h;
@@ -395,7 +420,35 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
       break;
     }
   }
+  // The filter: curr's tilt error from prev's, the pair's relative tilt and
+  // the INS (DERIVATION.md section 13); the motion then moved, along its
+  // covariance with the tilt, to the relative tilt that is the difference of
+  // the two frames' errors, so the sideways motion a tilt error leaves still
+  // telescopes over the pairs.
+  Eigen::Vector2d curr_tilt = pair.prev_tilt, curr_tilt_variance = pair.prev_tilt_variance;
+  if (fit_tilt && !degenerate) {
+    MotionMatrix h;
+    Motion g;
+    normal_equations(motion, &h, &g);
+    const Eigen::LDLT<MotionMatrix> ldlt(h);
+    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+      const MotionMatrix cov = image_variance * ldlt.solve(MotionMatrix::Identity());
+      const Eigen::Vector2d prev_variance = pair.prev_tilt_variance.cwiseMax(0.0);
+      const Eigen::Vector2d gain = ins_tilt_variance * (prev_variance.array() + ins_tilt_variance).inverse().matrix();
+      curr_tilt = gain.cwiseProduct(pair.prev_tilt + motion.tail<2>());
+      curr_tilt_variance = gain.cwiseProduct(prev_variance) + gain.cwiseAbs2().cwiseProduct(cov.diagonal().tail<2>());
+      const Eigen::Vector2d used = curr_tilt - pair.prev_tilt;
+      const Eigen::Matrix2d tilt_cov = cov.bottomRightCorner<2, 2>();
+      motion.head<4>() += cov.topRightCorner<4, 2>() * tilt_cov.ldlt().solve(used - motion.tail<2>());
+      motion.tail<2>() = used;
+    } else {
+      curr_tilt = pair.prev_tilt + motion.tail<2>();
+    }
+  }
+
   Estimate est;
+  est.curr_tilt = curr_tilt;
+  est.curr_tilt_variance = curr_tilt_variance;
   est.weights.assign(n, 0.0);
   est.used_own_depth.assign(n, 0);
   est.translation = motion.head<3>();
@@ -431,7 +484,8 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   // attitude's from the patch; the anchor's scale uncertainty along t.
   MotionMatrix h;
   Motion g;
-  const double data_cost = normal_equations(motion, &h, &g) - tilt_prior * motion.tail<2>().squaredNorm();
+  const double data_cost =
+      normal_equations(motion, &h, &g) - tilt_prior.dot((motion.tail<2>() - tilt_prior_mean).cwiseAbs2());
   est.covariance = patch.covariance;
   est.covariance.topLeftCorner<4, 4>().setZero();
   est.covariance.block<4, 2>(0, 4).setZero();

@@ -79,6 +79,12 @@ struct FramePair {
   // camera) and its standard deviation, from earlier frames of its track
   // (FeatureDepthMap). Empty, or NaN for a feature: unknown (the patch is used).
   std::vector<double> prev_depth_m, prev_depth_sigma_m;
+  // feature_depth with ins_tilt_sigma_deg > 0: the prev frame's INS roll /
+  // pitch error as the pairs before estimated it (rotation of the INS-levelled
+  // frame about level x, then y, rad) and its variance (rad^2, per axis).
+  // Zero and the INS's own variance where nothing is known (FeatureDepthMap).
+  Eigen::Vector2d prev_tilt = Eigen::Vector2d::Zero();
+  Eigen::Vector2d prev_tilt_variance = Eigen::Vector2d::Zero();
 };
 
 // Quality bits, the same values as nadir::vo_delta_t::QUALITY_*.
@@ -119,10 +125,14 @@ struct Estimate {
   // features' weight went down by its square where above 1); 0 where unused.
   double patch_misfit = 0.0;
   std::vector<char> used_own_depth;
-  // feature_depth variant with relative_tilt_sigma_deg > 0: the tilt of the
-  // curr level frame against the prev one beyond what the INS roll/pitch say
-  // (rotation about level x, then y, rad), fitted to the images; 0 otherwise.
+  // feature_depth with ins_tilt_sigma_deg > 0: the tilt of curr's
+  // INS-levelled frame against prev's beyond what the INS roll/pitch say
+  // (rotation about level x, then y, rad; the difference of the two frames'
+  // filtered errors), and curr's error with its variance (FramePair::prev_tilt
+  // of the next pair). Zero otherwise.
   Eigen::Vector2d relative_tilt = Eigen::Vector2d::Zero();
+  Eigen::Vector2d curr_tilt = Eigen::Vector2d::Zero();
+  Eigen::Vector2d curr_tilt_variance = Eigen::Vector2d::Zero();
 };
 
 // The rotation from the level frame of prev to the (INS-levelled) level frame

@@ -65,7 +65,7 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   fd.max_epipolar_px = d.get_in_range("max_epipolar_px", fd.max_epipolar_px, 1e-3, 100.0);
   fd.max_depth_jump_sigma = d.get_in_range("max_depth_jump_sigma", fd.max_depth_jump_sigma, 1.0, 100.0);
   fd.range_from_sample_position = d.get<bool>("range_from_sample_position", fd.range_from_sample_position);
-  fd.relative_tilt_sigma_deg = d.get_in_range("relative_tilt_sigma_deg", fd.relative_tilt_sigma_deg, 0.0, 5.0);
+  fd.ins_tilt_sigma_deg = d.get_in_range("ins_tilt_sigma_deg", fd.ins_tilt_sigma_deg, 0.0, 5.0);
   const std::string anchor_surface = d.get<std::string>(
       "anchor_surface", fd.anchor_surface == vo::AnchorSurfaceModel::kQuadratic ? "quadratic" : "plane");
   if (anchor_surface != "quadratic" && anchor_surface != "plane") {

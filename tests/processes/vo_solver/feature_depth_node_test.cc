@@ -27,13 +27,15 @@ namespace {
 constexpr int64_t kStart = 1700000000000000;
 constexpr int64_t kPeriod = 71429;
 
+// Noise-free tracks and attitudes: the depth filter and the INS tilt filter
+// told so (the tilt taken as the INS says).
 std::string config(const std::string& variant, double max_frame_interval_ms, bool move_ranges) {
   return R"(
 camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5, mount_rpy_deg: [0, 0, 0]}
 altimeter: {beam_body: [0, 0, 1]}
 vo_solver:
   variant: )" + variant + R"(
-  feature_depth: {triangulation_noise_px: 0.001, patch_feature_weight: 0, range_from_sample_position: )" +
+  feature_depth: {triangulation_noise_px: 0.001, patch_feature_weight: 0, ins_tilt_sigma_deg: 0, range_from_sample_position: )" +
          std::string(move_ranges ? "true" : "false") + R"(}
   sync: {max_frame_interval_ms: )" + std::to_string(max_frame_interval_ms) + R"(}
 )";
