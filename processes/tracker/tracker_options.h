@@ -110,7 +110,8 @@ struct TrackerOptions {
   // motion), so that a translation-only KLT does not read the deformation as
   // a shift. Without it the shift biases grow with the step between frames:
   // a spurious expansion of the flow field that a solver takes for descent.
-  bool klt_window_warp = false;
+  // On by default since 2026-11-27 (README.md § Rough ground).
+  bool klt_window_warp = true;
   // With klt_window_warp: a feature's warp is the last pair's linear map
   // around it (relief deforms windows differently across the image), fitted
   // to its neighbours' tracks within klt_local_warp_radius_px, weighted

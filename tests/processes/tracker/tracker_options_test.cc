@@ -31,9 +31,10 @@ TEST(TrackerOptions, MissingSectionMeansDefaults) {
   EXPECT_EQ(o.features_per_cell, 50);
 }
 
-TEST(TrackerOptions, WindowWarpIsOffUnlessAsked) {
-  EXPECT_FALSE(TrackerOptions::from_config(Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml")).klt_window_warp);
-  EXPECT_TRUE(TrackerOptions::from_config(Config::parse("tracker: {klt_window_warp: true}", "t.yaml")).klt_window_warp);
+TEST(TrackerOptions, WindowWarpIsOnUnlessTurnedOff) {
+  EXPECT_TRUE(TrackerOptions::from_config(Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml")).klt_window_warp);
+  EXPECT_TRUE(TrackerOptions::from_config(Config::parse("camera: {}", "t.yaml")).klt_window_warp);
+  EXPECT_FALSE(TrackerOptions::from_config(Config::parse("tracker: {klt_window_warp: false}", "t.yaml")).klt_window_warp);
   const std::string bad = error_of("tracker: {klt_window_warp: sometimes}");
   EXPECT_NE(bad.find("klt_window_warp"), std::string::npos) << bad;
   EXPECT_FALSE(TrackerOptions::from_config(Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml")).klt_local_warp);
