@@ -138,40 +138,50 @@ bool anchor_scale(const std::vector<DepthFeature>& features, const Eigen::Vector
          fit_anchor(features, beam, range_m, o, AnchorSurfaceModel::kPlane, scale, relative_sigma);
 }
 
-// Reprojection of feature f into the curr level frame for motion
-// m = (dx, dy, dz, dyaw, tilt x, tilt y): Y = Rx(tilt x) Ry(tilt y) Rz(-dyaw)
-// (depth u - t) (curr_from_prev), error (Y_xy / Y_z - v_xy) in pixels;
-// Jacobian 2 x 6 if asked. False when the point is behind curr.
+// The motion m = (dx, dy, dz, dyaw, tilt x, tilt y) as the reprojection
+// needs it, computed once per evaluation: Y = rotation (depth u - t) with
+// rotation = Rx(tilt x) Ry(tilt y) Rz(-dyaw) (curr_from_prev), and the
+// rotation's derivatives by dyaw and by the two tilts.
 using Motion = Eigen::Matrix<double, 6, 1>;
 using MotionMatrix = Eigen::Matrix<double, 6, 6>;
-bool reprojection(const DepthFeature& f, const Motion& m, double focal_px, Eigen::Vector2d* error,
-                  Eigen::Matrix<double, 2, 6>* jacobian) {
-  const double c = std::cos(m(3)), s = std::sin(m(3));
-  const double ca = std::cos(m(4)), sa = std::sin(m(4)), cb = std::cos(m(5)), sb = std::sin(m(5));
-  Eigen::Matrix3d rx, ry;
-  rx << 1, 0, 0, 0, ca, -sa, 0, sa, ca;
-  ry << cb, 0, sb, 0, 1, 0, -sb, 0, cb;
-  const Eigen::Matrix3d tilt = rx * ry;
+struct MotionRotation {
+  Eigen::Matrix3d rotation, by_dyaw, by_tilt_x, by_tilt_y;
+  explicit MotionRotation(const Motion& m) {
+    const double c = std::cos(m(3)), s = std::sin(m(3));
+    const double ca = std::cos(m(4)), sa = std::sin(m(4)), cb = std::cos(m(5)), sb = std::sin(m(5));
+    Eigen::Matrix3d rz, drz, rx, drx, ry, dry;
+    rz << c, s, 0, -s, c, 0, 0, 0, 1;  // Rz(-dyaw)
+    drz << -s, c, 0, -c, -s, 0, 0, 0, 0;
+    rx << 1, 0, 0, 0, ca, -sa, 0, sa, ca;
+    drx << 0, 0, 0, 0, -sa, -ca, 0, ca, -sa;
+    ry << cb, 0, sb, 0, 1, 0, -sb, 0, cb;
+    dry << -sb, 0, cb, 0, 0, 0, -cb, 0, -sb;
+    const Eigen::Matrix3d tilt = rx * ry;
+    rotation = tilt * rz;
+    by_dyaw = tilt * drz;
+    by_tilt_x = drx * ry * rz;
+    by_tilt_y = rx * dry * rz;
+  }
+};
+
+// Reprojection of feature f into the curr level frame: error (Y_xy / Y_z -
+// v_xy) in pixels; Jacobian 2 x 6 if asked. False when the point is behind
+// curr.
+bool reprojection(const DepthFeature& f, const Motion& m, const MotionRotation& r, double focal_px,
+                  Eigen::Vector2d* error, Eigen::Matrix<double, 2, 6>* jacobian) {
   const Eigen::Vector3d p = f.depth * f.u - m.head<3>();
-  const Eigen::Vector3d q(c * p.x() + s * p.y(), -s * p.x() + c * p.y(), p.z());
-  const Eigen::Vector3d y = tilt * q;
+  const Eigen::Vector3d y = r.rotation * p;
   if (!(y.z() > 1e-9)) return false;
   const double iz = 1.0 / y.z();
   *error = focal_px * Eigen::Vector2d(y.x() * iz - f.v.x(), y.y() * iz - f.v.y());
   if (jacobian) {
     Eigen::Matrix<double, 2, 3> dproj;
     dproj << iz, 0, -y.x() * iz * iz, 0, iz, -y.y() * iz * iz;
-    Eigen::Matrix3d dq_dt;  // -Rz(-dyaw)
-    dq_dt << -c, -s, 0, s, -c, 0, 0, 0, -1;
-    const Eigen::Vector3d dq_dyaw(-s * p.x() + c * p.y(), -c * p.x() - s * p.y(), 0.0);
-    Eigen::Matrix3d drx, dry;
-    drx << 0, 0, 0, 0, -sa, -ca, 0, ca, -sa;
-    dry << -sb, 0, cb, 0, 0, 0, -cb, 0, -sb;
-    const Eigen::Matrix<double, 2, 3> dproj_tilt = focal_px * dproj * tilt;
-    jacobian->leftCols<3>() = dproj_tilt * dq_dt;
-    jacobian->col(3) = dproj_tilt * dq_dyaw;
-    jacobian->col(4) = focal_px * dproj * (drx * ry * q);
-    jacobian->col(5) = focal_px * dproj * (rx * dry * q);
+    dproj *= focal_px;
+    jacobian->leftCols<3>() = -dproj * r.rotation;
+    jacobian->col(3) = dproj * (r.by_dyaw * p);
+    jacobian->col(4) = dproj * (r.by_tilt_x * p);
+    jacobian->col(5) = dproj * (r.by_tilt_y * p);
   }
   return error->allFinite();
 }
@@ -299,9 +309,10 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   const size_t m = features.size();
   std::vector<double> w(m, 0.0), err(m, std::numeric_limits<double>::infinity());
   auto errors = [&](const Motion& mo) {
+    const MotionRotation rotation(mo);
     Eigen::Vector2d e;
     for (size_t i = 0; i < m; ++i) {
-      err[i] = features[i].base_weight > 0 && reprojection(features[i], mo, options.focal_px, &e, nullptr)
+      err[i] = features[i].base_weight > 0 && reprojection(features[i], mo, rotation, options.focal_px, &e, nullptr)
                    ? e.norm()
                    : std::numeric_limits<double>::infinity();
     }
@@ -313,11 +324,12 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
     if (g) g->setZero();
     if (h) h->diagonal().tail<2>() = tilt_prior;
     if (g) g->tail<2>() = tilt_prior.cwiseProduct(off_prior);
+    const MotionRotation rotation(mo);
     Eigen::Vector2d e;
     Eigen::Matrix<double, 2, 6> j;
     for (size_t i = 0; i < m; ++i) {
       if (w[i] <= 0) continue;
-      if (!reprojection(features[i], mo, options.focal_px, &e, h ? &j : nullptr)) {
+      if (!reprojection(features[i], mo, rotation, options.focal_px, &e, h ? &j : nullptr)) {
         cost += w[i] * 1e12;
         continue;
       }
