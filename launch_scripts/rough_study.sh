@@ -13,7 +13,7 @@
 #   --nice N       niceness of every step (default 10)
 #   --config-overlay FILE  a config overlay for every replay (before the variant's)
 #   --set K=V      a config override for every replay (after the overlays), e.g.
-#                  --set tracker.klt_window_warp=true
+#                  --set tracker.klt_window_warp=false (the plain KLT)
 # Needs nadir_sim, nadir_replay and nadir_eval built (launch_scripts/setup.sh).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
