@@ -170,14 +170,15 @@ void FeatureTracker::track_group(int max_level, const cv::Matx23d* motion) {
     cv::Point2f c = predicted[g];
     float error = 0.f;
     const bool warped = options_.klt_window_warp && has_warp_[i];
-    const cv::Matx22f back_warp = warped ? warp_[i].inv() : cv::Matx22f::eye();
     const bool forward =
         forward_klt_.track(prev_pyramid_, curr_pyramid_, p, &c, max_level, &error, warped ? &warp_[i] : nullptr);
     // Backward from the original position: a consistent track returns there
-    // in a few iterations. A track lost forward is not followed back.
+    // in a few iterations. A track lost forward is not followed back. The
+    // backward pass only gates (forward-backward error against a 1 px
+    // threshold), so its template is not warped: the deformation it leaves
+    // is hundredths of a pixel, and the resampling would double the warp's cost.
     cv::Point2f back = p;
-    const bool backward = forward && backward_klt_.track(curr_pyramid_, prev_pyramid_, c, &back, back_level, nullptr,
-                                                         warped ? &back_warp : nullptr);
+    const bool backward = forward && backward_klt_.track(curr_pyramid_, prev_pyramid_, c, &back, back_level, nullptr);
     prev_pts_[i] = p;
     curr_pts_[i] = c;
     back_pts_[i] = back;
