@@ -29,9 +29,10 @@ void FeatureDepthMap::fill(const std::vector<int64_t>& ids, int64_t prev_utime, 
   pair->prev_depth_sigma_m.assign(ids.size(), nan);
   // The frame's INS tilt error as the pairs so far estimated it; nothing
   // known (a new map): zero, with the INS's own variance.
-  const double ins_variance = std::pow(options_.feature_depth.ins_tilt_sigma_deg * M_PI / 180.0, 2);
   pair->prev_tilt = tilt_;
-  pair->prev_tilt_variance = utime_ == INT64_MIN ? Eigen::Vector2d::Constant(ins_variance) : tilt_variance_;
+  pair->prev_tilt_variance = utime_ == INT64_MIN
+                                 ? Eigen::Vector2d::Constant(options_.feature_depth.ins_tilt_variance())
+                                 : tilt_variance_;
   for (size_t i = 0; i < ids.size(); ++i) {
     const auto it = depths_.find(ids[i]);
     if (it == depths_.end() || !std::isfinite(it->second.depth)) continue;  // tracked, no parallax yet

@@ -3,6 +3,8 @@
 // which own depths are trusted, how they are re-anchored on the altimeter,
 // and how the per-track depth filter (FeatureDepthMap) updates.
 
+#include <cmath>
+
 namespace nadir::vo {
 
 // The surface fitted to the own depths around the altimeter beam (inverse
@@ -60,6 +62,8 @@ struct FeatureDepthOptions {
   // order, as a climb of about height x tilt^2 in every pair, which does not
   // (DERIVATION.md section 13).
   double ins_tilt_sigma_deg = 0.05;
+  // The same as a variance, rad^2 (the filter's and a new map's).
+  double ins_tilt_variance() const { return std::pow(ins_tilt_sigma_deg * M_PI / 180.0, 2); }
   // Throws std::invalid_argument naming the field and the allowed range.
   void Check() const;
 };

@@ -297,10 +297,10 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   // units of the fit's cost (over the image noise, set from the residuals at
   // each robust pass). Not fitted at all without an INS sigma.
   const bool fit_tilt = o.ins_tilt_sigma_deg > 0;
-  const double ins_tilt_variance = std::pow(deg_to_rad(o.ins_tilt_sigma_deg), 2);
+  const double ins_tilt_variance = o.ins_tilt_variance();
+  const Eigen::Vector2d prev_tilt_variance = pair.prev_tilt_variance.cwiseMax(0.0);
   const Eigen::Vector2d tilt_prior_mean = -pair.prev_tilt;
-  const Eigen::Vector2d tilt_prior_variance =
-      pair.prev_tilt_variance.cwiseMax(0.0) + Eigen::Vector2d::Constant(ins_tilt_variance);
+  const Eigen::Vector2d tilt_prior_variance = prev_tilt_variance + Eigen::Vector2d::Constant(ins_tilt_variance);
   Eigen::Vector2d tilt_prior = Eigen::Vector2d::Zero();  // weights; set per robust pass
   double image_variance = 1.0;  // px^2, the prior's unit
   const int unknowns = fit_tilt ? 6 : 4;
@@ -445,10 +445,10 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
     const Eigen::LDLT<MotionMatrix> ldlt(h);
     if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
       const MotionMatrix cov = image_variance * ldlt.solve(MotionMatrix::Identity());
-      const Eigen::Vector2d prev_variance = pair.prev_tilt_variance.cwiseMax(0.0);
-      const Eigen::Vector2d gain = ins_tilt_variance * (prev_variance.array() + ins_tilt_variance).inverse().matrix();
+      const Eigen::Vector2d gain = ins_tilt_variance * tilt_prior_variance.cwiseInverse();
       curr_tilt = gain.cwiseProduct(pair.prev_tilt + motion.tail<2>());
-      curr_tilt_variance = gain.cwiseProduct(prev_variance) + gain.cwiseAbs2().cwiseProduct(cov.diagonal().tail<2>());
+      curr_tilt_variance =
+          gain.cwiseProduct(prev_tilt_variance) + gain.cwiseAbs2().cwiseProduct(cov.diagonal().tail<2>());
       const Eigen::Vector2d used = curr_tilt - pair.prev_tilt;
       const Eigen::Matrix2d tilt_cov = cov.bottomRightCorner<2, 2>();
       motion.head<4>() += cov.topRightCorner<4, 2>() * tilt_cov.ldlt().solve(used - motion.tail<2>());
