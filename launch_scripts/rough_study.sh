@@ -3,17 +3,22 @@
 # each seed twice, over its own relief and over flat ground (nadir_sim
 # --relief-scale 0: the same trajectory, sensors and noise), replayed with
 # each solver variant and evaluated. Prints the final error (% of distance)
-# per flight and the rough/flat ratio per seed with its median; writes
-# summary.json and summary.csv under logs/rough_study/<UTC stamp>/.
-# Simulator logs are cached in logs/rough_study/sims/ and reused when present.
+# per flight and the rough/flat ratio per seed; over all the seeds, the ratio
+# of the mean errors with a 90 % bootstrap interval, the flights within 1.5x
+# and the ratio over each run of three seeds (rough_study_summary.py, which
+# also pools the rows.csv of several studies); writes summary.json and
+# summary.csv under logs/rough_study/<UTC stamp>/.
+# Simulator logs are cached in logs/rough_study/sims/ and reused when present
+# (about 1 GB a flight; --drop-sims deletes each once replayed).
 # Usage: rough_study.sh [--profiles rough_120,rough_250] [--seeds "1 2 3"]
 #          [--variants paper[,feature_depth]] [--duration S] [--nice N]
-#          [--config-overlay FILE]... [--set section.key=value]...
+#          [--config-overlay FILE]... [--set section.key=value]... [--drop-sims]
 #   --duration S   simulate only the first S seconds (a quick look; cached apart)
 #   --nice N       niceness of every step (default 10)
 #   --config-overlay FILE  a config overlay for every replay (before the variant's)
 #   --set K=V      a config override for every replay (after the overlays), e.g.
 #                  --set tracker.klt_window_warp=false (the plain KLT)
+#   --drop-sims    delete each simulator log once replayed (many seeds, little disk)
 # Needs nadir_sim, nadir_replay and nadir_eval built (launch_scripts/setup.sh).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
@@ -25,7 +30,8 @@ niceness=10
 overlays=()  # add_config_overlay (eval_common.sh) appends here
 report_suffix=""
 extra_sets=()
-usage() { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; }
+drop_sims=0
+usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
 while (($#)); do
   case "$1" in
     --profiles) profiles="$2"; shift 2 ;;
@@ -35,6 +41,7 @@ while (($#)); do
     --nice) niceness="$2"; shift 2 ;;
     --config-overlay) add_config_overlay rough_study "$2"; shift 2 ;;
     --set) extra_sets+=(--set "$2"); shift 2 ;;
+    --drop-sims) drop_sims=1; shift ;;
     -h|--help) usage; exit 0 ;;
     *) echo "rough_study: error: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
@@ -93,36 +100,10 @@ for p in "${profile_list[@]}"; do
         echo "$p,$s,$ground,$v,$(metric "$d" error_pct_3d),$(metric "$d" final_error_3d_m),$(metric "$d" distance_m)" >>"$rows"
         echo "  $v: final error $(metric "$d" error_pct_3d) % of distance"
       done
+      if ((drop_sims)); then rm -f "$log"; fi
     done
   done
 done
 
-/usr/bin/python3 - "$rows" "$out" <<'EOF'
-import csv, json, statistics, sys
-rows = list(csv.DictReader(open(sys.argv[1])))
-out = sys.argv[2]
-err = {(r["profile"], int(r["seed"]), r["ground"], r["variant"]): float(r["final_error_pct"]) for r in rows}
-groups = sorted({(r["profile"], r["variant"]) for r in rows})
-summary = []
-print("| profile | variant | seed | rough: final error % | flat: final error % | rough / flat |")
-print("|---|---|---|---|---|---|")
-for p, v in groups:
-    seeds = sorted({k[1] for k in err if k[0] == p and k[3] == v})
-    ratios = []
-    for s in seeds:
-        rough, flat = err[(p, s, "rough", v)], err[(p, s, "flat", v)]
-        ratio = rough / flat if flat > 0 else float("inf")
-        ratios.append(ratio)
-        summary.append({"profile": p, "variant": v, "seed": s, "rough_error_pct": rough, "flat_error_pct": flat,
-                        "ratio": ratio})
-        print(f"| {p} | {v} | {s} | {rough:.3f} | {flat:.3f} | {ratio:.2f} |")
-    med = statistics.median(ratios)
-    summary.append({"profile": p, "variant": v, "seed": "median", "ratio": med})
-    print(f"| {p} | {v} | median | | | **{med:.2f}** |")
-json.dump(summary, open(out + "/summary.json", "w"), indent=1)
-with open(out + "/summary.csv", "w", newline="") as f:
-    w = csv.DictWriter(f, fieldnames=["profile", "variant", "seed", "rough_error_pct", "flat_error_pct", "ratio"])
-    w.writeheader()
-    w.writerows(summary)
-EOF
+"$(dirname "${BASH_SOURCE[0]}")/rough_study_summary.py" "$rows" --out "$out"
 echo "summary: $out/summary.json $out/summary.csv (per-flight reports under $out/<profile>/seed<N>/<ground>/<variant>/)"

@@ -20,7 +20,7 @@ def diverged(metrics, threshold_pct):
     return metrics.get("poses", 0) == 0 or v is None or not math.isfinite(v) or v > threshold_pct
 
 
-def _bootstrap_ci(values, statistic, samples, seed, confidence):
+def bootstrap_ci(values, statistic, samples, seed, confidence):
     rng = np.random.default_rng(seed)
     draws = rng.integers(0, len(values), size=(samples, len(values)))
     stats = statistic(values[draws], axis=1)
@@ -36,7 +36,7 @@ def summarize(values, evaluate):
     args = (evaluate["bootstrap_samples"], evaluate["bootstrap_seed"], evaluate["confidence"])
     return {"n": int(v.size), "mean": float(np.mean(v)), "median": float(np.median(v)),
             "p95": float(np.percentile(v, 95)), "min": float(np.min(v)), "max": float(np.max(v)),
-            "mean_ci": _bootstrap_ci(v, np.mean, *args), "median_ci": _bootstrap_ci(v, np.median, *args)}
+            "mean_ci": bootstrap_ci(v, np.mean, *args), "median_ci": bootstrap_ci(v, np.median, *args)}
 
 
 def aggregate(spec, results, problems):

@@ -135,10 +135,9 @@ TEST(FeatureDepth, BoundedErrorWithNoiseAndBetterThanThePatch) {
   TerrainSpec spec;
   spec.noise_px = 0.3;
   TerrainSequence seq{spec};
-  SolverOptions fd = variant_options(Variant::kFeatureDepth);
+  const SolverOptions fd = variant_options(Variant::kFeatureDepth);
   FeatureDepthMap map(fd);
   const SequenceRun depth = run(seq, 120, fd, &map);
-
   const SequenceRun paper = run(seq, 120, variant_options(Variant::kPaper), nullptr);
   Eigen::Vector3d sum_depth = Eigen::Vector3d::Zero(), sum_paper = Eigen::Vector3d::Zero();
   double step = 0;
