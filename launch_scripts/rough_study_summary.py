@@ -99,11 +99,12 @@ def markdown(per_seed, overall):
         ci = o["ratio_interval"]
         interval = f" [{ci[0]:.2f}, {ci[1]:.2f}]" if ci else ""
         runs = ", ".join(f"{r['seeds'][0]}–{r['seeds'][-1]}: {r['ratio']:.2f}" for r in o["three_seed_runs"])
+        within_runs = f"{o['three_seed_runs_within_goal']}/{len(o['three_seed_runs'])} ({runs})" if runs else "–"
         lines.append(f"| {o['profile']} | {o['variant']} | {len(o['seeds'])} ({seed_list(o['seeds'])}) | "
                      f"{o['mean_rough_pct']:.4f} | "
                      f"{o['mean_flat_pct']:.4f} | **{o['ratio_of_means']:.2f}**{interval} | {o['median_ratio']:.2f} | "
                      f"{o['flights_within_goal']}/{len(o['seeds'])} | "
-                     f"{o['three_seed_runs_within_goal']}/{len(o['three_seed_runs'])} ({runs}) |")
+                     f"{within_runs} |")
     if overall:
         o = overall[0]
         lines.append(f"\n(interval: {round(100 * o['confidence'])} % bootstrap over the seeds; "
