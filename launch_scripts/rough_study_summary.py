@@ -98,7 +98,7 @@ def markdown(per_seed, overall):
     for o in overall:
         ci = o["ratio_interval"]
         interval = f" [{ci[0]:.2f}, {ci[1]:.2f}]" if ci else ""
-        runs = ", ".join(f"{r['seeds'][0]}–{r['seeds'][-1]}: {r['ratio']:.2f}" for r in o["three_seed_runs"])
+        runs = ", ".join(f"{seed_list(r['seeds'])}: {r['ratio']:.2f}" for r in o["three_seed_runs"])
         within_runs = f"{o['three_seed_runs_within_goal']}/{len(o['three_seed_runs'])} ({runs})" if runs else "–"
         lines.append(f"| {o['profile']} | {o['variant']} | {len(o['seeds'])} ({seed_list(o['seeds'])}) | "
                      f"{o['mean_rough_pct']:.4f} | "
