@@ -18,7 +18,8 @@
 #   --config-overlay FILE  a config overlay for every replay (before the variant's)
 #   --set K=V      a config override for every replay (after the overlays), e.g.
 #                  --set tracker.klt_window_warp=false (the plain KLT)
-#   --drop-sims    delete each simulator log once replayed (many seeds, little disk)
+#   --drop-sims    delete each simulator log once replayed, cached ones too (many
+#                  seeds, little disk)
 # Needs nadir_sim, nadir_replay and nadir_eval built (launch_scripts/setup.sh).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
@@ -31,7 +32,7 @@ overlays=()  # add_config_overlay (eval_common.sh) appends here
 report_suffix=""
 extra_sets=()
 drop_sims=0
-usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; }
 while (($#)); do
   case "$1" in
     --profiles) profiles="$2"; shift 2 ;;
