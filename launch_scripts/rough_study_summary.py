@@ -10,6 +10,7 @@ Several rows.csv files (studies run apart, on other seeds) are pooled; a flight
 given twice must agree. Writes summary.json and summary.csv into --out."""
 import argparse
 import csv
+import itertools
 import json
 import math
 import os
@@ -79,13 +80,12 @@ def summarize(err, goal, confidence, samples):
 
 
 def seed_list(seeds):
-    """1, 2, 3, 5 -> '1–3, 5'."""
-    runs, start = [], seeds[0]
-    for i, a in enumerate(seeds):
-        if i + 1 == len(seeds) or seeds[i + 1] != a + 1:
-            runs.append(f"{start}–{a}" if a > start else f"{a}")
-            start = seeds[i + 1] if i + 1 < len(seeds) else None
-    return ", ".join(runs)
+    """1, 2, 3, 5 -> '1–3, 5' (consecutive seeds share seed - position)."""
+    parts = []
+    for _, run in itertools.groupby(enumerate(seeds), key=lambda t: t[1] - t[0]):
+        run = [s for _, s in run]
+        parts.append(f"{run[0]}–{run[-1]}" if len(run) > 1 else f"{run[0]}")
+    return ", ".join(parts)
 
 
 def markdown(per_seed, overall):

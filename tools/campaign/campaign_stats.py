@@ -21,6 +21,9 @@ def diverged(metrics, threshold_pct):
 
 
 def bootstrap_ci(values, statistic, samples, seed, confidence):
+    """[low, high] of statistic(resample, axis=1) over `samples` resamples of values' first
+    axis with replacement (rows stay whole: a row can hold paired values); a fixed
+    generator seed, so the same values give the same interval."""
     rng = np.random.default_rng(seed)
     draws = rng.integers(0, len(values), size=(samples, len(values)))
     stats = statistic(values[draws], axis=1)
