@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -12,6 +13,7 @@ namespace nadir::vo {
 void FeatureDepthMap::reset() {
   if (!depths_.empty()) ++resets_;
   depths_.clear();
+  spots_.clear();
   utime_ = INT64_MIN;
   tilt_.setZero();
 }
@@ -33,6 +35,8 @@ void FeatureDepthMap::fill(const std::vector<int64_t>& ids, int64_t prev_utime, 
   pair->prev_tilt_variance = utime_ == INT64_MIN
                                  ? Eigen::Vector2d::Constant(options_.feature_depth.ins_tilt_variance())
                                  : tilt_variance_;
+  pair->earlier_ground_spots.clear();
+  if (options_.feature_depth.anchor_spots == AnchorSpots::kTrack) pair->earlier_ground_spots = spots_;
   for (size_t i = 0; i < ids.size(); ++i) {
     const auto it = depths_.find(ids[i]);
     if (it == depths_.end() || !std::isfinite(it->second.depth)) continue;  // tracked, no parallax yet
@@ -78,6 +82,25 @@ Triangulation triangulate(const Eigen::Vector3d& origin, const Eigen::Vector3d& 
 }
 
 }  // namespace
+
+void FeatureDepthMap::move_spots(const FramePair& pair, const Eigen::Matrix3d& to_curr, const Eigen::Vector3d& t) {
+  // Spots further back than this (ray offset from the vertical, and in
+  // number: a hover) are beyond any anchor the solver fits.
+  const double max_offset = 2.0 * options_.feature_depth.anchor_radius + 0.5;
+  constexpr size_t kMaxSpots = 2000;
+  std::vector<Eigen::Vector3d> moved;
+  moved.reserve(std::min(spots_.size() + 1, kMaxSpots));
+  if (pair.prev_range_m > 0 && std::isfinite(pair.prev_range_m)) {
+    spots_.insert(spots_.begin(),
+                  pair.prev_range_m * level_beam(pair.prev_roll, pair.prev_pitch, pair.prev_beam_body));
+  }
+  for (const Eigen::Vector3d& spot : spots_) {
+    const Eigen::Vector3d x = to_curr * (spot - t);
+    if (!(x.z() > 0) || x.head<2>().norm() > max_offset * x.z() || moved.size() == kMaxSpots) continue;
+    moved.push_back(x);
+  }
+  spots_.swap(moved);
+}
 
 void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime, const FramePair& pair,
                              const Estimate& est) {
@@ -166,6 +189,7 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
     next[ids[i]] = e;
   }
   depths_.swap(next);
+  if (o.anchor_spots == AnchorSpots::kTrack) move_spots(pair, to_curr, t);
   utime_ = curr_utime;
   tilt_ = est.curr_tilt;
   tilt_variance_ = est.curr_tilt_variance;

@@ -25,7 +25,8 @@ class FeatureDepthMap {
   void reset();
   // Fills pair->prev_depth_m / prev_depth_sigma_m (NaN: unknown) for the
   // tracks `ids` (parallel to the pair's points), and pair->prev_tilt /
-  // prev_tilt_variance (the frame's INS tilt error as estimated). The stored depths are for
+  // prev_tilt_variance (the frame's INS tilt error as estimated), and
+  // pair->earlier_ground_spots (anchor_spots track). The stored depths are for
   // the frame at the utime they were stored at: if that is not prev_utime
   // (a frame was skipped), the map is cleared first.
   void fill(const std::vector<int64_t>& ids, int64_t prev_utime, FramePair* pair);
@@ -51,9 +52,16 @@ class FeatureDepthMap {
     Eigen::Vector3d origin = Eigen::Vector3d::Zero(), ray = Eigen::Vector3d::UnitZ();
     double depth = 0, sigma = 0;  // vertical depth below the camera, metres
   };
+  // Prev's altimeter spot and every earlier one, moved into curr's level
+  // frame by the solved motion (to_curr (X - t)).
+  void move_spots(const FramePair& pair, const Eigen::Matrix3d& to_curr, const Eigen::Vector3d& t);
+
   SolverOptions options_;
   std::unordered_map<int64_t, Entry> depths_;
   int64_t utime_ = INT64_MIN;
+  // anchor_spots track: the altimeter's ground spots of the frames up to the
+  // map's frame, newest first, in its level frame (FramePair::earlier_ground_spots).
+  std::vector<Eigen::Vector3d> spots_;
   // The map frame's INS roll/pitch error as estimated (FramePair::prev_tilt).
   Eigen::Vector2d tilt_ = Eigen::Vector2d::Zero(), tilt_variance_ = Eigen::Vector2d::Zero();
   int64_t resets_ = 0, rejected_ = 0, off_epipolar_ = 0;

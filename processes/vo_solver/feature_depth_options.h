@@ -12,6 +12,13 @@ namespace nadir::vo {
 // follows a crest or a valley under the spot (DERIVATION.md section 13).
 enum class AnchorSurfaceModel { kPlane, kQuadratic };
 
+// Where the altimeter meets the surface: at the prev frame's spot alone, or
+// at the spots of the frames before it along the track (2 x anchor_radius
+// back), each weighted as the fit weighs the own depths there, so that the
+// surface's misfit to a sharp crest averages out instead of biasing the
+// scale (DERIVATION.md section 13).
+enum class AnchorSpots { kBeam, kTrack };
+
 struct FeatureDepthOptions {
   // A feature's own depth is used when its standard deviation is below this
   // share of the depth; else the ground patch gives its depth.
@@ -28,6 +35,7 @@ struct FeatureDepthOptions {
   double anchor_radius = 0.25;
   int min_anchor_features = 8;
   AnchorSurfaceModel anchor_surface = AnchorSurfaceModel::kQuadratic;
+  AnchorSpots anchor_spots = AnchorSpots::kBeam;
   // Weight of a feature on the patch (young) beside one with its own depth,
   // where the patch holds the own depths within their sigmas; divided by the
   // square of the patch's misfit to them where that is above 1 (relief).

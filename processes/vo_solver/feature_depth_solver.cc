@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "common/geometry.h"
@@ -47,7 +48,7 @@ struct DepthFeature {
 };
 
 // The own-depth structure around the prev altimeter beam: inverse depth as a
-// function of the ray's offset d = u_xy - beam_xy from the beam (level rays,
+// function of the ray's offset d = u_xy - center from a centre ray (level rays,
 // z = 1): 1/z = c0 + c1 dx + c2 dy (a plane in space) or with the quadratic
 // terms c3 dx^2 + c4 dx dy + c5 dy^2 (a curved surface: a crest, a valley).
 // The rays are known without error and an own depth's noise is relative, so
@@ -55,8 +56,8 @@ struct DepthFeature {
 using AnchorVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 using AnchorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 
-AnchorVector anchor_basis(const Eigen::Vector3d& u, const Eigen::Vector2d& beam_xy, int terms) {
-  const Eigen::Vector2d d = u.head<2>() - beam_xy;
+AnchorVector anchor_basis(const Eigen::Vector3d& u, const Eigen::Vector2d& center, int terms) {
+  const Eigen::Vector2d d = u.head<2>() - center;
   AnchorVector x(terms);
   x(0) = 1.0;
   x(1) = d.x();
@@ -69,26 +70,39 @@ AnchorVector anchor_basis(const Eigen::Vector3d& u, const Eigen::Vector2d& beam_
   return x;
 }
 
-// Scale of the own depths from the prev altimeter: the surface above fitted
-// (Gaussian weights by the offset, sigma = radius / 2, one pass of 3 MAD
-// outlier rejection on the relative depth residual) to the own-depth features
-// whose rays lie within `anchor_radius` of the beam;
-// range_along_beam(structure) * scale = measured range.
-bool fit_anchor(const std::vector<DepthFeature>& features, const Eigen::Vector3d& beam, double range_m,
-                const FeatureDepthOptions& o, AnchorSurfaceModel model, double* scale, double* relative_sigma) {
+// The kernel both the surface fit and the track's spots are weighted with:
+// Gaussian in the ray offset from the centre, sigma = radius / 2.
+double anchor_kernel(double offset, const FeatureDepthOptions& o) {
+  const double sd = 0.5 * o.anchor_radius;
+  return std::exp(-0.5 * offset * offset / (sd * sd));
+}
+
+// The surface above fitted around `center` (a level ray's xy, z = 1) to the
+// own-depth features whose rays lie within `anchor_radius` of it (the
+// kernel's weights, one pass of 3 MAD outlier rejection on the relative
+// depth residual). Its relative sigma: of the weighted mean inverse depth.
+struct AnchorSurface {
+  AnchorVector coef;
+  Eigen::Vector2d center;
+  double relative_sigma = 0;
+  double inverse_depth(const Eigen::Vector3d& ray) const {
+    return coef.dot(anchor_basis(ray, center, static_cast<int>(coef.size())));
+  }
+};
+
+bool fit_anchor_surface(const std::vector<DepthFeature>& features, const Eigen::Vector2d& center,
+                        const FeatureDepthOptions& o, AnchorSurfaceModel model, AnchorSurface* surface) {
   const int np = model == AnchorSurfaceModel::kQuadratic ? 6 : 3;
-  const Eigen::Vector2d beam_xy = beam.head<2>() / beam.z();
   std::vector<const DepthFeature*> near;
   std::vector<AnchorVector> basis;
   std::vector<double> weight;
-  const double sd = 0.5 * o.anchor_radius;
   for (const DepthFeature& f : features) {
-    const double d = (f.u.head<2>() - beam_xy).norm();
+    const double d = (f.u.head<2>() - center).norm();
     if (!f.own || d > o.anchor_radius) continue;
     near.push_back(&f);
-    basis.push_back(anchor_basis(f.u, beam_xy, np));
+    basis.push_back(anchor_basis(f.u, center, np));
     // 1/z has the relative depth noise over z: weight z^2.
-    weight.push_back(std::exp(-0.5 * d * d / (sd * sd)) * f.depth * f.depth);
+    weight.push_back(anchor_kernel(d, o) * f.depth * f.depth);
   }
   AnchorVector coef = AnchorVector::Zero(np);
   std::vector<double> residual(near.size(), 0.0);  // relative to the depth
@@ -120,22 +134,103 @@ bool fit_anchor(const std::vector<DepthFeature>& features, const Eigen::Vector3d
     }
     cut = std::max(1e-9, 3.0 * 1.4826 * median_of(abs_res));
   }
-  // The beam point lambda * beam: depth 1 / c0 on the beam line.
-  if (!(coef(0) > 0) || !(beam.z() > 1e-9)) return false;
-  const double lambda = 1.0 / (coef(0) * beam.z());
-  *scale = range_m / lambda;
-  // Standard deviation of the weighted mean inverse depth near the beam, relative.
-  *relative_sigma = std::sqrt(sum_w2r2) / sum_w / coef(0);
+  if (!(coef(0) > 0)) return false;
+  surface->coef = coef;
+  surface->center = center;
+  surface->relative_sigma = std::sqrt(sum_w2r2) / sum_w / coef(0);
+  return true;
+}
+
+// The ground spots of the anchor_spots track mode: prev's own (range x beam)
+// and the earlier frames' within 2 x anchor_radius of it (ray offset), when
+// they reach back at least 1.8 x anchor_radius (else: none, the beam alone).
+std::vector<Eigen::Vector3d> track_spots(const FramePair& pair, const Eigen::Vector3d& prev_beam,
+                                         const FeatureDepthOptions& o) {
+  std::vector<Eigen::Vector3d> spots{pair.prev_range_m * prev_beam};
+  const Eigen::Vector2d beam_xy = prev_beam.head<2>() / prev_beam.z();
+  double reach = 0;
+  for (const Eigen::Vector3d& x : pair.earlier_ground_spots) {
+    if (!(x.z() > 0)) continue;
+    const double offset = (x.head<2>() / x.z() - beam_xy).norm();
+    if (offset > 2.0 * o.anchor_radius) continue;
+    spots.push_back(x);
+    reach = std::max(reach, offset);
+  }
+  if (reach < 1.8 * o.anchor_radius) spots.resize(1);
+  return spots;
+}
+
+// Scale of the own depths from the altimeter. Beam: the surface fitted around
+// prev's beam meets it at 1/c0, and range_along_beam(structure) * scale =
+// measured range. Track: the surface fitted around the middle of the spots'
+// line, and the scale is the mean over the spots of (spot depth) x (surface's
+// inverse depth on the spot's ray), each spot weighted as the fit weighs the
+// own depths across the line there (the kernel's marginal) times its depth
+// and its share of the line. Where the ground varies along the track only (a
+// ridge across it), the fit's residuals average to zero with those weights,
+// so its misfit to a sharp crest cancels instead of biasing the scale
+// (DERIVATION.md section 13).
+bool fit_anchor(const std::vector<DepthFeature>& features, const FramePair& pair, const Eigen::Vector3d& prev_beam,
+                const FeatureDepthOptions& o, AnchorSurfaceModel model, double* scale, double* relative_sigma) {
+  if (!(prev_beam.z() > 1e-9)) return false;
+  AnchorSurface surface;
+  const std::vector<Eigen::Vector3d> spots =
+      o.anchor_spots == AnchorSpots::kTrack ? track_spots(pair, prev_beam, o) : std::vector<Eigen::Vector3d>{};
+  if (spots.size() < 2) {
+    if (!fit_anchor_surface(features, prev_beam.head<2>() / prev_beam.z(), o, model, &surface)) return false;
+    // The beam point lambda * beam: depth 1 / c0 on the beam line.
+    const double lambda = 1.0 / (surface.coef(0) * prev_beam.z());
+    *scale = pair.prev_range_m / lambda;
+  } else {
+    // The spots' line: its main direction, each spot's coordinate xi along
+    // it, the centre halfway between the ends, and each spot's share of the
+    // line (half the gap to its neighbours along it), so that the spots count
+    // as a uniform sampling of the ground along the track however the
+    // attitude's oscillation spaced them.
+    const size_t n = spots.size();
+    std::vector<Eigen::Vector2d> rays(n);
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (size_t j = 0; j < n; ++j) mean += (rays[j] = spots[j].head<2>() / spots[j].z());
+    mean /= static_cast<double>(n);
+    Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
+    for (const Eigen::Vector2d& d : rays) spread += (d - mean) * (d - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(spread);
+    const Eigen::Vector2d axis = axes.eigenvectors().col(1);
+    std::vector<std::pair<double, size_t>> along(n);
+    for (size_t j = 0; j < n; ++j) along[j] = {(rays[j] - mean).dot(axis), j};
+    std::sort(along.begin(), along.end());
+    const double middle = 0.5 * (along.front().first + along.back().first);
+    const Eigen::Vector2d center = mean + middle * axis;
+    if (!fit_anchor_surface(features, center, o, model, &surface)) return false;
+    double sum_a = 0, sum_as = 0;
+    const double r = o.anchor_radius;
+    for (size_t k = 0; k < n; ++k) {
+      const double xi = along[k].first - middle;
+      const double share = 0.5 * (along[std::min(k + 1, n - 1)].first - along[k > 0 ? k - 1 : 0].first);
+      const Eigen::Vector3d& x = spots[along[k].second];
+      const double g = surface.inverse_depth(x / x.z());
+      if (std::abs(xi) > r || !(g > 0)) continue;
+      // The fit's weight summed across the line at xi (the kernel on the
+      // disc of the anchor radius), times the spot's depth.
+      const double across = std::sqrt(std::max(0.0, r * r - xi * xi));
+      const double a = share * anchor_kernel(xi, o) * std::erf(across / (0.5 * r * std::sqrt(2.0))) * x.z();
+      sum_a += a;
+      sum_as += a * x.z() * g;
+    }
+    if (!(sum_a > 0)) return false;
+    *scale = sum_as / sum_a;
+  }
+  *relative_sigma = surface.relative_sigma;
   return std::isfinite(*scale) && *scale > 0;
 }
 
 // The configured surface; a quadratic the own depths near the beam cannot
 // hold (too few, or all along one line) falls back to the plane.
-bool anchor_scale(const std::vector<DepthFeature>& features, const Eigen::Vector3d& beam, double range_m,
+bool anchor_scale(const std::vector<DepthFeature>& features, const FramePair& pair, const Eigen::Vector3d& prev_beam,
                   const FeatureDepthOptions& o, double* scale, double* relative_sigma) {
-  if (fit_anchor(features, beam, range_m, o, o.anchor_surface, scale, relative_sigma)) return true;
+  if (fit_anchor(features, pair, prev_beam, o, o.anchor_surface, scale, relative_sigma)) return true;
   return o.anchor_surface == AnchorSurfaceModel::kQuadratic &&
-         fit_anchor(features, beam, range_m, o, AnchorSurfaceModel::kPlane, scale, relative_sigma);
+         fit_anchor(features, pair, prev_beam, o, AnchorSurfaceModel::kPlane, scale, relative_sigma);
 }
 
 // The motion m = (dx, dy, dz, dyaw, tilt x, tilt y) as the reprojection
@@ -236,13 +331,10 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   // Too few own depths (the start of a track set, a hover, after a gap): the paper's model alone.
   if (own_count < o.min_own_depth_features || pair.curr_norm.size() != n) return paper_alone();
 
-  const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d prev_level = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
   const Eigen::Matrix3d curr_level = level_from_camera(pair.curr_roll, pair.curr_pitch, pair.body_from_camera);
-  const Eigen::Vector3d prev_beam =
-      (level_from_camera(pair.prev_roll, pair.prev_pitch, identity) * pair.prev_beam_body).normalized();
-  const Eigen::Vector3d curr_beam =
-      (level_from_camera(pair.curr_roll, pair.curr_pitch, identity) * pair.curr_beam_body).normalized();
+  const Eigen::Vector3d prev_beam = level_beam(pair.prev_roll, pair.prev_pitch, pair.prev_beam_body);
+  const Eigen::Vector3d curr_beam = level_beam(pair.curr_roll, pair.curr_pitch, pair.curr_beam_body);
   std::vector<DepthFeature> features;
   features.reserve(n);
   for (size_t i = 0; i < n; ++i) {
@@ -260,7 +352,7 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   }
   double scale = 1, scale_sigma = 0;
   if (!(pair.prev_range_m > 0) ||
-      !anchor_scale(features, prev_beam, pair.prev_range_m, o, &scale, &scale_sigma)) {
+      !anchor_scale(features, pair, prev_beam, o, &scale, &scale_sigma)) {
     return paper_alone();
   }
   // The patch: ground attitude, young features' depths, the start and the fallback.

@@ -12,6 +12,10 @@ Eigen::Matrix3d level_from_camera(double roll, double pitch, const Eigen::Matrix
   return level_from_body * body_from_camera;
 }
 
+Eigen::Vector3d level_beam(double roll, double pitch, const Eigen::Vector3d& beam_body) {
+  return (level_from_camera(roll, pitch, Eigen::Matrix3d::Identity()) * beam_body).normalized();
+}
+
 Eigen::Matrix3d rot_z(double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
   Eigen::Matrix3d r;

@@ -16,6 +16,9 @@ namespace nadir::vo {
 // R_VC = Ry(pitch) Rx(roll) R_body_camera (the yaw is the virtual camera's own).
 Eigen::Matrix3d level_from_camera(double roll, double pitch, const Eigen::Matrix3d& body_from_camera);
 
+// Unit beam direction in the level frame of a vehicle at roll/pitch.
+Eigen::Vector3d level_beam(double roll, double pitch, const Eigen::Vector3d& beam_body);
+
 // Standard rotation about z (down): heading change, clockwise positive in NED.
 Eigen::Matrix3d rot_z(double angle);
 

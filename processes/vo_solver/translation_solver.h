@@ -85,6 +85,11 @@ struct FramePair {
   // Zero and the INS's own variance where nothing is known (FeatureDepthMap).
   Eigen::Vector2d prev_tilt = Eigen::Vector2d::Zero();
   Eigen::Vector2d prev_tilt_variance = Eigen::Vector2d::Zero();
+  // feature_depth with anchor_spots track: where the altimeter beams of the
+  // frames before prev met the ground (range x beam from each frame's camera,
+  // moved by the solved motions), in the level frame of prev, metres from the
+  // prev camera; newest first (FeatureDepthMap). Prev's own spot is not in it.
+  std::vector<Eigen::Vector3d> earlier_ground_spots;
 };
 
 // Quality bits, the same values as nadir::vo_delta_t::QUALITY_*.

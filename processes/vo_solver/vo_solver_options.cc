@@ -73,6 +73,12 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   }
   fd.anchor_surface =
       anchor_surface == "quadratic" ? vo::AnchorSurfaceModel::kQuadratic : vo::AnchorSurfaceModel::kPlane;
+  const std::string anchor_spots =
+      d.get<std::string>("anchor_spots", fd.anchor_spots == vo::AnchorSpots::kTrack ? "track" : "beam");
+  if (anchor_spots != "beam" && anchor_spots != "track") {
+    throw d.error("anchor_spots", "= '" + anchor_spots + "' must be beam or track");
+  }
+  fd.anchor_spots = anchor_spots == "track" ? vo::AnchorSpots::kTrack : vo::AnchorSpots::kBeam;
   const std::string dz_mode = c.get<std::string>("dz_mode", "symmetric");
   if (dz_mode != "symmetric" && dz_mode != "forward") {
     throw c.error("dz_mode", "= '" + dz_mode + "' must be symmetric or forward");

@@ -33,6 +33,7 @@ double TerrainSequence::ridge_up(double north, double east) const {
   const double along = std::cos(spec_.heading) * north + std::sin(spec_.heading) * east;
   // Crests sharper than the valleys (a second harmonic), as ridges are.
   const double phase = 2.0 * M_PI * along / spec_.ridge_wavelength_m;
+  if (spec_.sharp_crests) return spec_.ridge_amplitude_m * (1.0 - 2.0 * std::abs(std::sin(0.5 * phase)));
   return spec_.ridge_amplitude_m * (std::cos(phase) + 0.5 * std::cos(2.0 * phase));
 }
 

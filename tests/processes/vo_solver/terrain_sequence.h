@@ -30,6 +30,9 @@ struct TerrainSpec {
   // ridge_wavelength_m: crests sharper than the valleys.
   double ridge_amplitude_m = 0.0;
   double ridge_wavelength_m = 160.0;
+  // Instead: crests that are kinks (the ground rises by ridge_amplitude_m *
+  // (1 - 2 |sin(p / 2)|)), which no smooth surface holds, over smooth valleys.
+  bool sharp_crests = false;
   int num_points = 6000;
   double noise_px = 0.0;
   uint32_t seed = 1;

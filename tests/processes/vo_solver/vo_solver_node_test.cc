@@ -322,20 +322,25 @@ TEST(VoSolverNode, MissingInsGivesFlaggedMessagesAndCountsDrops) {
   EXPECT_NE(r.status.state, status_t::STATE_OK);
 }
 
-TEST(VoSolverNode, BadConfigNamesTheKey) {
+// Building the node from `yaml` throws a ConfigError whose message holds each of `expected`.
+void expect_config_error(const std::string& yaml, const std::vector<std::string>& expected) {
   LcmBusOptions options;
   options.url = "memq://";
   LcmBus bus(options);
-  const Config bad = Config::parse(R"(
-camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5}
-vo_solver: {variant: ransac}
-)", "bad.yaml");
+  const Config bad = Config::parse(yaml, "bad.yaml");
   try {
     make_vo_solver_node(bad, bus);
     FAIL() << "expected ConfigError";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("vo_solver.variant"), std::string::npos) << e.what();
+    for (const std::string& part : expected) EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
   }
+}
+
+TEST(VoSolverNode, BadConfigNamesTheKey) {
+  const std::string camera = "camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5}\n";
+  expect_config_error(camera + "vo_solver: {variant: ransac}\n", {"vo_solver.variant"});
+  expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {anchor_spots: spot}}\n",
+                      {"anchor_spots", "beam or track"});
 }
 
 void lockstep_replay_equals_live_run(const std::string& yaml);
