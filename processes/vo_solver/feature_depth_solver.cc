@@ -141,11 +141,24 @@ bool fit_anchor_surface(const std::vector<DepthFeature>& features, const Eigen::
   return true;
 }
 
-// The ground spots of the anchor_spots track mode: prev's own (range x beam)
-// and the earlier frames' within 2 x anchor_radius of it (ray offset), when
-// they reach back at least 1.8 x anchor_radius (else: none, the beam alone).
-std::vector<Eigen::Vector3d> track_spots(const FramePair& pair, const Eigen::Vector3d& prev_beam,
-                                         const FeatureDepthOptions& o) {
+// The altimeter spots of the anchor_spots track mode as one line, built
+// once per pair whatever surface is then fitted: prev's own spot (range x
+// beam) and the earlier frames' within 2 x anchor_radius of it (ray offset),
+// used only when they reach back at least 1.8 x anchor_radius. The centre is
+// halfway between the line's ends along its main direction; each spot within
+// anchor_radius of it along that direction (xi) is weighted as the surface
+// fit weighs the own depths across the line there (the kernel on the disc of
+// the anchor radius), times its depth and its share of the line (half the gap
+// to its neighbours along it), so that the spots count as a uniform sampling
+// of the ground along the track however the attitude's oscillation spaced them.
+struct SpotLine {
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  std::vector<Eigen::Vector3d> spots;  // within anchor_radius of the centre along the line
+  std::vector<double> weight;          // parallel to spots
+};
+
+bool spot_line(const FramePair& pair, const Eigen::Vector3d& prev_beam, const FeatureDepthOptions& o,
+               SpotLine* line) {
   std::vector<Eigen::Vector3d> spots{pair.prev_range_m * prev_beam};
   const Eigen::Vector2d beam_xy = prev_beam.head<2>() / prev_beam.z();
   double reach = 0;
@@ -156,66 +169,60 @@ std::vector<Eigen::Vector3d> track_spots(const FramePair& pair, const Eigen::Vec
     spots.push_back(x);
     reach = std::max(reach, offset);
   }
-  if (reach < 1.8 * o.anchor_radius) spots.resize(1);
-  return spots;
+  if (reach < 1.8 * o.anchor_radius) return false;
+  const size_t n = spots.size();
+  std::vector<Eigen::Vector2d> rays(n);
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (size_t j = 0; j < n; ++j) mean += (rays[j] = spots[j].head<2>() / spots[j].z());
+  mean /= static_cast<double>(n);
+  Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
+  for (const Eigen::Vector2d& d : rays) spread += (d - mean) * (d - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(spread);
+  const Eigen::Vector2d axis = axes.eigenvectors().col(1);
+  std::vector<std::pair<double, size_t>> along(n);
+  for (size_t j = 0; j < n; ++j) along[j] = {(rays[j] - mean).dot(axis), j};
+  std::sort(along.begin(), along.end());
+  const double middle = 0.5 * (along.front().first + along.back().first);
+  line->center = mean + middle * axis;
+  const double r = o.anchor_radius;
+  for (size_t k = 0; k < n; ++k) {
+    const double xi = along[k].first - middle;
+    if (std::abs(xi) > r) continue;
+    const double share = 0.5 * (along[std::min(k + 1, n - 1)].first - along[k > 0 ? k - 1 : 0].first);
+    const Eigen::Vector3d& x = spots[along[k].second];
+    const double across = std::sqrt(std::max(0.0, r * r - xi * xi));
+    line->spots.push_back(x);
+    line->weight.push_back(share * anchor_kernel(xi, o) * std::erf(across / (0.5 * r * std::sqrt(2.0))) * x.z());
+  }
+  return true;
 }
 
-// Scale of the own depths from the altimeter. Beam: the surface fitted around
-// prev's beam meets it at 1/c0, and range_along_beam(structure) * scale =
-// measured range. Track: the surface fitted around the middle of the spots'
-// line, and the scale is the mean over the spots of (spot depth) x (surface's
-// inverse depth on the spot's ray), each spot weighted as the fit weighs the
-// own depths across the line there (the kernel's marginal) times its depth
-// and its share of the line. Where the ground varies along the track only (a
-// ridge across it), the fit's residuals average to zero with those weights,
-// so its misfit to a sharp crest cancels instead of biasing the scale
-// (DERIVATION.md section 13).
+// Scale of the own depths from the altimeter. Beam (line null): the surface
+// fitted around prev's beam meets it at 1/c0, and
+// range_along_beam(structure) * scale = measured range. Track: the surface
+// fitted around the spot line's centre, and the scale is the weighted mean
+// over the spots of (spot depth) x (surface's inverse depth on the spot's
+// ray). Where the ground varies along the track only (a ridge across it), the
+// fit's residuals average to zero with the line's weights, so its misfit to a
+// sharp crest cancels instead of biasing the scale (DERIVATION.md section 13).
 bool fit_anchor(const std::vector<DepthFeature>& features, const FramePair& pair, const Eigen::Vector3d& prev_beam,
-                const FeatureDepthOptions& o, AnchorSurfaceModel model, double* scale, double* relative_sigma) {
-  if (!(prev_beam.z() > 1e-9)) return false;
+                const SpotLine* line, const FeatureDepthOptions& o, AnchorSurfaceModel model, double* scale,
+                double* relative_sigma) {
   AnchorSurface surface;
-  const std::vector<Eigen::Vector3d> spots =
-      o.anchor_spots == AnchorSpots::kTrack ? track_spots(pair, prev_beam, o) : std::vector<Eigen::Vector3d>{};
-  if (spots.size() < 2) {
+  if (!line) {
     if (!fit_anchor_surface(features, prev_beam.head<2>() / prev_beam.z(), o, model, &surface)) return false;
     // The beam point lambda * beam: depth 1 / c0 on the beam line.
     const double lambda = 1.0 / (surface.coef(0) * prev_beam.z());
     *scale = pair.prev_range_m / lambda;
   } else {
-    // The spots' line: its main direction, each spot's coordinate xi along
-    // it, the centre halfway between the ends, and each spot's share of the
-    // line (half the gap to its neighbours along it), so that the spots count
-    // as a uniform sampling of the ground along the track however the
-    // attitude's oscillation spaced them.
-    const size_t n = spots.size();
-    std::vector<Eigen::Vector2d> rays(n);
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (size_t j = 0; j < n; ++j) mean += (rays[j] = spots[j].head<2>() / spots[j].z());
-    mean /= static_cast<double>(n);
-    Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
-    for (const Eigen::Vector2d& d : rays) spread += (d - mean) * (d - mean).transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(spread);
-    const Eigen::Vector2d axis = axes.eigenvectors().col(1);
-    std::vector<std::pair<double, size_t>> along(n);
-    for (size_t j = 0; j < n; ++j) along[j] = {(rays[j] - mean).dot(axis), j};
-    std::sort(along.begin(), along.end());
-    const double middle = 0.5 * (along.front().first + along.back().first);
-    const Eigen::Vector2d center = mean + middle * axis;
-    if (!fit_anchor_surface(features, center, o, model, &surface)) return false;
+    if (!fit_anchor_surface(features, line->center, o, model, &surface)) return false;
     double sum_a = 0, sum_as = 0;
-    const double r = o.anchor_radius;
-    for (size_t k = 0; k < n; ++k) {
-      const double xi = along[k].first - middle;
-      const double share = 0.5 * (along[std::min(k + 1, n - 1)].first - along[k > 0 ? k - 1 : 0].first);
-      const Eigen::Vector3d& x = spots[along[k].second];
+    for (size_t j = 0; j < line->spots.size(); ++j) {
+      const Eigen::Vector3d& x = line->spots[j];
       const double g = surface.inverse_depth(x / x.z());
-      if (std::abs(xi) > r || !(g > 0)) continue;
-      // The fit's weight summed across the line at xi (the kernel on the
-      // disc of the anchor radius), times the spot's depth.
-      const double across = std::sqrt(std::max(0.0, r * r - xi * xi));
-      const double a = share * anchor_kernel(xi, o) * std::erf(across / (0.5 * r * std::sqrt(2.0))) * x.z();
-      sum_a += a;
-      sum_as += a * x.z() * g;
+      if (!(g > 0)) continue;
+      sum_a += line->weight[j];
+      sum_as += line->weight[j] * x.z() * g;
     }
     if (!(sum_a > 0)) return false;
     *scale = sum_as / sum_a;
@@ -225,12 +232,17 @@ bool fit_anchor(const std::vector<DepthFeature>& features, const FramePair& pair
 }
 
 // The configured surface; a quadratic the own depths near the beam cannot
-// hold (too few, or all along one line) falls back to the plane.
+// hold (too few, or all along one line) falls back to the plane. The spot
+// line (anchor_spots track, once it reaches back far enough) serves both.
 bool anchor_scale(const std::vector<DepthFeature>& features, const FramePair& pair, const Eigen::Vector3d& prev_beam,
                   const FeatureDepthOptions& o, double* scale, double* relative_sigma) {
-  if (fit_anchor(features, pair, prev_beam, o, o.anchor_surface, scale, relative_sigma)) return true;
+  if (!(prev_beam.z() > 1e-9)) return false;
+  SpotLine line;
+  const bool on_line = o.anchor_spots == AnchorSpots::kTrack && spot_line(pair, prev_beam, o, &line);
+  const SpotLine* spots = on_line ? &line : nullptr;
+  if (fit_anchor(features, pair, prev_beam, spots, o, o.anchor_surface, scale, relative_sigma)) return true;
   return o.anchor_surface == AnchorSurfaceModel::kQuadratic &&
-         fit_anchor(features, pair, prev_beam, o, AnchorSurfaceModel::kPlane, scale, relative_sigma);
+         fit_anchor(features, pair, prev_beam, spots, o, AnchorSurfaceModel::kPlane, scale, relative_sigma);
 }
 
 // The motion m = (dx, dy, dz, dyaw, tilt x, tilt y) as the reprojection
