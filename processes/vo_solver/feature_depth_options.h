@@ -19,18 +19,6 @@ enum class AnchorSurfaceModel { kPlane, kQuadratic };
 // scale (DERIVATION.md section 13).
 enum class AnchorSpots { kBeam, kTrack };
 
-// Over what the surface is fitted. Rays: inverse depth over the level ray's
-// offset from the beam, the kernel in ray units and each own depth weighted by
-// its depth squared (the noise of an inverse depth). Ground: the logarithm of
-// depth over the ground's horizontal position under prev (in units of the
-// median own depth), the kernel fixed on the ground and each own depth weighted
-// by the ground area it stands for. Each pair's error is then the ground's
-// convolution with one kernel less the ground, which sums to nothing over a
-// flight: a crest's shortfall is paid back on the slopes beside it, where
-// over rays the perspective and the design (more features per ray on far
-// ground) leave the flight short over relief (DERIVATION.md section 13).
-enum class AnchorSpace { kRays, kGround };
-
 struct FeatureDepthOptions {
   // A feature's own depth is used when its standard deviation is below this
   // share of the depth; else the ground patch gives its depth.
@@ -48,10 +36,6 @@ struct FeatureDepthOptions {
   int min_anchor_features = 8;
   AnchorSurfaceModel anchor_surface = AnchorSurfaceModel::kQuadratic;
   AnchorSpots anchor_spots = AnchorSpots::kBeam;
-  AnchorSpace anchor_space = AnchorSpace::kRays;
-  // anchor_space ground: the ground area an own depth stands for is the
-  // squared distance to its anchor_area_neighbour-th nearest own depth.
-  int anchor_area_neighbour = 6;
   // Weight of a feature on the patch (young) beside one with its own depth,
   // where the patch holds the own depths within their sigmas; divided by the
   // square of the patch's misfit to them where that is above 1 (relief).

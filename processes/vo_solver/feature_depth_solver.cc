@@ -34,9 +34,6 @@ void FeatureDepthOptions::Check() const {
   require(max_epipolar_px > 0 && max_epipolar_px <= 100, "max_epipolar_px", "in (0, 100]");
   require(max_depth_jump_sigma >= 1 && max_depth_jump_sigma <= 100, "max_depth_jump_sigma", "in [1, 100]");
   require(ins_tilt_sigma_deg >= 0 && ins_tilt_sigma_deg <= 5, "ins_tilt_sigma_deg", "in [0, 5]");
-  require(anchor_area_neighbour >= 1 && anchor_area_neighbour <= 100, "anchor_area_neighbour", "in [1, 100]");
-  require(anchor_spots == AnchorSpots::kBeam || anchor_space == AnchorSpace::kRays, "anchor_spots",
-          "beam where anchor_space is ground");
 }
 
 namespace {
@@ -50,19 +47,17 @@ struct DepthFeature {
   int index = 0;         // in the input pair
 };
 
-// The own-depth structure around the prev altimeter beam as a surface over
-// an offset d from a centre: value = c0 + c1 dx + c2 dy (a plane) or with the
-// quadratic terms c3 dx^2 + c4 dx dy + c5 dy^2 (a curved surface: a crest, a
-// valley). Over rays (anchor_space rays): the value is inverse depth and d
-// the level ray's offset (z = 1) from a centre ray; a plane in space, and the
-// beam meets it at depth 1/c0. Over the ground (anchor_space ground): the
-// value is log depth and d the ground's horizontal offset. The positions are
-// known without error and an own depth's noise is relative, so either fit is
-// linear with noise in the value alone.
+// The own-depth structure around the prev altimeter beam: inverse depth as a
+// function of the ray's offset d = u_xy - center from a centre ray (level rays,
+// z = 1): 1/z = c0 + c1 dx + c2 dy (a plane in space) or with the quadratic
+// terms c3 dx^2 + c4 dx dy + c5 dy^2 (a curved surface: a crest, a valley).
+// The rays are known without error and an own depth's noise is relative, so
+// the fit is linear with noise in 1/z alone. The beam meets it at depth 1/c0.
 using AnchorVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 using AnchorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 
-AnchorVector anchor_basis(const Eigen::Vector2d& d, int terms) {
+AnchorVector anchor_basis(const Eigen::Vector3d& u, const Eigen::Vector2d& center, int terms) {
+  const Eigen::Vector2d d = u.head<2>() - center;
   AnchorVector x(terms);
   x(0) = 1.0;
   x(1) = d.x();
@@ -75,32 +70,42 @@ AnchorVector anchor_basis(const Eigen::Vector2d& d, int terms) {
   return x;
 }
 
-int anchor_terms(AnchorSurfaceModel model) { return model == AnchorSurfaceModel::kQuadratic ? 6 : 3; }
-
 // The kernel both the surface fit and the track's spots are weighted with:
-// Gaussian in the offset from the centre, sigma = radius / 2.
+// Gaussian in the ray offset from the centre, sigma = radius / 2.
 double anchor_kernel(double offset, const FeatureDepthOptions& o) {
   const double sd = 0.5 * o.anchor_radius;
   return std::exp(-0.5 * offset * offset / (sd * sd));
 }
 
-// One own depth as the surface fit sees it: its basis at its offset, the
-// value fitted, its weight, the two's product as the fit sums it (over rays
-// weight / depth, so that its rounding is the one this variant has always
-// had), and what turns a residual of the value into one relative to the depth.
-struct AnchorSample {
-  AnchorVector basis;
-  double value = 0, weight = 0, weighted_value = 0, to_relative = 1;
+// The surface above fitted around `center` (a level ray's xy, z = 1) to the
+// own-depth features whose rays lie within `anchor_radius` of it (the
+// kernel's weights, one pass of 3 MAD outlier rejection on the relative
+// depth residual). Its relative sigma: of the weighted mean inverse depth.
+struct AnchorSurface {
+  AnchorVector coef;
+  Eigen::Vector2d center;
+  double relative_sigma = 0;
+  double inverse_depth(const Eigen::Vector3d& ray) const {
+    return coef.dot(anchor_basis(ray, center, static_cast<int>(coef.size())));
+  }
 };
 
-// Weighted least squares of the samples' values, one pass of 3 MAD outlier
-// rejection on the relative residual; false with fewer than
-// min_anchor_features samples kept (or twice the unknowns). spread: the
-// sigma of the weighted mean value, sqrt(sum w^2 r^2) / sum w.
-bool fit_samples(const std::vector<AnchorSample>& samples, int np, const FeatureDepthOptions& o, AnchorVector* coef,
-                 double* spread) {
-  *coef = AnchorVector::Zero(np);
-  std::vector<double> residual(samples.size(), 0.0);  // relative to the depth
+bool fit_anchor_surface(const std::vector<DepthFeature>& features, const Eigen::Vector2d& center,
+                        const FeatureDepthOptions& o, AnchorSurfaceModel model, AnchorSurface* surface) {
+  const int np = model == AnchorSurfaceModel::kQuadratic ? 6 : 3;
+  std::vector<const DepthFeature*> near;
+  std::vector<AnchorVector> basis;
+  std::vector<double> weight;
+  for (const DepthFeature& f : features) {
+    const double d = (f.u.head<2>() - center).norm();
+    if (!f.own || d > o.anchor_radius) continue;
+    near.push_back(&f);
+    basis.push_back(anchor_basis(f.u, center, np));
+    // 1/z has the relative depth noise over z: weight z^2.
+    weight.push_back(anchor_kernel(d, o) * f.depth * f.depth);
+  }
+  AnchorVector coef = AnchorVector::Zero(np);
+  std::vector<double> residual(near.size(), 0.0);  // relative to the depth
   double cut = std::numeric_limits<double>::infinity();
   double sum_w = 0, sum_w2r2 = 0;
   for (int pass = 0; pass < 2; ++pass) {
@@ -108,132 +113,32 @@ bool fit_samples(const std::vector<AnchorSample>& samples, int np, const Feature
     AnchorVector b = AnchorVector::Zero(np);
     int used = 0;
     sum_w = 0;
-    for (size_t k = 0; k < samples.size(); ++k) {
+    for (size_t k = 0; k < near.size(); ++k) {
       if (!(std::abs(residual[k]) <= cut)) continue;
-      const AnchorSample& x = samples[k];
-      a += x.weight * x.basis * x.basis.transpose();
-      b += x.weighted_value * x.basis;
-      sum_w += x.weight;
+      a += weight[k] * basis[k] * basis[k].transpose();
+      b += weight[k] / near[k]->depth * basis[k];
+      sum_w += weight[k];
       ++used;
     }
     if (used < std::max(o.min_anchor_features, 2 * np)) return false;
     const Eigen::LDLT<AnchorMatrix> ldlt(a);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
-    *coef = ldlt.solve(b);
+    coef = ldlt.solve(b);
     std::vector<double> abs_res;
     sum_w2r2 = 0;
-    for (size_t k = 0; k < samples.size(); ++k) {
-      const AnchorSample& x = samples[k];
-      const double r = x.value - coef->dot(x.basis);
-      residual[k] = r * x.to_relative;
+    for (size_t k = 0; k < near.size(); ++k) {
+      const double r = 1.0 / near[k]->depth - coef.dot(basis[k]);
+      residual[k] = r * near[k]->depth;
       abs_res.push_back(std::abs(residual[k]));
-      if (std::abs(residual[k]) <= cut) sum_w2r2 += x.weight * x.weight * r * r;
+      if (std::abs(residual[k]) <= cut) sum_w2r2 += weight[k] * weight[k] * r * r;
     }
     cut = std::max(1e-9, 3.0 * 1.4826 * median_of(abs_res));
   }
-  *spread = std::sqrt(sum_w2r2) / sum_w;
-  return true;
-}
-
-// The surface over rays fitted around `center` (a level ray's xy, z = 1) to
-// the own-depth features whose rays lie within `anchor_radius` of it (the
-// kernel's weights times depth^2: 1/z has the relative depth noise over z).
-// Its relative sigma: of the weighted mean inverse depth.
-struct AnchorSurface {
-  AnchorVector coef;
-  Eigen::Vector2d center;
-  double relative_sigma = 0;
-  double inverse_depth(const Eigen::Vector3d& ray) const {
-    return coef.dot(anchor_basis(ray.head<2>() - center, static_cast<int>(coef.size())));
-  }
-};
-
-bool fit_anchor_surface(const std::vector<DepthFeature>& features, const Eigen::Vector2d& center,
-                        const FeatureDepthOptions& o, AnchorSurfaceModel model, AnchorSurface* surface) {
-  const int np = anchor_terms(model);
-  std::vector<AnchorSample> samples;
-  for (const DepthFeature& f : features) {
-    const Eigen::Vector2d offset = f.u.head<2>() - center;
-    const double d = offset.norm();
-    if (!f.own || d > o.anchor_radius) continue;
-    AnchorSample x;
-    x.basis = anchor_basis(offset, np);
-    x.weight = anchor_kernel(d, o) * f.depth * f.depth;
-    x.value = 1.0 / f.depth;
-    x.weighted_value = x.weight / f.depth;
-    x.to_relative = f.depth;
-    samples.push_back(x);
-  }
-  AnchorVector coef;
-  double spread = 0;
-  if (!fit_samples(samples, np, o, &coef, &spread) || !(coef(0) > 0)) return false;
+  if (!(coef(0) > 0)) return false;
   surface->coef = coef;
   surface->center = center;
-  surface->relative_sigma = spread / coef(0);
+  surface->relative_sigma = std::sqrt(sum_w2r2) / sum_w / coef(0);
   return true;
-}
-
-// anchor_space ground. Positions are the own depths' ground points under
-// prev, depth x level ray, horizontal, in units of their median depth (the
-// unit). The kernel is centred where the beam meets the ground: first at the
-// median depth, then again at the depth the first fit gives, and the fitted
-// surface is met by the beam by fixed-point iteration (the beam steep, the
-// slopes not). Each own depth within anchor_radius of the centre stands for
-// the ground area around it: the squared distance to its
-// anchor_area_neighbour-th nearest own depth (those within 1.6 x
-// anchor_radius counted), so that the features count as a uniform sampling of
-// the ground however the tracker spaced them in the image. Scale = range x
-// beam_z / the spot's depth.
-bool fit_anchor_ground(const std::vector<DepthFeature>& features, const FramePair& pair,
-                       const Eigen::Vector3d& prev_beam, const FeatureDepthOptions& o, AnchorSurfaceModel model,
-                       double* scale, double* relative_sigma) {
-  const int np = anchor_terms(model);
-  std::vector<double> depths;
-  for (const DepthFeature& f : features) {
-    if (f.own) depths.push_back(f.depth);
-  }
-  if (depths.empty()) return false;
-  const double unit = median_of(depths);
-  const Eigen::Vector2d beam_xy = prev_beam.head<2>() / prev_beam.z();
-  double spot_depth = unit;
-  AnchorVector coef;
-  double spread = 0;
-  for (int recenter = 0; recenter < 2; ++recenter) {
-    const Eigen::Vector2d center = spot_depth / unit * beam_xy;
-    std::vector<Eigen::Vector2d> around;
-    std::vector<const DepthFeature*> near;
-    for (const DepthFeature& f : features) {
-      if (!f.own) continue;
-      const Eigen::Vector2d at = f.depth / unit * f.u.head<2>() - center;
-      const double d = at.norm();
-      if (d < 1.6 * o.anchor_radius) around.push_back(at);
-      if (d <= o.anchor_radius) near.push_back(&f);
-    }
-    std::vector<AnchorSample> samples;
-    std::vector<double> squared;
-    for (const DepthFeature* f : near) {
-      const Eigen::Vector2d at = f->depth / unit * f->u.head<2>() - center;
-      squared.clear();
-      for (const Eigen::Vector2d& q : around) squared.push_back((q - at).squaredNorm());
-      // squared includes the feature itself, at 0.
-      const size_t neighbour = std::min<size_t>(o.anchor_area_neighbour, squared.size() - 1);
-      std::nth_element(squared.begin(), squared.begin() + neighbour, squared.end());
-      AnchorSample x;
-      x.basis = anchor_basis(at, np);
-      x.weight = anchor_kernel(at.norm(), o) * squared[neighbour];
-      x.value = std::log(f->depth / unit);
-      x.weighted_value = x.weight * x.value;
-      samples.push_back(x);
-    }
-    if (!fit_samples(samples, np, o, &coef, &spread)) return false;
-    for (int it = 0; it < 20; ++it) {
-      spot_depth = unit * std::exp(coef.dot(anchor_basis(spot_depth / unit * beam_xy - center, np)));
-    }
-    if (!(spot_depth > 0) || !std::isfinite(spot_depth)) return false;
-  }
-  *scale = pair.prev_range_m * prev_beam.z() / spot_depth;
-  *relative_sigma = spread;
-  return std::isfinite(*scale) && *scale > 0;
 }
 
 // The altimeter spots of the anchor_spots track mode as one line, built
@@ -303,9 +208,6 @@ bool spot_line(const FramePair& pair, const Eigen::Vector3d& prev_beam, const Fe
 bool fit_anchor(const std::vector<DepthFeature>& features, const FramePair& pair, const Eigen::Vector3d& prev_beam,
                 const SpotLine* line, const FeatureDepthOptions& o, AnchorSurfaceModel model, double* scale,
                 double* relative_sigma) {
-  if (!line && o.anchor_space == AnchorSpace::kGround) {
-    return fit_anchor_ground(features, pair, prev_beam, o, model, scale, relative_sigma);
-  }
   AnchorSurface surface;
   if (!line) {
     if (!fit_anchor_surface(features, prev_beam.head<2>() / prev_beam.z(), o, model, &surface)) return false;

@@ -2,7 +2,6 @@
 
 #include <stdexcept>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "common/camera_model.h"
@@ -11,23 +10,6 @@ namespace nadir {
 
 namespace {
 int64_t ms_to_us(double ms) { return static_cast<int64_t>(ms * 1000.0 + (ms >= 0 ? 0.5 : -0.5)); }
-
-// The value of a key that names one of `choices` (name, value), `current`
-// where it is absent; else a ConfigError naming the key and the names allowed.
-template <typename T>
-T one_of(const Config& section, const std::string& key, const std::vector<std::pair<std::string, T>>& choices,
-         T current) {
-  std::string allowed, current_name;
-  for (size_t i = 0; i < choices.size(); ++i) {
-    allowed += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i].first;
-    if (choices[i].second == current) current_name = choices[i].first;
-  }
-  const std::string name = section.get<std::string>(key, current_name);
-  for (const auto& [choice, value] : choices) {
-    if (choice == name) return value;
-  }
-  throw section.error(key, "= '" + name + "' must be " + allowed);
-}
 }  // namespace
 
 VoSolverOptions VoSolverOptions::from_config(const Config& root) {
@@ -84,17 +66,19 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   fd.max_depth_jump_sigma = d.get_in_range("max_depth_jump_sigma", fd.max_depth_jump_sigma, 1.0, 100.0);
   fd.range_from_sample_position = d.get<bool>("range_from_sample_position", fd.range_from_sample_position);
   fd.ins_tilt_sigma_deg = d.get_in_range("ins_tilt_sigma_deg", fd.ins_tilt_sigma_deg, 0.0, 5.0);
-  fd.anchor_surface = one_of(d, "anchor_surface", {{"quadratic", vo::AnchorSurfaceModel::kQuadratic},
-                                                     {"plane", vo::AnchorSurfaceModel::kPlane}},
-                              fd.anchor_surface);
-  fd.anchor_spots =
-      one_of(d, "anchor_spots", {{"beam", vo::AnchorSpots::kBeam}, {"track", vo::AnchorSpots::kTrack}}, fd.anchor_spots);
-  fd.anchor_space =
-      one_of(d, "anchor_space", {{"rays", vo::AnchorSpace::kRays}, {"ground", vo::AnchorSpace::kGround}}, fd.anchor_space);
-  fd.anchor_area_neighbour = d.get_in_range("anchor_area_neighbour", fd.anchor_area_neighbour, 1, 100);
-  if (fd.anchor_spots == vo::AnchorSpots::kTrack && fd.anchor_space != vo::AnchorSpace::kRays) {
-    throw d.error("anchor_spots", "= 'track' needs anchor_space rays");
+  const std::string anchor_surface = d.get<std::string>(
+      "anchor_surface", fd.anchor_surface == vo::AnchorSurfaceModel::kQuadratic ? "quadratic" : "plane");
+  if (anchor_surface != "quadratic" && anchor_surface != "plane") {
+    throw d.error("anchor_surface", "= '" + anchor_surface + "' must be quadratic or plane");
   }
+  fd.anchor_surface =
+      anchor_surface == "quadratic" ? vo::AnchorSurfaceModel::kQuadratic : vo::AnchorSurfaceModel::kPlane;
+  const std::string anchor_spots =
+      d.get<std::string>("anchor_spots", fd.anchor_spots == vo::AnchorSpots::kTrack ? "track" : "beam");
+  if (anchor_spots != "beam" && anchor_spots != "track") {
+    throw d.error("anchor_spots", "= '" + anchor_spots + "' must be beam or track");
+  }
+  fd.anchor_spots = anchor_spots == "track" ? vo::AnchorSpots::kTrack : vo::AnchorSpots::kBeam;
   const std::string dz_mode = c.get<std::string>("dz_mode", "symmetric");
   if (dz_mode != "symmetric" && dz_mode != "forward") {
     throw c.error("dz_mode", "= '" + dz_mode + "' must be symmetric or forward");

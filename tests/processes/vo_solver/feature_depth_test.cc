@@ -297,7 +297,6 @@ TEST(FeatureDepth, QuadraticAnchorFollowsRidgesUnderTheAltimeter) {
   spec.relief_m = 0.0;
   auto drift = [&](AnchorSurfaceModel model, double* worst_step) {
     SolverOptions fd = exact_options();
-    fd.feature_depth.anchor_space = AnchorSpace::kRays;
     fd.feature_depth.anchor_surface = model;
     return anchored_drift(spec, fd, worst_step);
   };
@@ -327,7 +326,6 @@ TEST(FeatureDepth, TrackAnchorFollowsSharpCrests) {
   spec.ridge_wavelength_m = 120.0;
   spec.sharp_crests = true;
   SolverOptions beam = exact_options();
-  beam.feature_depth.anchor_space = AnchorSpace::kRays;
   SolverOptions track = beam;
   track.feature_depth.anchor_spots = AnchorSpots::kTrack;
   double beam_step = 0, track_step = 0;
@@ -344,75 +342,6 @@ TEST(FeatureDepth, TrackAnchorFollowsSharpCrests) {
   const SequenceRun b = run(seq, 45, beam, &beam_map);
   const SequenceRun t = run(seq, 45, track, &track_map);
   for (int k = 1; k <= 45; ++k) EXPECT_EQ(b.estimates[k].translation, t.estimates[k].translation) << "frame " << k;
-}
-
-// Along-track drift (share of the distance) over frames first..last, each
-// pair given the true depths (exact, own) of its points below prev: the
-// anchor's surface alone decides each pair's scale. The attitude held level.
-double true_depth_drift(const TerrainSpec& spec, const SolverOptions& options, int first, int last) {
-  TerrainSequence seq{spec};
-  seq.pose_override = [&spec](int k) {
-    testing::FramePose p;
-    p.position = Eigen::Vector3d(std::cos(spec.heading), std::sin(spec.heading), 0.0) * spec.step_m * k;
-    p.position.z() = -spec.height_m;
-    p.yaw = spec.heading;
-    return p;
-  };
-  double along = 0, distance = 0;
-  for (int k = first; k <= last; ++k) {
-    SequencePair sp = seq.pair(k);
-    const double prev_z = seq.pose(k - 1).position.z();
-    for (int64_t id : sp.ids) {
-      const double depth = seq.points()[static_cast<size_t>(id)].z() - prev_z;
-      sp.pair.prev_depth_m.push_back(depth);
-      sp.pair.prev_depth_sigma_m.push_back(1e-4 * depth);
-    }
-    const Eigen::Vector3d truth = sp.translation;
-    const Eigen::Vector3d e = solve(sp.pair, options).translation - truth;
-    along += e.head<2>().dot(truth.head<2>().normalized());
-    distance += truth.head<2>().norm();
-  }
-  return along / distance;
-}
-
-TEST(FeatureDepth, GroundAnchorPaysBackTheRidgesOverAFlight) {
-  // Ridges 120 m apart across the path, noise-free, the true depths given:
-  // each pair's error is the anchor surface's misfit at the beam. Summed over
-  // whole ridges it would vanish were that misfit the ground's convolution
-  // with one kernel less the ground. Over rays it is not (the kernel is fixed
-  // in the image, not on the ground, and a pair's scale is not linear in the
-  // misfit of inverse depth), and the flight comes out short. Over the ground
-  // (log depth, the kernel and each point's area on the ground) the ridges
-  // pay back. Points on a grid, so that where the ground is sampled adds
-  // nothing: smooth crests -0.056 % -> -0.005 %; kinked crests -0.044 % ->
-  // -0.028 %, in part only, because with noise-free depths the fit's 3 MAD
-  // cut rejects the points on the very crest. With random points (mean of
-  // seeds 1 and 2) the same: smooth -0.053 % -> -0.027 % (uniform on the
-  // ground), -0.052 % -> -0.008 % (thinned to be uniform in the image, as a
-  // tracker spaces them); one seed alone scatters by about 0.03 %.
-  SolverOptions rays = exact_options();
-  rays.feature_depth.anchor_space = AnchorSpace::kRays;
-  SolverOptions ground = rays;
-  ground.feature_depth.anchor_space = AnchorSpace::kGround;
-  struct Case {
-    bool sharp_crests;
-    double largest_share;  // of rays' drift that ground's may be
-  };
-  for (const Case& c : {Case{false, 0.2}, Case{true, 0.75}}) {
-    TerrainSpec spec;
-    spec.relief_m = 0.0;
-    spec.ridge_amplitude_m = 6.0;
-    spec.ridge_wavelength_m = 120.0;
-    spec.sharp_crests = c.sharp_crests;
-    spec.climb_per_frame_m = 0.0;
-    spec.grid_points = true;
-    // Four ridges, 80 frames each.
-    const double by_rays = true_depth_drift(spec, rays, 41, 360);
-    const double by_ground = true_depth_drift(spec, ground, 41, 360);
-    const std::string name = c.sharp_crests ? "kinked crests" : "smooth crests";
-    EXPECT_LT(by_rays, -3e-4) << name;
-    EXPECT_LT(std::abs(by_ground), c.largest_share * std::abs(by_rays)) << name << ": rays " << by_rays << ", ground " << by_ground;
-  }
 }
 
 TEST(FeatureDepth, QuadraticAnchorWithTooFewDepthsFallsBackToThePlane) {

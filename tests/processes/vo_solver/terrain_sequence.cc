@@ -14,14 +14,8 @@ TerrainSequence::TerrainSequence(const TerrainSpec& spec) : spec_(spec) {
   const double length = 200.0 * spec.step_m + 600.0;
   std::uniform_real_distribution<double> along(-300.0, length), across(-300.0, 300.0), unit(0.0, 1.0);
   const double c = std::cos(spec.heading), s = std::sin(spec.heading);
-  const double grid = std::sqrt((length + 300.0) * 600.0 / spec.num_points);
-  const int grid_rows = static_cast<int>(600.0 / grid);
   for (int i = 0; i < spec.num_points; ++i) {
-    double a = along(rng), b = across(rng);
-    if (spec.grid_points) {
-      a = -300.0 + grid * (i / grid_rows + 0.5);
-      b = -300.0 + grid * (i % grid_rows + 0.5);
-    }
+    const double a = along(rng), b = across(rng);
     double up = 0.0;  // height above the level corridor
     if (std::abs(b) > spec.corridor_half_width_m) {
       // Blocks 20 m wide: each a different height, some below the corridor.

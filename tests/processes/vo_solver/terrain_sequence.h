@@ -33,9 +33,6 @@ struct TerrainSpec {
   // Instead: crests that are kinks (the ground rises by ridge_amplitude_m *
   // (1 - 2 |sin(p / 2)|)), which no smooth surface holds, over smooth valleys.
   bool sharp_crests = false;
-  // Points on a square grid (as many over the same area), not at random: no
-  // randomness in where the ground is sampled.
-  bool grid_points = false;
   int num_points = 6000;
   double noise_px = 0.0;
   uint32_t seed = 1;

@@ -86,10 +86,8 @@ void BM_SensorUncertainty(benchmark::State& state) {
 // (450 features, 0.5 px noise, 30 % of the tracks outliers displaced 10-50 px at every frame) whose tracks
 // carry their own depths from the 120 frames before (the map's update runs
 // outside the timed solve, as it is not part of the solver). With the anchor
-// on the spots along the track (anchor_spots track), or on the beam alone;
-// its surface over the rays or over the ground (anchor_space).
-void feature_depth_steady_state(benchmark::State& state, AnchorSpots anchor_spots,
-                                AnchorSpace anchor_space = AnchorSpace::kRays) {
+// on the spots along the track (anchor_spots track), or on the beam alone.
+void feature_depth_steady_state(benchmark::State& state, AnchorSpots anchor_spots) {
   testing::TerrainSpec spec;
   spec.noise_px = 0.5;
   spec.num_points = 7500;
@@ -97,7 +95,6 @@ void feature_depth_steady_state(benchmark::State& state, AnchorSpots anchor_spot
   SolverOptions options;
   options.variant = Variant::kFeatureDepth;
   options.feature_depth.anchor_spots = anchor_spots;
-  options.feature_depth.anchor_space = anchor_space;
   FeatureDepthMap map(options);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -134,9 +131,6 @@ void BM_FeatureDepth_Noise05px_Outliers30(benchmark::State& s) { feature_depth_s
 void BM_FeatureDepth_TrackAnchor_Noise05px_Outliers30(benchmark::State& s) {
   feature_depth_steady_state(s, AnchorSpots::kTrack);
 }
-void BM_FeatureDepth_GroundAnchor_Noise05px_Outliers30(benchmark::State& s) {
-  feature_depth_steady_state(s, AnchorSpots::kBeam, AnchorSpace::kGround);
-}
 void BM_Paper_NoiseFree(benchmark::State& s) { run(s, Variant::kPaper, 0.0, 0.0); }
 void BM_Paper_Noise05px_Outliers30(benchmark::State& s) { run(s, Variant::kPaper, 0.5, 0.3); }
 // Without the time-reversed solve of the symmetric dz: what it costs.
@@ -157,6 +151,5 @@ BENCHMARK(BM_Homography_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Flow_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FeatureDepth_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FeatureDepth_TrackAnchor_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_FeatureDepth_GroundAnchor_Noise05px_Outliers30)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -341,13 +341,6 @@ TEST(VoSolverNode, BadConfigNamesTheKey) {
   expect_config_error(camera + "vo_solver: {variant: ransac}\n", {"vo_solver.variant"});
   expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {anchor_spots: spot}}\n",
                       {"anchor_spots", "beam or track"});
-  expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {anchor_space: image}}\n",
-                      {"anchor_space", "'image'", "rays or ground"});
-  expect_config_error(
-      camera + "vo_solver: {variant: feature_depth, feature_depth: {anchor_space: ground, anchor_spots: track}}\n",
-      {"anchor_spots", "needs anchor_space rays"});
-  expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {anchor_area_neighbour: 0}}\n",
-                      {"anchor_area_neighbour"});
 }
 
 void lockstep_replay_equals_live_run(const std::string& yaml);
