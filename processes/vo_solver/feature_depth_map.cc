@@ -16,6 +16,7 @@ void FeatureDepthMap::reset() {
   spots_.clear();
   utime_ = INT64_MIN;
   tilt_.setZero();
+  carried_scale_pairs_ = -1;
 }
 
 size_t FeatureDepthMap::size() const {
@@ -35,6 +36,7 @@ void FeatureDepthMap::fill(const std::vector<int64_t>& ids, int64_t prev_utime, 
   pair->prev_tilt_variance = utime_ == INT64_MIN
                                  ? Eigen::Vector2d::Constant(options_.feature_depth.ins_tilt_variance())
                                  : tilt_variance_;
+  pair->carried_scale_pairs = carried_scale_pairs_;
   pair->earlier_ground_spots.clear();
   if (options_.feature_depth.anchor_spots == AnchorSpots::kTrack) pair->earlier_ground_spots = spots_;
   for (size_t i = 0; i < ids.size(); ++i) {
@@ -108,6 +110,11 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
   if ((est.quality & kEstimateFailed) || pair.prev_norm.size() != n || pair.curr_norm.size() != n) {
     reset();
     return;
+  }
+  if (!est.own_depths_used) {
+    carried_scale_pairs_ = -1;
+  } else {
+    carried_scale_pairs_ = est.scale_carried ? std::max(carried_scale_pairs_, 0) + 1 : 0;
   }
   const FeatureDepthOptions& o = options_.feature_depth;
   const Eigen::Matrix3d prev_level = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);

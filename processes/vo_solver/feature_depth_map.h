@@ -64,6 +64,9 @@ class FeatureDepthMap {
   std::vector<Eigen::Vector3d> spots_;
   // The map frame's INS roll/pitch error as estimated (FramePair::prev_tilt).
   Eigen::Vector2d tilt_ = Eigen::Vector2d::Zero(), tilt_variance_ = Eigen::Vector2d::Zero();
+  // Pairs in a row that kept the depths' scale without an anchor (0: the
+  // last was anchored; -1: no anchored scale, FramePair::carried_scale_pairs).
+  int carried_scale_pairs_ = -1;
   int64_t resets_ = 0, rejected_ = 0, off_epipolar_ = 0;
 };
 

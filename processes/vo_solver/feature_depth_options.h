@@ -34,6 +34,13 @@ struct FeatureDepthOptions {
   // paper's model alone.
   double anchor_radius = 0.25;
   int min_anchor_features = 8;
+  // Where even the plane finds too few own depths within anchor_radius (low
+  // over a crest, where the image holds less ground, or where the tracks
+  // near the beam are young), the pair keeps the own depths at the scale the
+  // pair before left them, for up to this many pairs in a row after one the
+  // altimeter anchored; then the paper's model alone. Over relief the
+  // paper's one plane is a step off where the map is exact (0: never).
+  int scale_carry_pairs = 14;
   AnchorSurfaceModel anchor_surface = AnchorSurfaceModel::kQuadratic;
   AnchorSpots anchor_spots = AnchorSpots::kBeam;
   // Weight of a feature on the patch (young) beside one with its own depth,

@@ -27,6 +27,7 @@ void FeatureDepthOptions::Check() const {
   require(min_own_depth_features >= 5 && min_own_depth_features <= 10000, "min_own_depth_features", "in [5, 10000]");
   require(anchor_radius > 0 && anchor_radius <= 2, "anchor_radius", "in (0, 2]");
   require(min_anchor_features >= 3 && min_anchor_features <= 10000, "min_anchor_features", "in [3, 10000]");
+  require(scale_carry_pairs >= 0 && scale_carry_pairs <= 1000, "scale_carry_pairs", "in [0, 1000]");
   require(patch_feature_weight >= 0 && patch_feature_weight <= 1, "patch_feature_weight", "in [0, 1]");
   require(triangulation_noise_px > 0 && triangulation_noise_px <= 100, "triangulation_noise_px", "in (0, 100]");
   require(min_parallax_rad > 0 && min_parallax_rad <= 0.5, "min_parallax_rad", "in (0, 0.5]");
@@ -363,9 +364,15 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
     features.push_back(f);
   }
   double scale = 1, scale_sigma = 0;
-  if (!(pair.prev_range_m > 0) ||
-      !anchor_scale(features, pair, prev_beam, o, &scale, &scale_sigma)) {
-    return paper_alone();
+  bool scale_carried = false;
+  if (!(pair.prev_range_m > 0)) return paper_alone();
+  if (!anchor_scale(features, pair, prev_beam, o, &scale, &scale_sigma)) {
+    // Too few own depths near the beam: they keep the scale the pair before
+    // left them (anchored at most scale_carry_pairs pairs back), else the paper.
+    if (pair.carried_scale_pairs < 0 || pair.carried_scale_pairs >= o.scale_carry_pairs) return paper_alone();
+    scale = 1.0;
+    scale_sigma = o.relative_process_noise;  // the pair before's scale, its motion's error
+    scale_carried = true;
   }
   // The patch: ground attitude, young features' depths, the start and the fallback.
   SolverOptions forward = options;
@@ -575,6 +582,8 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   est.altitude_m = prev_vertical_height(normal, plane_offset, est.dyaw, est.translation);
   est.iterations = patch.iterations + iterations;
   est.depth_scale = scale;
+  est.own_depths_used = true;
+  est.scale_carried = scale_carried;
   est.patch_misfit = misfit;
   errors(motion);
   double sum_sq = 0, sum_w = 0;

@@ -79,6 +79,11 @@ struct FramePair {
   // camera) and its standard deviation, from earlier frames of its track
   // (FeatureDepthMap). Empty, or NaN for a feature: unknown (the patch is used).
   std::vector<double> prev_depth_m, prev_depth_sigma_m;
+  // feature_depth: how many pairs in a row before this one kept the own
+  // depths' scale without an anchor (0: the pair before was anchored on the
+  // altimeter); -1 where the depths hold no anchored scale (a new map, or
+  // the paper's model alone solved the pair before). FeatureDepthMap.
+  int carried_scale_pairs = -1;
   // feature_depth with ins_tilt_sigma_deg > 0: the prev frame's INS roll /
   // pitch error as the pairs before estimated it (rotation of the INS-levelled
   // frame about level x, then y, rad) and its variance (rad^2, per axis).
@@ -126,6 +131,11 @@ struct Estimate {
   // depths on this pair's altimeter (1 where none was used), and per feature
   // whether its own depth was used (else the patch's).
   double depth_scale = 1.0;
+  // feature_depth variant: whether the own depths solved the pair (false:
+  // the paper's model alone), and whether they kept the scale the pair
+  // before left them, no anchor holding (scale_carry_pairs).
+  bool own_depths_used = false;
+  bool scale_carried = false;
   // How far the patch missed the own depths, in their sigmas (the young
   // features' weight went down by its square where above 1); 0 where unused.
   double patch_misfit = 0.0;

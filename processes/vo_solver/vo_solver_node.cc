@@ -165,7 +165,11 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
     curr_range_ = {tracks.utime, pair.curr_range_m, pair.curr_beam_body};
   }
   vo::Estimate est = vo::solve(pair, options_.solver);
-  if (own_depths) depth_map_.update(ids, tracks.utime, pair, est);
+  if (own_depths) {
+    depth_map_.update(ids, tracks.utime, pair, est);
+    if (!est.own_depths_used) ++paper_alone_pairs_;
+    if (est.scale_carried) ++carried_scale_pairs_;
+  }
   if (move_ranges) {
     if (est.quality & vo::kEstimateFailed) {
       velocity_.reset();
@@ -235,7 +239,9 @@ StatusReport VoSolverNode::status() const {
   if (options_.solver.variant == vo::Variant::kFeatureDepth) {
     r.counters.insert(r.counters.end(), {{"own_depths", static_cast<double>(depth_map_.size())},
                                          {"own_depth_resets", static_cast<double>(depth_map_.resets())},
-                                         {"own_depths_rejected", static_cast<double>(depth_map_.rejected_depths())}});
+                                         {"own_depths_rejected", static_cast<double>(depth_map_.rejected_depths())},
+                                         {"pairs_paper_alone", static_cast<double>(paper_alone_pairs_)},
+                                         {"pairs_scale_carried", static_cast<double>(carried_scale_pairs_)}});
   }
   for (int bit = 0; bit < kQualityBits; ++bit) {
     r.counters.emplace_back(std::string("quality_") + kQualityNames[bit], static_cast<double>(quality_counts_[bit]));

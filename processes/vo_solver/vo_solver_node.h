@@ -57,6 +57,9 @@ class VoSolverNode : public Node {
   int64_t received_ = 0, published_ = 0, dropped_ = 0, errors_ = 0;
   int64_t flagged_ = 0, late_tracks_ = 0, duplicate_tracks_ = 0, bad_features_ = 0;
   int64_t quality_counts_[kQualityBits] = {};
+  // feature_depth: pairs solved by the paper's model alone (too few own
+  // depths, no anchor), and pairs that carried the scale without an anchor.
+  int64_t paper_alone_pairs_ = 0, carried_scale_pairs_ = 0;
   int last_inliers_ = 0;
   double last_residual_px_ = 0;
   int last_quality_ = 0;

@@ -238,6 +238,25 @@ TEST(VoSolverNode, EstimatesMotionFromLiveMessages) {
   EXPECT_EQ(r.status.dropped, 0);
 }
 
+TEST(VoSolverNode, FeatureDepthStatusCountsThePairsSolvedWithoutOwnDepths) {
+  // Every frame's tracks here are a fresh scene under the same ids: no track
+  // is a point seen twice, so no own depth ever forms and every pair is the
+  // paper's own solve, which STATUS counts (and no pair carried a scale).
+  std::string yaml = kConfig;
+  yaml.replace(yaml.find("variant: paper"), std::string("variant: paper").size(), "variant: feature_depth");
+  const RunResult r = run(in_arrival_order(make_sequence(20, INT64_MAX).events), yaml);
+  ASSERT_EQ(r.deltas.size(), 20u);
+  std::map<std::string, double> counters(r.status.counters.begin(), r.status.counters.end());
+  ASSERT_EQ(counters.count("pairs_paper_alone"), 1u);
+  ASSERT_EQ(counters.count("pairs_scale_carried"), 1u);
+  EXPECT_EQ(counters["pairs_paper_alone"], 19);  // the first frame has no pair
+  EXPECT_EQ(counters["pairs_scale_carried"], 0);
+  for (const auto& [utime, d] : r.deltas) {
+    if (utime == kStart) continue;
+    EXPECT_EQ(d.variant, "feature_depth");
+  }
+}
+
 TEST(VoSolverNode, ArrivalOrderDoesNotChangeTheOutput) {
   const Sequence seq = make_sequence(30, INT64_MAX);
   for (const std::string& yaml : {std::string(kConfig), propagate_config()}) {
@@ -341,6 +360,8 @@ TEST(VoSolverNode, BadConfigNamesTheKey) {
   expect_config_error(camera + "vo_solver: {variant: ransac}\n", {"vo_solver.variant"});
   expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {anchor_spots: spot}}\n",
                       {"anchor_spots", "beam or track"});
+  expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {scale_carry_pairs: -1}}\n",
+                      {"scale_carry_pairs"});
 }
 
 void lockstep_replay_equals_live_run(const std::string& yaml);
