@@ -17,6 +17,7 @@ void FeatureDepthMap::reset() {
   utime_ = INT64_MIN;
   tilt_.setZero();
   carried_scale_pairs_ = -1;
+  scale_variance_ = 0;
 }
 
 size_t FeatureDepthMap::size() const {
@@ -37,6 +38,7 @@ void FeatureDepthMap::fill(const std::vector<int64_t>& ids, int64_t prev_utime, 
                                  ? Eigen::Vector2d::Constant(options_.feature_depth.ins_tilt_variance())
                                  : tilt_variance_;
   pair->carried_scale_pairs = carried_scale_pairs_;
+  pair->prev_scale_variance = scale_variance_;
   pair->earlier_ground_spots.clear();
   if (options_.feature_depth.anchor_spots == AnchorSpots::kTrack) pair->earlier_ground_spots = spots_;
   for (size_t i = 0; i < ids.size(); ++i) {
@@ -116,6 +118,7 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
   } else {
     carried_scale_pairs_ = est.scale_carried ? std::max(carried_scale_pairs_, 0) + 1 : 0;
   }
+  scale_variance_ = est.scale_variance;
   const FeatureDepthOptions& o = options_.feature_depth;
   const Eigen::Matrix3d prev_level = level_from_camera(pair.prev_roll, pair.prev_pitch, pair.body_from_camera);
   const Eigen::Matrix3d curr_level = level_from_camera(pair.curr_roll, pair.curr_pitch, pair.body_from_camera);

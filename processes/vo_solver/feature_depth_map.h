@@ -67,6 +67,7 @@ class FeatureDepthMap {
   // Pairs in a row that kept the depths' scale without an anchor (0: the
   // last was anchored; -1: no anchored scale, FramePair::carried_scale_pairs).
   int carried_scale_pairs_ = -1;
+  double scale_variance_ = 0;  // FramePair::prev_scale_variance
   int64_t resets_ = 0, rejected_ = 0, off_epipolar_ = 0;
 };
 

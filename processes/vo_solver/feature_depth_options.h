@@ -41,6 +41,15 @@ struct FeatureDepthOptions {
   // altimeter anchored; then the paper's model alone. Over relief the
   // paper's one plane is a step off where the map is exact (0: never).
   int scale_carry_pairs = 14;
+  // The scale filter: each anchored pair's altimeter scale is fused with the
+  // scale the own depths carry (the pair before's, its variance grown by
+  // scale_process_noise^2), by their variances. The anchor's variance is its
+  // fit's plus the surface's model error near the beam: how far the own
+  // depths there miss the fitted surface beyond their own sigmas (a sharp
+  // crest the quadratic cannot hold). false: every anchored pair takes the
+  // altimeter's scale as it is.
+  bool scale_filter = false;
+  double scale_process_noise = 1e-4;
   AnchorSurfaceModel anchor_surface = AnchorSurfaceModel::kQuadratic;
   AnchorSpots anchor_spots = AnchorSpots::kBeam;
   // Weight of a feature on the patch (young) beside one with its own depth,

@@ -28,6 +28,7 @@ void FeatureDepthOptions::Check() const {
   require(anchor_radius > 0 && anchor_radius <= 2, "anchor_radius", "in (0, 2]");
   require(min_anchor_features >= 3 && min_anchor_features <= 10000, "min_anchor_features", "in [3, 10000]");
   require(scale_carry_pairs >= 0 && scale_carry_pairs <= 1000, "scale_carry_pairs", "in [0, 1000]");
+  require(scale_process_noise > 0 && scale_process_noise <= 1, "scale_process_noise", "in (0, 1]");
   require(patch_feature_weight >= 0 && patch_feature_weight <= 1, "patch_feature_weight", "in [0, 1]");
   require(triangulation_noise_px > 0 && triangulation_noise_px <= 100, "triangulation_noise_px", "in (0, 100]");
   require(min_parallax_rad > 0 && min_parallax_rad <= 0.5, "min_parallax_rad", "in (0, 0.5]");
@@ -86,6 +87,10 @@ struct AnchorSurface {
   AnchorVector coef;
   Eigen::Vector2d center;
   double relative_sigma = 0;
+  // The surface's model error near its centre, as a relative variance: the
+  // kernel-weighted mean of (residual^2 - the own depth's sigma^2) over the
+  // depths the fit kept, relative, floored at 0.
+  double model_variance = 0;
   double inverse_depth(const Eigen::Vector3d& ray) const {
     return coef.dot(anchor_basis(ray, center, static_cast<int>(coef.size())));
   }
@@ -109,13 +114,15 @@ bool fit_anchor_surface(const std::vector<DepthFeature>& features, const Eigen::
   std::vector<double> residual(near.size(), 0.0);  // relative to the depth
   double cut = std::numeric_limits<double>::infinity();
   double sum_w = 0, sum_w2r2 = 0;
+  std::vector<char> kept(near.size(), 0);
   for (int pass = 0; pass < 2; ++pass) {
     AnchorMatrix a = AnchorMatrix::Zero(np, np);
     AnchorVector b = AnchorVector::Zero(np);
     int used = 0;
     sum_w = 0;
     for (size_t k = 0; k < near.size(); ++k) {
-      if (!(std::abs(residual[k]) <= cut)) continue;
+      kept[k] = std::abs(residual[k]) <= cut;
+      if (!kept[k]) continue;
       a += weight[k] * basis[k] * basis[k].transpose();
       b += weight[k] / near[k]->depth * basis[k];
       sum_w += weight[k];
@@ -136,6 +143,14 @@ bool fit_anchor_surface(const std::vector<DepthFeature>& features, const Eigen::
     cut = std::max(1e-9, 3.0 * 1.4826 * median_of(abs_res));
   }
   if (!(coef(0) > 0)) return false;
+  double sum_k = 0, sum_excess = 0;
+  for (size_t k = 0; k < near.size(); ++k) {
+    if (!kept[k]) continue;
+    const double kernel = weight[k] / (near[k]->depth * near[k]->depth);
+    sum_k += kernel;
+    sum_excess += kernel * (residual[k] * residual[k] - near[k]->relative_sigma * near[k]->relative_sigma);
+  }
+  surface->model_variance = sum_k > 0 ? std::max(0.0, sum_excess / sum_k) : 0.0;
   surface->coef = coef;
   surface->center = center;
   surface->relative_sigma = std::sqrt(sum_w2r2) / sum_w / coef(0);
@@ -208,7 +223,7 @@ bool spot_line(const FramePair& pair, const Eigen::Vector3d& prev_beam, const Fe
 // sharp crest cancels instead of biasing the scale (DERIVATION.md section 13).
 bool fit_anchor(const std::vector<DepthFeature>& features, const FramePair& pair, const Eigen::Vector3d& prev_beam,
                 const SpotLine* line, const FeatureDepthOptions& o, AnchorSurfaceModel model, double* scale,
-                double* relative_sigma) {
+                double* relative_sigma, double* model_variance) {
   AnchorSurface surface;
   if (!line) {
     if (!fit_anchor_surface(features, prev_beam.head<2>() / prev_beam.z(), o, model, &surface)) return false;
@@ -229,6 +244,7 @@ bool fit_anchor(const std::vector<DepthFeature>& features, const FramePair& pair
     *scale = sum_as / sum_a;
   }
   *relative_sigma = surface.relative_sigma;
+  *model_variance = surface.model_variance;
   return std::isfinite(*scale) && *scale > 0;
 }
 
@@ -236,14 +252,17 @@ bool fit_anchor(const std::vector<DepthFeature>& features, const FramePair& pair
 // hold (too few, or all along one line) falls back to the plane. The spot
 // line (anchor_spots track, once it reaches back far enough) serves both.
 bool anchor_scale(const std::vector<DepthFeature>& features, const FramePair& pair, const Eigen::Vector3d& prev_beam,
-                  const FeatureDepthOptions& o, double* scale, double* relative_sigma) {
+                  const FeatureDepthOptions& o, double* scale, double* relative_sigma, double* model_variance) {
   if (!(prev_beam.z() > 1e-9)) return false;
   SpotLine line;
   const bool on_line = o.anchor_spots == AnchorSpots::kTrack && spot_line(pair, prev_beam, o, &line);
   const SpotLine* spots = on_line ? &line : nullptr;
-  if (fit_anchor(features, pair, prev_beam, spots, o, o.anchor_surface, scale, relative_sigma)) return true;
+  if (fit_anchor(features, pair, prev_beam, spots, o, o.anchor_surface, scale, relative_sigma, model_variance)) {
+    return true;
+  }
   return o.anchor_surface == AnchorSurfaceModel::kQuadratic &&
-         fit_anchor(features, pair, prev_beam, spots, o, AnchorSurfaceModel::kPlane, scale, relative_sigma);
+         fit_anchor(features, pair, prev_beam, spots, o, AnchorSurfaceModel::kPlane, scale, relative_sigma,
+                    model_variance);
 }
 
 // The motion m = (dx, dy, dz, dyaw, tilt x, tilt y) as the reprojection
@@ -363,16 +382,33 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
     f.relative_sigma = f.own ? pair.prev_depth_sigma_m[i] / pair.prev_depth_m[i] : 0.0;
     features.push_back(f);
   }
-  double scale = 1, scale_sigma = 0;
+  double scale = 1, scale_sigma = 0, model_variance = 0;
   bool scale_carried = false;
   if (!(pair.prev_range_m > 0)) return paper_alone();
-  if (!anchor_scale(features, pair, prev_beam, o, &scale, &scale_sigma)) {
+  // The scale the own depths hold (the pair before's), where they hold an anchored one.
+  const bool map_scaled = pair.carried_scale_pairs >= 0;
+  // scale_filter: its variance, the pair before's grown by the map's own wander.
+  const double carried_variance = pair.prev_scale_variance + o.scale_process_noise * o.scale_process_noise;
+  if (!anchor_scale(features, pair, prev_beam, o, &scale, &scale_sigma, &model_variance)) {
     // Too few own depths near the beam: they keep the scale the pair before
     // left them (anchored at most scale_carry_pairs pairs back), else the paper.
-    if (pair.carried_scale_pairs < 0 || pair.carried_scale_pairs >= o.scale_carry_pairs) return paper_alone();
+    if (!map_scaled || pair.carried_scale_pairs >= o.scale_carry_pairs) return paper_alone();
     scale = 1.0;
-    scale_sigma = o.relative_process_noise;  // the pair before's scale, its motion's error
+    // The pair before's scale, with its error.
+    scale_sigma = o.scale_filter ? std::sqrt(carried_variance) : o.relative_process_noise;
     scale_carried = true;
+  } else if (o.scale_filter) {
+    // The altimeter's scale (its fit's variance and the surface's model
+    // error) fused with the carried one (DERIVATION.md section 13).
+    const double anchor_variance =
+        scale_sigma * scale_sigma + model_variance + std::pow(pair.prev_range_sigma_m / pair.prev_range_m, 2);
+    if (map_scaled) {
+      const double gain = carried_variance / (carried_variance + anchor_variance);
+      scale = 1.0 + gain * (scale - 1.0);
+      scale_sigma = std::sqrt((1.0 - gain) * carried_variance);
+    } else {
+      scale_sigma = std::sqrt(anchor_variance);
+    }
   }
   // The patch: ground attitude, young features' depths, the start and the fallback.
   SolverOptions forward = options;
@@ -584,6 +620,7 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   est.depth_scale = scale;
   est.own_depths_used = true;
   est.scale_carried = scale_carried;
+  est.scale_variance = scale_sigma * scale_sigma;
   est.patch_misfit = misfit;
   errors(motion);
   double sum_sq = 0, sum_w = 0;

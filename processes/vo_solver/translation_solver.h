@@ -72,6 +72,9 @@ struct FramePair {
   double prev_roll = 0, prev_pitch = 0, prev_yaw = 0;
   double curr_roll = 0, curr_pitch = 0, curr_yaw = 0;
   double prev_range_m = 0, curr_range_m = 0;  // altimeter slant ranges along the beam
+  // The altimeter's noise on prev_range_m (1 sigma, m; the node's from the
+  // uncertainty options): what feature_depth's scale filter weighs the anchor with.
+  double prev_range_sigma_m = 0;
   Eigen::Vector3d prev_beam_body = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d curr_beam_body = Eigen::Vector3d::UnitZ();
   // feature_depth variant: each feature's own depth in the level frame of
@@ -84,6 +87,9 @@ struct FramePair {
   // altimeter); -1 where the depths hold no anchored scale (a new map, or
   // the paper's model alone solved the pair before). FeatureDepthMap.
   int carried_scale_pairs = -1;
+  // feature_depth scale_filter: the variance (relative, squared) of the scale
+  // the own depths hold, as the pair before left it (carried_scale_pairs >= 0).
+  double prev_scale_variance = 0;
   // feature_depth with ins_tilt_sigma_deg > 0: the prev frame's INS roll /
   // pitch error as the pairs before estimated it (rotation of the INS-levelled
   // frame about level x, then y, rad) and its variance (rad^2, per axis).
@@ -136,6 +142,9 @@ struct Estimate {
   // before left them, no anchor holding (scale_carry_pairs).
   bool own_depths_used = false;
   bool scale_carried = false;
+  // The variance (relative, squared) of the scale the own depths were given:
+  // the anchor's, or with scale_filter the fused one; 0 where unused.
+  double scale_variance = 0.0;
   // How far the patch missed the own depths, in their sigmas (the young
   // features' weight went down by its square where above 1); 0 where unused.
   double patch_misfit = 0.0;

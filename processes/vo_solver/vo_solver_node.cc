@@ -125,6 +125,7 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   pair.curr_yaw = curr.yaw;
   pair.prev_range_m = prev.range_m;
   pair.curr_range_m = curr.range_m;
+  pair.prev_range_sigma_m = options_.uncertainty.range_stddev(prev.range_m);
   pair.prev_beam_body = prev.beam_body;
   pair.curr_beam_body = curr.beam_body;
   const int n = std::min<int>(tracks.num_tracks,

@@ -59,6 +59,8 @@ VoSolverOptions VoSolverOptions::from_config(const Config& root) {
   fd.anchor_radius = d.get_in_range("anchor_radius", fd.anchor_radius, 1e-3, 2.0);
   fd.min_anchor_features = d.get_in_range("min_anchor_features", fd.min_anchor_features, 3, 10000);
   fd.scale_carry_pairs = d.get_in_range("scale_carry_pairs", fd.scale_carry_pairs, 0, 1000);
+  fd.scale_filter = d.get<bool>("scale_filter", fd.scale_filter);
+  fd.scale_process_noise = d.get_in_range("scale_process_noise", fd.scale_process_noise, 1e-6, 1.0);
   fd.patch_feature_weight = d.get_in_range("patch_feature_weight", fd.patch_feature_weight, 0.0, 1.0);
   fd.triangulation_noise_px = d.get_in_range("triangulation_noise_px", fd.triangulation_noise_px, 1e-3, 100.0);
   fd.min_parallax_rad = d.get_in_range("min_parallax_rad", fd.min_parallax_rad, 1e-6, 0.5);

@@ -310,6 +310,17 @@ TEST(FeatureDepth, QuadraticAnchorFollowsRidgesUnderTheAltimeter) {
   EXPECT_LT(std::abs(quadratic), std::abs(plane));
 }
 
+// Crests that are kinks, 12 m above smooth valleys, 120 m apart, across the
+// path and under the altimeter; nothing else off the plane.
+TerrainSpec kinked_crests() {
+  TerrainSpec spec;
+  spec.relief_m = 0.0;
+  spec.ridge_amplitude_m = 6.0;
+  spec.ridge_wavelength_m = 120.0;
+  spec.sharp_crests = true;
+  return spec;
+}
+
 TEST(FeatureDepth, TrackAnchorFollowsSharpCrests) {
   // Crests that are kinks (12 m above smooth valleys, 120 m apart) across the
   // path and under the altimeter, noise-free. A quadratic fitted around the
@@ -321,11 +332,7 @@ TEST(FeatureDepth, TrackAnchorFollowsSharpCrests) {
   // the ~50 own depths it holds, the spots sample the ground densely. Over
   // crests 90 m apart (less than the anchor's 2 x 37 m) the drift is not
   // smaller (+0.07 % against -0.04 %), the worst step is (0.61 % against 2.0 %).
-  TerrainSpec spec;
-  spec.relief_m = 0.0;
-  spec.ridge_amplitude_m = 6.0;
-  spec.ridge_wavelength_m = 120.0;
-  spec.sharp_crests = true;
+  const TerrainSpec spec = kinked_crests();
   SolverOptions beam = exact_options();
   SolverOptions track = beam;
   track.feature_depth.anchor_spots = AnchorSpots::kTrack;
@@ -343,6 +350,65 @@ TEST(FeatureDepth, TrackAnchorFollowsSharpCrests) {
   const SequenceRun b = run(seq, 45, beam, &beam_map);
   const SequenceRun t = run(seq, 45, track, &track_map);
   for (int k = 1; k <= 45; ++k) EXPECT_EQ(b.estimates[k].translation, t.estimates[k].translation) << "frame " << k;
+}
+
+TEST(FeatureDepth, ScaleFilterDiscountsAnchorsTheSurfaceCannotHold) {
+  // The kinked crests of TrackAnchorFollowsSharpCrests, noise-free. Each
+  // pair's altimeter scale fused with the one the own depths carry, by their
+  // variances: near a crest the own depths miss the quadratic beyond their
+  // sigmas, so the anchor there counts little and the scale anchored over the
+  // smooth valleys carries across it (measured: drift -0.080 % -> -0.008 %,
+  // worst step 1.4 % -> 0.08 %).
+  const TerrainSpec spec = kinked_crests();
+  SolverOptions beam = exact_options();
+  SolverOptions filter = beam;
+  filter.feature_depth.scale_filter = true;
+  filter.feature_depth.scale_process_noise = 1e-4;
+  double beam_step = 0, filter_step = 0;
+  const double beam_drift = anchored_drift(spec, beam, &beam_step);
+  const double filter_drift = anchored_drift(spec, filter, &filter_step);
+  EXPECT_LT(beam_drift, -5e-4);
+  EXPECT_LT(std::abs(filter_drift), 0.2 * std::abs(beam_drift)) << "beam " << beam_drift;
+  EXPECT_LT(filter_step, 0.2 * beam_step) << "beam " << beam_step;
+}
+
+TEST(FeatureDepth, ScaleFilterAveragesTheAltimetersNoise) {
+  // Level ground, exact tracks, the altimeter's range off by 0.3 m (1 sigma)
+  // at each frame and its sigma given: anchored pair by pair, each step's
+  // scale carries its range's error; fused, the scale averages the ranges
+  // over many pairs. Exact ranges: the filter is as exact as the anchor.
+  TerrainSpec spec;
+  spec.relief_m = 0.0;
+  SolverOptions beam = exact_options();
+  SolverOptions filter = beam;
+  filter.feature_depth.scale_filter = true;
+  filter.feature_depth.scale_process_noise = 1e-4;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  std::vector<double> range_error(241);
+  for (double& e : range_error) e = noise(rng);
+  auto rms_step_error = [&](const SolverOptions& o, bool noisy) {
+    TerrainSequence seq{spec};
+    FeatureDepthMap map(o);
+    const SequenceRun r = run(seq, 240, o, &map, nullptr, [&](int k, FramePair& pair) {
+      if (!noisy) return;
+      pair.prev_range_m += range_error[k - 1];
+      pair.curr_range_m += range_error[k];
+      pair.prev_range_sigma_m = 0.3;
+    });
+    double sum = 0;
+    for (int k = 120; k <= 240; ++k) {
+      EXPECT_GT(own_used(r.estimates[k]), 100) << "frame " << k;
+      sum += (r.estimates[k].translation - r.pairs[k].translation).squaredNorm() / r.pairs[k].translation.squaredNorm();
+    }
+    return std::sqrt(sum / 121);
+  };
+  const double beam_exact = rms_step_error(beam, false), filter_exact = rms_step_error(filter, false);
+  const double beam_noisy = rms_step_error(beam, true), filter_noisy = rms_step_error(filter, true);
+  EXPECT_LT(beam_exact, 1e-4);
+  EXPECT_LT(filter_exact, 1e-4);
+  EXPECT_GT(beam_noisy, 1e-3);
+  EXPECT_LT(filter_noisy, 0.3 * beam_noisy) << "anchored pair by pair " << beam_noisy;
 }
 
 TEST(FeatureDepth, QuadraticAnchorWithTooFewDepthsFallsBackToThePlane) {
@@ -675,6 +741,10 @@ TEST(FeatureDepth, OptionsAreChecked) {
   o = SolverOptions();
   o.feature_depth.ins_tilt_sigma_deg = -0.1;
   EXPECT_THROW(o.Check(), std::invalid_argument);
+  o = SolverOptions();
+  o.feature_depth.scale_process_noise = 0;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+  EXPECT_FALSE(SolverOptions().feature_depth.scale_filter);
   EXPECT_EQ(SolverOptions().feature_depth.anchor_surface, AnchorSurfaceModel::kQuadratic);
   EXPECT_EQ(variant_from_name("feature_depth"), Variant::kFeatureDepth);
   EXPECT_EQ(variant_name(Variant::kFeatureDepth), "feature_depth");

@@ -362,6 +362,8 @@ TEST(VoSolverNode, BadConfigNamesTheKey) {
                       {"anchor_spots", "beam or track"});
   expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {scale_carry_pairs: -1}}\n",
                       {"scale_carry_pairs"});
+  expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {scale_process_noise: 0}}\n",
+                      {"scale_process_noise"});
 }
 
 void lockstep_replay_equals_live_run(const std::string& yaml);
