@@ -302,13 +302,16 @@ bool reprojection(const DepthFeature& f, const Motion& m, const MotionRotation& 
   const double iz = 1.0 / y.z();
   *error = focal_px * Eigen::Vector2d(y.x() * iz - f.v.x(), y.y() * iz - f.v.y());
   if (jacobian) {
-    Eigen::Matrix<double, 2, 3> dproj;
-    dproj << iz, 0, -y.x() * iz * iz, 0, iz, -y.y() * iz * iz;
-    dproj *= focal_px;
-    jacobian->leftCols<3>() = -dproj * r.rotation;
-    jacobian->col(3) = dproj * (r.by_dyaw * p);
-    jacobian->col(4) = dproj * (r.by_tilt_x * p);
-    jacobian->col(5) = dproj * (r.by_tilt_y * p);
+    // dY/dm (3 x 6), then the projection's derivative focal / Y_z [1 0 -x; 0 1 -y]
+    // (x, y the projected point) applied row by row.
+    Eigen::Matrix<double, 3, 6> dy;
+    dy.leftCols<3>() = -r.rotation;
+    dy.col(3) = r.by_dyaw * p;
+    dy.col(4) = r.by_tilt_x * p;
+    dy.col(5) = r.by_tilt_y * p;
+    const double s = focal_px * iz, x = y.x() * iz, yy = y.y() * iz;
+    jacobian->row(0) = s * (dy.row(0) - x * dy.row(2));
+    jacobian->row(1) = s * (dy.row(1) - yy * dy.row(2));
   }
   return error->allFinite();
 }
@@ -482,10 +485,21 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
       }
       cost += w[i] * e.squaredNorm();
       if (h) {
-        h->noalias() += w[i] * j.transpose() * j;
-        *g += w[i] * j.transpose() * e;
+        // J^T w J: the lower triangle (what LDLT reads; with three entries
+        // above it) in column blocks of fixed size, mirrored below; the same
+        // products in the same order as the full outer product, in 24 of 36.
+        const Eigen::Matrix<double, 6, 2> weighted = w[i] * j.transpose();
+        for (int c = 0; c < 2; ++c) h->col(c) += weighted.col(0) * j(0, c) + weighted.col(1) * j(1, c);
+        for (int c = 2; c < 4; ++c) {
+          h->col(c).tail<4>() += weighted.col(0).tail<4>() * j(0, c) + weighted.col(1).tail<4>() * j(1, c);
+        }
+        for (int c = 4; c < 6; ++c) {
+          h->col(c).tail<2>() += weighted.col(0).tail<2>() * j(0, c) + weighted.col(1).tail<2>() * j(1, c);
+        }
+        *g += weighted * e;
       }
     }
+    if (h) h->triangularView<Eigen::StrictlyUpper>() = h->transpose();
     return cost;
   };
   const double min_threshold_px = options.min_threshold_px * options.pixel_scale();
