@@ -666,6 +666,28 @@ std::vector<Eigen::Vector2d> white_attitude_errors(int frames, double sigma_deg,
   return errors;
 }
 
+// The `adjust` of run() that hands the solver each frame's INS attitude with its error.
+std::function<void(int, FramePair&)> adding_ins_errors(const std::vector<Eigen::Vector2d>& ins_error) {
+  return [&ins_error](int k, FramePair& pair) {
+    pair.prev_roll += ins_error[k - 1].x();
+    pair.prev_pitch += ins_error[k - 1].y();
+    pair.curr_roll += ins_error[k].x();
+    pair.curr_pitch += ins_error[k].y();
+  };
+}
+
+// A pair's true translation in the level frame of prev as the INS levels it
+// (prev's error `prev_error`): rays the INS levels are perceived =
+// levelled-by-INS x (levelled-by-truth)^-1 x true.
+Eigen::Vector3d truth_as_the_ins_levels(const SequencePair& sp, const Eigen::Vector2d& prev_error) {
+  const Eigen::Matrix3d prev_perceived =
+      level_from_camera(sp.pair.prev_roll, sp.pair.prev_pitch, Eigen::Matrix3d::Identity()) *
+      level_from_camera(sp.pair.prev_roll - prev_error.x(), sp.pair.prev_pitch - prev_error.y(),
+                        Eigen::Matrix3d::Identity())
+          .transpose();
+  return prev_perceived * sp.translation;
+}
+
 TEST(FeatureDepth, TheInsTiltBetweenTwoFramesIsFittedToTheImages) {
   // Noise-free images; the INS roll and pitch 0.2 deg off, independently in
   // every frame. Taken as the INS says, the image motion of each pair's
@@ -679,12 +701,7 @@ TEST(FeatureDepth, TheInsTiltBetweenTwoFramesIsFittedToTheImages) {
   TerrainSequence seq{spec};
   constexpr int kLast = 600;
   const std::vector<Eigen::Vector2d> ins_error = white_attitude_errors(kLast + 1, 0.2, 7);
-  auto with_ins_error = [&](int k, FramePair& pair) {
-    pair.prev_roll += ins_error[k - 1].x();
-    pair.prev_pitch += ins_error[k - 1].y();
-    pair.curr_roll += ins_error[k].x();
-    pair.curr_pitch += ins_error[k].y();
-  };
+  const auto with_ins_error = adding_ins_errors(ins_error);
   SolverOptions fitted = exact_options();
   fitted.feature_depth.ins_tilt_sigma_deg = 0.2;
   SolverOptions as_ins = fitted;
@@ -697,14 +714,7 @@ TEST(FeatureDepth, TheInsTiltBetweenTwoFramesIsFittedToTheImages) {
   for (int k = 500; k <= kLast; ++k) {
     const SequencePair& sp = f.pairs[k];
     ASSERT_GT(own_used(f.estimates[k]), 100) << "frame " << k;
-    // The truth in the INS-levelled frame of prev: rays the INS levels are
-    // perceived = levelled-by-INS x (levelled-by-truth)^-1 x true.
-    const Eigen::Matrix3d prev_perceived =
-        level_from_camera(sp.pair.prev_roll, sp.pair.prev_pitch, Eigen::Matrix3d::Identity()) *
-        level_from_camera(sp.pair.prev_roll - ins_error[k - 1].x(), sp.pair.prev_pitch - ins_error[k - 1].y(),
-                          Eigen::Matrix3d::Identity())
-            .transpose();
-    const Eigen::Vector3d truth = prev_perceived * sp.translation;
+    const Eigen::Vector3d truth = truth_as_the_ins_levels(sp, ins_error[k - 1]);
     fitted_sum += f.estimates[k].translation - truth;
     as_ins_sum += a.estimates[k].translation - truth;
     const Eigen::Vector2d relative = ins_error[k] - ins_error[k - 1];
@@ -740,12 +750,7 @@ TEST(FeatureDepth, CovarianceMatchesTheErrors) {
   TerrainSequence seq{spec};
   constexpr int kLast = 200;
   const std::vector<Eigen::Vector2d> ins_error = white_attitude_errors(kLast + 1, 0.05, 11);
-  auto with_ins_error = [&](int k, FramePair& pair) {
-    pair.prev_roll += ins_error[k - 1].x();
-    pair.prev_pitch += ins_error[k - 1].y();
-    pair.curr_roll += ins_error[k].x();
-    pair.curr_pitch += ins_error[k].y();
-  };
+  const auto with_ins_error = adding_ins_errors(ins_error);
   const SolverOptions fd = variant_options(Variant::kFeatureDepth);
   ASSERT_EQ(fd.feature_depth.ins_tilt_sigma_deg, 0.05);
   FeatureDepthMap map(fd);
@@ -756,14 +761,8 @@ TEST(FeatureDepth, CovarianceMatchesTheErrors) {
     const Estimate& e = r.estimates[k];
     const SequencePair& sp = r.pairs[k];
     ASSERT_GT(own_used(e), 100) << "frame " << k;
-    // The truth in the INS-levelled frame of prev, as the solver sees it.
-    const Eigen::Matrix3d prev_perceived =
-        level_from_camera(sp.pair.prev_roll, sp.pair.prev_pitch, Eigen::Matrix3d::Identity()) *
-        level_from_camera(sp.pair.prev_roll - ins_error[k - 1].x(), sp.pair.prev_pitch - ins_error[k - 1].y(),
-                          Eigen::Matrix3d::Identity())
-            .transpose();
     Eigen::Vector4d error;
-    error.head<3>() = e.translation - prev_perceived * sp.translation;
+    error.head<3>() = e.translation - truth_as_the_ins_levels(sp, ins_error[k - 1]);
     error(3) = e.dyaw - sp.dyaw;
     for (int c = 0; c < 4; ++c) sum(c) += error(c) * error(c) / e.covariance(c, c);
     ++n;

@@ -87,12 +87,20 @@ void BM_SensorUncertainty(benchmark::State& state) {
   }
 }
 
-// feature_depth in its steady state: pairs of a flight over blocks and pits
-// (450 features, 0.5 px noise, 30 % of the tracks outliers displaced 10-50 px at every frame) whose tracks
-// carry their own depths from the 120 frames before (the map's update runs
-// outside the timed solve, as it is not part of the solver). With the anchor
-// on the spots along the track (anchor_spots track), or on the beam alone.
-void feature_depth_steady_state(benchmark::State& state, AnchorSpots anchor_spots) {
+// A flight over blocks and pits (450 features, 0.5 px noise, 30 % of the
+// tracks outliers displaced 10-50 px at every frame) through the depth map,
+// as the node runs it: the map as it stands after frame 120 (kSteady) and
+// the pairs 121-136 it filled, whose tracks carry their own depths.
+constexpr int kSteady = 120;
+struct SteadyFlight {
+  SolverOptions options;
+  FeatureDepthMap map_at_steady;
+  std::vector<FramePair> pairs;  // filled from the map, frames kSteady + 1...
+  std::vector<FramePair> unfilled;  // the same pairs as the tracker gives them
+  std::vector<std::vector<int64_t>> ids;
+};
+
+SteadyFlight steady_flight(AnchorSpots anchor_spots) {
   testing::TerrainSpec spec;
   spec.noise_px = 0.5;
   spec.num_points = 7500;
@@ -100,11 +108,11 @@ void feature_depth_steady_state(benchmark::State& state, AnchorSpots anchor_spot
   SolverOptions options;
   options.variant = Variant::kFeatureDepth;
   options.feature_depth.anchor_spots = anchor_spots;
+  SteadyFlight flight{options, FeatureDepthMap(options), {}, {}, {}};
   FeatureDepthMap map(options);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<FramePair> pairs;
-  for (int k = 1; k <= 136; ++k) {
+  for (int k = 1; k <= kSteady + 16; ++k) {
     testing::SequencePair sp = seq.pair(k);
     for (size_t i = 0; i < sp.pair.curr_norm.size(); ++i) {
       // 30 % of the tracks are bad ones (mismatched at every frame).
@@ -112,15 +120,29 @@ void feature_depth_steady_state(benchmark::State& state, AnchorSpots anchor_spot
       const double angle = 2 * M_PI * unit(rng), size = (10.0 + 40.0 * unit(rng)) / spec.fx;
       sp.pair.curr_norm[i] += size * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     }
+    if (k > kSteady) flight.unfilled.push_back(sp.pair);
     map.fill(sp.ids, (k - 1) * 71429, &sp.pair);
     map.update(sp.ids, k * 71429, sp.pair, solve(sp.pair, options));
-    if (k > 120) pairs.push_back(sp.pair);
+    if (k == kSteady) flight.map_at_steady = map;
+    if (k > kSteady) {
+      flight.pairs.push_back(sp.pair);
+      flight.ids.push_back(sp.ids);
+    }
   }
+  return flight;
+}
+
+// feature_depth's solve in the steady state (the map's update runs outside
+// the timed solve, as it is not part of the solver). With the anchor on the
+// spots along the track (anchor_spots track), or on the beam alone.
+void feature_depth_steady_state(benchmark::State& state, AnchorSpots anchor_spots) {
+  const SteadyFlight flight = steady_flight(anchor_spots);
+  const std::vector<FramePair>& pairs = flight.pairs;
   size_t i = 0;
   int64_t iterations = 0, frames = 0, features = 0, own = 0;
   for (auto _ : state) {
     const FramePair& pair = pairs[i++ % pairs.size()];
-    const Estimate est = solve(pair, options);
+    const Estimate est = solve(pair, flight.options);
     benchmark::DoNotOptimize(est.translation);
     iterations += est.iterations;
     features += static_cast<int64_t>(pair.prev_norm.size());
@@ -134,39 +156,25 @@ void feature_depth_steady_state(benchmark::State& state, AnchorSpots anchor_spot
 
 // The node's other per-frame work for feature_depth, beside the solve: the
 // depth map's fill (the pair's own depths) and update (each track's depth
-// triangulated and fused), in the steady state of the sequence above (the
-// map as it stands after frame 120, copied outside the timed part).
+// triangulated and fused) for frame kSteady + 1, the map copied outside the
+// timed part.
 void BM_FeatureDepthMap_FillUpdate(benchmark::State& state) {
-  testing::TerrainSpec spec;
-  spec.noise_px = 0.5;
-  spec.num_points = 7500;
-  testing::TerrainSequence seq(spec);
-  SolverOptions options;
-  options.variant = Variant::kFeatureDepth;
-  FeatureDepthMap map(options);
-  constexpr int kSteady = 120;
-  for (int k = 1; k <= kSteady; ++k) {
-    testing::SequencePair sp = seq.pair(k);
-    map.fill(sp.ids, (k - 1) * 71429, &sp.pair);
-    map.update(sp.ids, k * 71429, sp.pair, solve(sp.pair, options));
-  }
-  testing::SequencePair next = seq.pair(kSteady + 1);
-  FramePair solved = next.pair;
-  map.fill(next.ids, kSteady * 71429, &solved);
-  const Estimate est = solve(solved, options);
+  const SteadyFlight flight = steady_flight(AnchorSpots::kBeam);
+  const Estimate est = solve(flight.pairs.front(), flight.options);
+  const std::vector<int64_t>& ids = flight.ids.front();
   int64_t depths = 0, frames = 0;
   for (auto _ : state) {
     state.PauseTiming();
-    FeatureDepthMap m = map;
-    FramePair pair = next.pair;
+    FeatureDepthMap map = flight.map_at_steady;
+    FramePair pair = flight.unfilled.front();
     state.ResumeTiming();
-    m.fill(next.ids, kSteady * 71429, &pair);
-    m.update(next.ids, (kSteady + 1) * 71429, pair, est);
-    benchmark::DoNotOptimize(m.size());
-    depths += static_cast<int64_t>(m.size());
+    map.fill(ids, kSteady * 71429, &pair);
+    map.update(ids, (kSteady + 1) * 71429, pair, est);
+    benchmark::DoNotOptimize(map.size());
+    depths += static_cast<int64_t>(map.size());
     ++frames;
   }
-  state.counters["tracks"] = static_cast<double>(next.ids.size());
+  state.counters["tracks"] = static_cast<double>(ids.size());
   state.counters["depths"] = static_cast<double>(depths) / std::max<int64_t>(1, frames);
 }
 
