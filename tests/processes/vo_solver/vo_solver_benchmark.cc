@@ -89,15 +89,16 @@ void BM_SensorUncertainty(benchmark::State& state) {
 
 // A flight over blocks and pits (450 features, 0.5 px noise, 30 % of the
 // tracks outliers displaced 10-50 px at every frame) through the depth map,
-// as the node runs it: the map as it stands after frame 120 (kSteady) and
-// the pairs 121-136 it filled, whose tracks carry their own depths.
+// as the node runs it: the map as it stands after frame 120 (kSteady), the
+// next pair as the tracker gives it, and the pairs 121-136 the map filled,
+// whose tracks carry their own depths.
 constexpr int kSteady = 120;
 struct SteadyFlight {
   SolverOptions options;
   FeatureDepthMap map_at_steady;
+  FramePair next_unfilled;  // pair kSteady + 1 before the map's fill
+  std::vector<int64_t> next_ids;  // its tracks
   std::vector<FramePair> pairs;  // filled from the map, frames kSteady + 1...
-  std::vector<FramePair> unfilled;  // the same pairs as the tracker gives them
-  std::vector<std::vector<int64_t>> ids;
 };
 
 SteadyFlight steady_flight(AnchorSpots anchor_spots) {
@@ -120,14 +121,14 @@ SteadyFlight steady_flight(AnchorSpots anchor_spots) {
       const double angle = 2 * M_PI * unit(rng), size = (10.0 + 40.0 * unit(rng)) / spec.fx;
       sp.pair.curr_norm[i] += size * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     }
-    if (k > kSteady) flight.unfilled.push_back(sp.pair);
+    if (k == kSteady + 1) {
+      flight.next_unfilled = sp.pair;
+      flight.next_ids = sp.ids;
+    }
     map.fill(sp.ids, (k - 1) * 71429, &sp.pair);
     map.update(sp.ids, k * 71429, sp.pair, solve(sp.pair, options));
     if (k == kSteady) flight.map_at_steady = map;
-    if (k > kSteady) {
-      flight.pairs.push_back(sp.pair);
-      flight.ids.push_back(sp.ids);
-    }
+    if (k > kSteady) flight.pairs.push_back(sp.pair);
   }
   return flight;
 }
@@ -161,12 +162,12 @@ void feature_depth_steady_state(benchmark::State& state, AnchorSpots anchor_spot
 void BM_FeatureDepthMap_FillUpdate(benchmark::State& state) {
   const SteadyFlight flight = steady_flight(AnchorSpots::kBeam);
   const Estimate est = solve(flight.pairs.front(), flight.options);
-  const std::vector<int64_t>& ids = flight.ids.front();
+  const std::vector<int64_t>& ids = flight.next_ids;
   int64_t depths = 0, frames = 0;
   for (auto _ : state) {
     state.PauseTiming();
     FeatureDepthMap map = flight.map_at_steady;
-    FramePair pair = flight.unfilled.front();
+    FramePair pair = flight.next_unfilled;
     state.ResumeTiming();
     map.fill(ids, kSteady * 71429, &pair);
     map.update(ids, (kSteady + 1) * 71429, pair, est);
