@@ -1,4 +1,5 @@
-# All dependencies come from Debian packages (launch_scripts/setup.sh installs them).
+# All dependencies come from Debian packages (launch_scripts/setup.sh installs them;
+# GoogleTest and Google Benchmark only when the tests are built: setup.sh --tests).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(LCM REQUIRED IMPORTED_TARGET lcm)
 pkg_check_modules(ARAVIS REQUIRED IMPORTED_TARGET aravis-0.8)

@@ -39,6 +39,25 @@ function(nadir_executable name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS})
   nadir_target_defaults(${name})
+  set_property(GLOBAL APPEND PROPERTY NADIR_PROGRAMS ${name})
+endfunction()
+
+# Called once, after every target is defined: `nadir_programs` builds every
+# program (no tests, benchmarks), `nadir_demo_programs` only what
+# launch_scripts/demo.sh runs (setup.sh --demo).
+function(nadir_program_targets)
+  get_property(programs GLOBAL PROPERTY NADIR_PROGRAMS)
+  add_custom_target(nadir_programs)
+  add_dependencies(nadir_programs ${programs})
+  if(TARGET nadir_lcmtypes_jar)
+    add_dependencies(nadir_programs nadir_lcmtypes_jar)  # lcm-spy's types
+  endif()
+  add_custom_target(nadir_demo_programs)
+  foreach(program nadir_sim nadir_tracker nadir_vo_solver nadir_yaw_fusion nadir_log nadir_eval)
+    if(TARGET ${program})
+      add_dependencies(nadir_demo_programs ${program})
+    endif()
+  endforeach()
 endfunction()
 
 # nadir_test(NAME SOURCES ... DEPS ... [LABELS ...] [TIMEOUT s]): a GoogleTest

@@ -16,7 +16,7 @@ while (($#)); do
     *) echo "demo: error: unknown option $1" >&2; exit 2 ;;
   esac
 done
-"$NADIR_ROOT/launch_scripts/setup.sh"
+"$NADIR_ROOT/launch_scripts/setup.sh" --demo
 
 run_dir="$NADIR_ROOT/logs/$(nadir_utc_stamp)-demo-$profile"
 mkdir -p "$run_dir/report"

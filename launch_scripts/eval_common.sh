@@ -1,4 +1,4 @@
-# Sourced by table1.sh, noise_study.sh, compare.sh and rough_study.sh: simulate, replay in
+# Sourced by table1.sh and by the study scripts under studies/: simulate, replay in
 # lockstep, evaluate. Results go under logs/<study>/.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 

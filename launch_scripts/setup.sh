@@ -1,25 +1,52 @@
 #!/usr/bin/env bash
 # Installs the Debian packages nadir needs (only the missing ones), then
 # configures and builds into build/. Idempotent; quick when nothing changed.
+#
+# Usage: setup.sh [--demo | --tests]
+#   (none)   every program (processes and tools), not the tests
+#   --demo   only what the demo runs: the simulator, the estimator processes,
+#            nadir_log and nadir_eval, and only the packages they need
+#   --tests  every program, the test suites, the benchmarks and the study
+#            programs, and the packages the tests use (GoogleTest, Google
+#            Benchmark, Slurm, Java for lcm-spy, node-mavlink, MkDocs)
 # NADIR_DEBUG_INFO=lines (CI) configures a new build with line-table debug
 # information only (see cmake/NadirHelpers.cmake).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
+scope=programs
+case "${1:-}" in
+  "") ;;
+  --demo) scope=demo ;;
+  --tests) scope=tests ;;
+  -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  *) echo "setup: error: unknown option $1 (--demo, --tests)" >&2; exit 2 ;;
+esac
+
+# What the demo builds and runs: compilers, LCM, Eigen, OpenCV, yaml-cpp,
+# CLI11, the camera and GPIO libraries the configure step looks for, the
+# network namespace tools and matplotlib for the report's plots.
 packages=(
   build-essential cmake pkg-config git
-  liblcm-dev liblcm-bin liblcm-java
-  libeigen3-dev libopencv-dev libyaml-cpp-dev libcli11-dev libexiv2-dev
-  libaravis-dev aravis-tools aravis-tools-cli libusb-1.0-0-dev
-  libgpiod-dev gpiod
-  libgtest-dev libgmock-dev libbenchmark-dev
-  openjdk-17-jdk-headless libjchart2d-java xvfb xauth
+  liblcm-dev liblcm-bin
+  libeigen3-dev libopencv-dev libyaml-cpp-dev libcli11-dev
+  libaravis-dev libusb-1.0-0-dev libgpiod-dev
   iproute2 util-linux python3 python3-matplotlib python3-numpy
-  python3-yaml slurm-wlm munge libexiv2-dev
 )
-# node and npm (node-mavlink, for the MAVLink bridge's tests): Debian's only
-# where none is installed -- Debian's npm conflicts with a nodesource nodejs.
-command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
+if [ "$scope" != demo ]; then
+  # The other programs and their tools: photo import (exiv2), lcm-spy (Java,
+  # jchart2d, Xvfb for a headless check), the Aravis fake camera, gpiod,
+  # campaigns on Slurm, the tests and benchmarks, and the documentation site.
+  packages+=(
+    liblcm-java libexiv2-dev aravis-tools aravis-tools-cli gpiod
+    libgtest-dev libgmock-dev libbenchmark-dev
+    openjdk-17-jdk-headless libjchart2d-java xvfb xauth
+    python3-yaml slurm-wlm munge mkdocs
+  )
+  # node and npm (node-mavlink, for the MAVLink bridge's tests): Debian's only
+  # where none is installed -- Debian's npm conflicts with a nodesource nodejs.
+  command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -32,14 +59,35 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-if [ ! -f "$NADIR_BUILD/CMakeCache.txt" ]; then
-  cmake -S "$NADIR_ROOT" -B "$NADIR_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_MODULES= \
-    -DNADIR_DEBUG_INFO="${NADIR_DEBUG_INFO:-full}" >/dev/null
+# The test suites and benchmarks are configured once the tests are asked for;
+# a build configured for them stays so (building the demo's targets from it
+# still compiles only those).
+configure=()
+# Packages installed since the last configure (e.g. Java after the demo's
+# setup) are found by configuring again.
+reconfigure=$((${#missing[@]} > 0))
+[ -f "$NADIR_BUILD/CMakeCache.txt" ] ||
+  configure=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_MODULES= -DNADIR_DEBUG_INFO="${NADIR_DEBUG_INFO:-full}"
+             -DNADIR_BUILD_TESTS=OFF)
+if [ "$scope" = tests ] && ! grep -qxF "NADIR_BUILD_TESTS:BOOL=ON" "$NADIR_BUILD/CMakeCache.txt" 2>/dev/null; then
+  configure+=(-DNADIR_BUILD_TESTS=ON)
 fi
-cmake --build "$NADIR_BUILD" -j"$(nproc)" 2>&1 | grep -vE '^\[ *[0-9]+%\] (Building|Linking|Built)' || true
+if ((${#configure[@]} || reconfigure)); then
+  cmake -S "$NADIR_ROOT" -B "$NADIR_BUILD" "${configure[@]}" >/dev/null
+fi
+case "$scope" in
+  demo) targets=(--target nadir_demo_programs) ;;
+  programs) targets=(--target nadir_programs) ;;
+  tests) targets=() ;;  # all
+esac
+echo "setup: building ${scope} into $NADIR_BUILD"
+cmake --build "$NADIR_BUILD" -j"$(nproc)" "${targets[@]}" 2>&1 |
+  grep -vE '^\[ *[0-9]+%\] (Building|Linking|Built)' || true
 test "${PIPESTATUS[0]}" -eq 0
-# node-mavlink from the npm registry: the independent MAVLink implementation
-# the MAVLink bridge's codec is tested against (once; tests run without network).
-"$NADIR_ROOT/tests/processes/mavlink_bridge/install_node_mavlink.sh" "$NADIR_BUILD" ||
-  echo "setup: warning: node-mavlink not installed; nadir_test_mavlink_bridge_node will fail until it is" >&2
+if [ "$scope" = tests ]; then
+  # node-mavlink from the npm registry: the independent MAVLink implementation
+  # the MAVLink bridge's codec is tested against (once; tests run without network).
+  "$NADIR_ROOT/tests/processes/mavlink_bridge/install_node_mavlink.sh" "$NADIR_BUILD" ||
+    echo "setup: warning: node-mavlink not installed; nadir_test_mavlink_bridge_node will fail until it is" >&2
+fi
 echo "setup: built into $NADIR_BUILD"

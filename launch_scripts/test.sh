@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
-# Sets up, then runs every test suite. All tests run inside a private network
+# Sets up (setup.sh --tests), checks the documentation site (mkdocs build
+# --strict: a broken link or a page missing from the navigation fails), then
+# runs every test suite. All tests run inside a private network
 # namespace (LCM udpm and the Aravis fake camera stay on its loopback).
 # Then the parsers, estimator and runtime suites run again in an
 # AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/);
 # NADIR_SKIP_SANITIZERS=1 skips that part. Extra arguments go to ctest.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
-"$NADIR_ROOT/launch_scripts/setup.sh"
+"$NADIR_ROOT/launch_scripts/setup.sh" --tests
+
+echo "test: documentation site (mkdocs build --strict)"
+(cd "$NADIR_ROOT" && mkdocs build --strict --quiet --site-dir "$NADIR_BUILD/site")
 
 if [ "${NADIR_SKIP_SANITIZERS:-0}" != 1 ]; then
   asan="$NADIR_ROOT/build-asan"

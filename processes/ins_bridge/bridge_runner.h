@@ -15,7 +15,7 @@
 #include "common/lcm_bus.h"
 #include "common/status.h"
 #include "processes/ins_bridge/ins_bridge.h"
-#include "processes/ins_bridge/serial_port.h"
+#include "common/serial_port.h"
 
 namespace nadir::ins_bridge {
 

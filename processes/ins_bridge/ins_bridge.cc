@@ -5,7 +5,7 @@
 
 #include "common/channels.h"
 #include "common/geometry.h"
-#include "processes/ins_bridge/gps_time.h"
+#include "common/gps_time.h"
 #include "nadir/altimeter_t.hpp"
 #include "nadir/ins_t.hpp"
 

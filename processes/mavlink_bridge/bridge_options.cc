@@ -25,11 +25,11 @@ BridgeOptions BridgeOptions::from_config(const Config& root) {
   o.link.kind = link.get<std::string>("kind", o.link.kind);
   o.link.local = link.get<std::string>("local", o.link.local);
   o.link.remote = link.get<std::string>("remote", o.link.remote);
-  ins_bridge::SerialOptions serial_defaults;
+  SerialOptions serial_defaults;
   serial_defaults.device = "/dev/ttyACM0";
   serial_defaults.baud = 921600;
   serial_defaults.stall_timeout_s = 5.0;
-  o.link.serial = ins_bridge::SerialOptions::from_config(link.section_or_empty("serial"), serial_defaults);
+  o.link.serial = SerialOptions::from_config(link.section_or_empty("serial"), serial_defaults);
 
   const Config in = s.section_or_empty("input");
   o.input.attitude = in.get<std::string>("attitude", o.input.attitude);

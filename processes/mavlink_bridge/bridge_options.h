@@ -9,7 +9,7 @@
 
 #include "common/clock_sync.h"
 #include "common/config.h"
-#include "processes/ins_bridge/bridge_options.h"
+#include "common/serial_port.h"
 
 namespace nadir::mavlink_bridge {
 
@@ -19,7 +19,7 @@ struct LinkOptions {
   // (port 0: any) and send to `remote`.
   std::string local = "127.0.0.1:14540";  // loopback unless configured: nothing listens outside by default
   std::string remote = "127.0.0.1:14580";
-  ins_bridge::SerialOptions serial;  // kind serial: termios settings as the INS bridge's
+  SerialOptions serial;  // kind serial: termios settings as the INS bridge's
 };
 
 struct InputOptions {

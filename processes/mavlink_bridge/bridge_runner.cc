@@ -21,7 +21,7 @@ BridgeRunner::BridgeRunner(const BridgeOptions& options, LcmBus& bus, std::strin
       status_period_us_(s_to_us(status_period_s)),
       bridge_(options, bus, [this](const std::vector<uint8_t>& frame) { write(frame); }) {
   if (options.link.kind == "serial") {
-    serial_ = std::make_unique<ins_bridge::SerialPort>(options.link.serial);
+    serial_ = std::make_unique<SerialPort>(options.link.serial);
   } else {
     udp_ = std::make_unique<UdpLink>(options.link.kind == "udp_server", options.link.local, options.link.remote);
     udp_->open();
@@ -48,7 +48,7 @@ void BridgeRunner::write(const std::vector<uint8_t>& frame) {
 
 void BridgeRunner::service_serial(int64_t now_us) {
   if (!serial_) return;
-  const ins_bridge::SerialOptions& o = serial_->options();
+  const SerialOptions& o = serial_->options();
   if (serial_->is_open()) {
     if (now_us - serial_last_byte_us_ > s_to_us(o.stall_timeout_s)) {
       link_error_ = o.device + ": no byte for " + std::to_string(o.stall_timeout_s) + " s";
@@ -60,7 +60,7 @@ void BridgeRunner::service_serial(int64_t now_us) {
   }
   if (now_us < serial_next_open_us_) return;
   std::string error;
-  if (serial_->open(&error) == ins_bridge::SerialPort::OpenResult::kOpened) {
+  if (serial_->open(&error) == SerialPort::OpenResult::kOpened) {
     serial_last_byte_us_ = now_us;
     if (serial_ever_opened_) {
       ++serial_reopens_;
@@ -90,14 +90,14 @@ void BridgeRunner::read_serial() {
     std::string error;
     const auto result = serial_->read_some(buffer, sizeof buffer, &got, &error);
     const int64_t now = monotonic_now_us();
-    if (result == ins_bridge::SerialPort::ReadResult::kHangup) {
+    if (result == SerialPort::ReadResult::kHangup) {
       link_error_ = error;
       std::fprintf(stderr, "nadir_mavlink_bridge: %s; reopening\n", error.c_str());
       serial_->close();
       serial_next_open_us_ = now + s_to_us(serial_->options().reopen_min_s);
       return;
     }
-    if (result == ins_bridge::SerialPort::ReadResult::kNothing) return;
+    if (result == SerialPort::ReadResult::kNothing) return;
     serial_last_byte_us_ = now;
     bridge_.on_bytes(buffer, got, monotonic_to_vehicle_us(now), serial_->options().byte_time_us(), false);
     if (got < sizeof buffer) return;

@@ -12,7 +12,7 @@
 
 #include "common/lcm_bus.h"
 #include "common/status.h"
-#include "processes/ins_bridge/serial_port.h"
+#include "common/serial_port.h"
 #include "processes/mavlink_bridge/mavlink_bridge.h"
 #include "processes/mavlink_bridge/udp_link.h"
 
@@ -44,7 +44,7 @@ class BridgeRunner {
   int64_t status_period_us_;
   int64_t next_status_us_ = 0;
   std::unique_ptr<UdpLink> udp_;
-  std::unique_ptr<ins_bridge::SerialPort> serial_;
+  std::unique_ptr<SerialPort> serial_;
   MavlinkBridge bridge_;
   int64_t serial_next_open_us_ = 0;
   int64_t serial_last_byte_us_ = 0;

@@ -7,7 +7,7 @@
 
 #include "common/geodetic.h"
 #include "common/geometry.h"
-#include "processes/ins_bridge/gps_time.h"
+#include "common/gps_time.h"
 
 namespace nadir::mavlink_bridge {
 namespace {
@@ -80,8 +80,8 @@ mavlink::GpsInput gps_input(const pose_t& pose, const GpsInputOptions& o) {
   mavlink::GpsInput m;
   m.time_usec = static_cast<uint64_t>(pose.utime);
   // The vehicle time base is UTC (CLOCK_REALTIME): GPS week and milliseconds.
-  const int64_t gps_us = ins_bridge::unix_to_gps_us(pose.utime);
-  const int64_t week_us = ins_bridge::kSecondsPerWeek * 1000000;
+  const int64_t gps_us = unix_to_gps_us(pose.utime);
+  const int64_t week_us = kSecondsPerWeek * 1000000;
   m.time_week = static_cast<uint16_t>(gps_us / week_us);
   m.time_week_ms = static_cast<uint32_t>((gps_us % week_us) / 1000);
   // Radii of curvature on the ellipsoid surface at the origin (its altitude

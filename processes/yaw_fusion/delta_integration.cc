@@ -23,17 +23,17 @@ Eigen::Matrix4d psd_part(const Eigen::Matrix4d& m) {
 
 Eigen::Vector3d integrate_delta(PoseFilter* filter, const vo_delta_t& delta, const Eigen::Matrix4d& covariance,
                                 double prev_pitch, double curr_pitch, const YawFusionOptions& options) {
-  const vo::UncertaintyOptions& u = options.sensor_uncertainty;
+  const DeltaUncertaintyOptions& u = options.sensor_uncertainty;
   const Eigen::Vector3d translation(delta.dx, delta.dy, delta.dz);
   double prev_levelling = 0.0, curr_levelling = 0.0, range_scale_variance = 0.0;
   double prev_heading = 0.0, curr_heading = 0.0;
   if (u.enabled) {
-    // Exactly what vo_solver put on dx, dy and dyaw (vo::sensor_covariance).
+    // Exactly what vo_solver put on dx, dy and dyaw (the VO solver's sensor covariance).
     const double rp_stddev = deg_to_rad(u.roll_pitch_stddev_deg);
-    vo::frame_levelling_variances(delta.altitude_m, delta.dz, rp_stddev, &prev_levelling, &curr_levelling);
+    frame_levelling_variances(delta.altitude_m, delta.dz, rp_stddev, &prev_levelling, &curr_levelling);
     range_scale_variance = u.range_scale_stddev * u.range_scale_stddev;
-    prev_heading = vo::levelling_yaw_variance_rad2(prev_pitch, rp_stddev);
-    curr_heading = vo::levelling_yaw_variance_rad2(curr_pitch, rp_stddev);
+    prev_heading = levelling_yaw_variance_rad2(prev_pitch, rp_stddev);
+    curr_heading = levelling_yaw_variance_rad2(curr_pitch, rp_stddev);
   }
   Eigen::Matrix4d shared = Eigen::Matrix4d::Zero();
   shared(0, 0) = shared(1, 1) = prev_levelling + curr_levelling;

@@ -51,7 +51,7 @@ class PoseFilter {
                                      const Eigen::Matrix4d& covariance);
 
   // The heading error a frame's levelling puts into the VO chain
-  // (vo::levelling_yaw_variance_rad2): a delta's dyaw carries curr's term
+  // (levelling_yaw_variance_rad2): a delta's dyaw carries curr's term
   // minus prev's, so over consecutive deltas it telescopes and the chain's
   // yaw holds only the current frame's (and the first frame's). Call after
   // predict_with_delta, whose covariance must not contain these, with the
@@ -64,7 +64,7 @@ class PoseFilter {
 
   // The VO heading chain drifts at a rate that changes slowly with the
   // ground (a first-order Gauss-Markov process: `stddev` rad/s, correlation
-  // time `time_s`; vo::UncertaintyOptions::heading_drift_stddev_rad_s). Call
+  // time `time_s`; DeltaUncertaintyOptions::heading_drift_stddev_rad_s). Call
   // after each integrated delta, `dt` its duration: the yaw takes the drift
   // estimate out of the delta's dyaw, and the drift decays towards 0 with its
   // variance growing back towards stddev^2. The INS yaw updates estimate the

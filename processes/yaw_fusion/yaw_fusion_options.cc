@@ -72,7 +72,7 @@ YawFusionOptions YawFusionOptions::from_config(const Config& root) {
   o.protection_level.probability = pl.get_in_range("probability", o.protection_level.probability, 0.5, 1.0 - 1e-12);
   o.protection_level.flagged_inflation =
       pl.get_in_range("flagged_inflation", o.protection_level.flagged_inflation, 1.0, 1000.0);
-  o.sensor_uncertainty = vo::UncertaintyOptions::from_config(root.section_or_empty("vo_solver"));
+  o.sensor_uncertainty = DeltaUncertaintyOptions::from_config(root.section_or_empty("vo_solver"));
   o.coast = CoastOptions::from_config(c.section_or_empty("coast"));
   o.calibration = SensorCalibration::from_config(root);
   o.Check();

@@ -9,7 +9,7 @@
 #include "common/attitude_propagation.h"
 #include "common/config.h"
 #include "common/sensor_calibration.h"
-#include "processes/vo_solver/delta_uncertainty.h"
+#include "common/delta_uncertainty_options.h"
 #include "processes/yaw_fusion/protection_level.h"
 #include "processes/yaw_fusion/coasting.h"
 
@@ -74,7 +74,7 @@ struct YawFusionOptions {
   // Errors shared between deltas (processes/yaw_fusion/README.md § Consistency):
   // the INS levelling and altimeter scale parts of each VO_DELTA covariance,
   // read from `vo_solver.uncertainty:` (the same keys the solver uses).
-  vo::UncertaintyOptions sensor_uncertainty;
+  DeltaUncertaintyOptions sensor_uncertainty;
   // INS yaw error that the filter cannot average away: a random walk (and an
   // initial offset) under the white noise. Defaults: the `standard` sensor set.
   double ins_yaw_bias_stddev_deg = 0.0;             // at the start

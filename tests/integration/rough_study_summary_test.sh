@@ -7,7 +7,7 @@
 # line) with exit 2, writing nothing.
 set -uo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
-tool="$root/launch_scripts/rough_study_summary.py"
+tool="$root/studies/rough_ground/rough_study_summary.py"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }

@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "common/geometry.h"
-#include "processes/ins_bridge/gps_time.h"
+#include "common/gps_time.h"
 
 namespace nadir::sim_serial {
 
@@ -26,7 +26,7 @@ DeviceFormatter::DeviceFormatter(InsFormat format, const Eigen::Vector3d& imu_to
 
 ins_bridge::InsPva DeviceFormatter::to_span(const ins_t& ins, int64_t gps_us) const {
   ins_bridge::InsPva p;
-  const int64_t week_us = ins_bridge::kSecondsPerWeek * 1000000;
+  const int64_t week_us = kSecondsPerWeek * 1000000;
   p.gps_week = static_cast<uint32_t>(gps_us / week_us);
   p.gps_seconds = static_cast<double>(gps_us % week_us) * 1e-6;
   p.latitude_deg = ins.latitude_deg;

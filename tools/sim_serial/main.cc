@@ -20,7 +20,7 @@
 #include "common/shutdown.h"
 #include "common/time_base.h"
 #include "processes/ins_bridge/bridge_options.h"
-#include "processes/ins_bridge/gps_time.h"
+#include "common/gps_time.h"
 #include "processes/ins_bridge/pseudo_terminal.h"
 #include "tools/sim_serial/device_formatter.h"
 #include "tools/sim_serial/flight_source.h"
@@ -146,7 +146,7 @@ int main(int argc, char** argv) {
         if (write.ins) {
           int64_t gps_us = time_mode == "log" && sample.ins.device_utime > 0
                                ? sample.ins.device_utime
-                               : ins_bridge::unix_to_gps_us(start_unix_us + since_us);
+                               : unix_to_gps_us(start_unix_us + since_us);
           if (gps_us <= last_gps_us) gps_us = last_gps_us + 1;  // the receiver's clock never repeats
           last_gps_us = gps_us;
           write.bytes = formatter.ins_bytes(sample.ins, gps_us);

@@ -9,7 +9,7 @@
 #include "common/config.h"
 #include "common/geometry.h"
 #include "processes/ins_bridge/altimeter_parser.h"
-#include "processes/ins_bridge/gps_time.h"
+#include "common/gps_time.h"
 #include "processes/ins_bridge/novatel_attitude.h"
 
 namespace nadir::ins_bridge {

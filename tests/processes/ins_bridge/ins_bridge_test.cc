@@ -11,7 +11,7 @@
 
 #include "common/config.h"
 #include "common/geometry.h"
-#include "processes/ins_bridge/gps_time.h"
+#include "common/gps_time.h"
 #include "processes/ins_bridge/ins_bridge.h"
 #include "tests/processes/ins_bridge/bridge_test_support.h"
 #include "tests/processes/ins_bridge/test_sentences.h"

@@ -20,7 +20,7 @@
 #include "tests/common/test_support.h"
 #include "common/time_base.h"
 #include "processes/ins_bridge/bridge_runner.h"
-#include "processes/ins_bridge/gps_time.h"
+#include "common/gps_time.h"
 #include "processes/ins_bridge/novatel_encoder.h"
 #include "processes/ins_bridge/pseudo_terminal.h"
 #include "tests/processes/ins_bridge/bridge_test_support.h"

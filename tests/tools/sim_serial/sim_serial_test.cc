@@ -20,7 +20,7 @@
 #include "common/lcm_bus.h"
 #include "common/log_file.h"
 #include "processes/ins_bridge/bridge_runner.h"
-#include "processes/ins_bridge/gps_time.h"
+#include "common/gps_time.h"
 #include "processes/ins_bridge/novatel_attitude.h"
 #include "processes/ins_bridge/novatel_parser.h"
 #include "tools/sim_serial/device_formatter.h"

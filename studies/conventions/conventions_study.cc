@@ -3,7 +3,7 @@
 // estimator). Consecutive photos are matched (ORB + RANSAC homography); the
 // image displacement and rotation are compared with the GPS displacement, the
 // heading change and the roll/pitch change. Used for the senseFly Seneca
-// flight (tools/import/README.md).
+// flight (docs/research/).
 #include <CLI/CLI.hpp>
 
 #include <Eigen/Dense>

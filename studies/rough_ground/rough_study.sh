@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Rough ground against flat ground (issue 16): each rough profile flown with
+# Rough ground against flat ground: each rough profile flown with
 # each seed twice, over its own relief and over flat ground (nadir_sim
 # --relief-scale 0: the same trajectory, sensors and noise), replayed with
 # each solver variant and evaluated. Prints the final error (% of distance)
@@ -22,7 +22,7 @@
 #                  seeds, little disk)
 # Needs nadir_sim, nadir_replay and nadir_eval built (launch_scripts/setup.sh).
 set -euo pipefail
-source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/../../launch_scripts/eval_common.sh"
 profiles=rough_120,rough_250
 seeds="1 2 3"
 variants=paper

@@ -4,7 +4,7 @@
 # Prints the table (seed 201) and draws a bar chart of horizontal and vertical
 # drift %. Every case flies the same seed, so the difference between a noisy
 # run and the standard run is the error the added noise caused:
-# tools/eval/added_drift.py tabulates and plots it against distance flown
+# studies/sensor_noise/added_drift.py tabulates and plots it against distance flown
 # (bounded or growing), averaged over the seeds flown.
 # Usage: noise_study.sh [--reuse] [--profile NAME] [--seeds N]   (N = 1..3 seeds: 201, 202, 203; default 3)
 #                       [--sensor-set NAME] [--config-overlay FILE]...
@@ -12,7 +12,7 @@
 # --config-overlay: replay with this fragment (e.g. calibrate.sh's calibration.yaml; reports beside
 #   the simulator logs, in CASE-<file name>/).
 set -euo pipefail
-source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/../../launch_scripts/eval_common.sh"
 profile=test1
 n_seeds=3
 sensor_set=standard
@@ -59,12 +59,12 @@ done
       "| $(metric "$r" rms_yaw_error_deg) |"
   done
   echo
-  /usr/bin/python3 "$NADIR_ROOT/tools/eval/added_drift.py" \
+  /usr/bin/python3 "$NADIR_ROOT/studies/sensor_noise/added_drift.py" \
     $(for s in "${seeds[@]}"; do echo "--reference $(seed_dir "$s")/standard$report_suffix"; done) \
     --out-png "$out/added_drift$report_suffix.png" --out-json "$out/added_drift$report_suffix.json" \
     $(for c in "${cases[@]:1}"; do echo "$c=$(for s in "${seeds[@]}"; do printf '%s,' "$(seed_dir "$s")/$c$report_suffix"; done | sed 's/,$//')"; done)
 } | tee "$out/noise_study$report_suffix.md"
-/usr/bin/python3 "$NADIR_ROOT/tools/eval/plot_bars.py" --out "$out/noise_study$report_suffix.png" \
+/usr/bin/python3 "$NADIR_ROOT/studies/lib/plot_bars.py" --out "$out/noise_study$report_suffix.png" \
   --title "Drift with added sensor noise ($profile, $sensor_set set${report_suffix:+, ${report_suffix#-}}, seed 201)" \
   --metrics error_pct_h,error_pct_v --labels "horizontal %,vertical %" \
   $(for c in "${cases[@]}"; do echo "$c=$out/$c$report_suffix"; done)

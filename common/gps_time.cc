@@ -1,9 +1,9 @@
-#include "processes/ins_bridge/gps_time.h"
+#include "common/gps_time.h"
 
 #include <cmath>
 #include <cstdlib>
 
-namespace nadir::ins_bridge {
+namespace nadir {
 namespace {
 
 // Days from 1970-01-01 to a civil date (proleptic Gregorian).
@@ -71,4 +71,4 @@ uint32_t unwrap_week_1024(uint32_t week, double seconds_of_week, int64_t referen
   return best;
 }
 
-}  // namespace nadir::ins_bridge
+}  // namespace nadir

@@ -1,4 +1,4 @@
-#include "processes/ins_bridge/serial_port.h"
+#include "common/serial_port.h"
 
 #include <fcntl.h>
 #include <termios.h>
@@ -7,7 +7,50 @@
 #include <cerrno>
 #include <cstring>
 
-namespace nadir::ins_bridge {
+namespace nadir {
+
+double SerialOptions::byte_time_us() const {
+  const int bits = 1 + data_bits + (parity == "none" ? 0 : 1) + stop_bits;
+  return bits * 1e6 / baud;
+}
+
+SerialOptions SerialOptions::from_config(const Config& s, const SerialOptions& d) {
+  SerialOptions o;
+  o.device = s.get<std::string>("device", d.device);
+  o.baud = s.get<int>("baud", d.baud);
+  o.data_bits = s.get<int>("data_bits", d.data_bits);
+  o.parity = s.get<std::string>("parity", d.parity);
+  o.stop_bits = s.get<int>("stop_bits", d.stop_bits);
+  o.flow_control = s.get<std::string>("flow_control", d.flow_control);
+  o.stall_timeout_s = s.get<double>("stall_timeout_s", d.stall_timeout_s);
+  o.reopen_min_s = s.get<double>("reopen_min_s", d.reopen_min_s);
+  o.reopen_max_s = s.get<double>("reopen_max_s", d.reopen_max_s);
+  o.absent_poll_s = s.get<double>("absent_poll_s", d.absent_poll_s);
+  return o;
+}
+
+void SerialOptions::Check(const std::string& source, const std::string& key) const {
+  static const int kBauds[] = {1200,   2400,   4800,   9600,    19200,   38400,   57600,  115200,
+                               230400, 460800, 500000, 576000, 921600, 1000000, 2000000, 4000000};
+  bool baud_ok = false;
+  for (int b : kBauds) baud_ok |= b == baud;
+  require_option(!device.empty(), source, key + ".device", "must name a serial device");
+  require_option(baud_ok, source, key + ".baud",
+                 "= " + std::to_string(baud) + " is not a standard rate (1200 .. 4000000, e.g. 115200, 230400)");
+  require_option(data_bits >= 5 && data_bits <= 8, source, key + ".data_bits", "must be in [5, 8]");
+  require_option(parity == "none" || parity == "even" || parity == "odd", source, key + ".parity",
+                 "= '" + parity + "' must be none, even or odd");
+  require_option(stop_bits == 1 || stop_bits == 2, source, key + ".stop_bits", "must be 1 or 2");
+  require_option(flow_control == "none" || flow_control == "rtscts" || flow_control == "xonxoff", source,
+                 key + ".flow_control", "= '" + flow_control + "' must be none, rtscts or xonxoff");
+  require_option(stall_timeout_s >= 0.05 && stall_timeout_s <= 600, source, key + ".stall_timeout_s",
+                 "must be in [0.05, 600]");
+  require_option(reopen_min_s >= 0.01 && reopen_min_s <= 60, source, key + ".reopen_min_s", "must be in [0.01, 60]");
+  require_option(reopen_max_s >= reopen_min_s && reopen_max_s <= 600, source, key + ".reopen_max_s",
+                 "must be in [reopen_min_s, 600]");
+  require_option(absent_poll_s >= 0.01 && absent_poll_s <= 10, source, key + ".absent_poll_s", "must be in [0.01, 10]");
+}
+
 
 bool baud_to_speed(int baud, unsigned* speed) {
   switch (baud) {
@@ -89,4 +132,4 @@ SerialPort::ReadResult SerialPort::read_some(uint8_t* buffer, size_t capacity, s
   return ReadResult::kHangup;
 }
 
-}  // namespace nadir::ins_bridge
+}  // namespace nadir

@@ -8,7 +8,7 @@
 # Usage: compare.sh [--reuse] [--reuse-evals] [--seeds N]   (N = 1..3 seeds per profile, default 3)
 #   --reuse keeps existing simulations; --reuse-evals also keeps existing evaluations.
 set -euo pipefail
-source "$(dirname "${BASH_SOURCE[0]}")/eval_common.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/../../launch_scripts/eval_common.sh"
 n_seeds=3
 reuse_evals=0
 while (($#)); do
@@ -46,11 +46,11 @@ for t in test1 test2 test3; do
     done
   done
 done
-/usr/bin/python3 "$NADIR_ROOT/tools/eval/variant_table.py" --root "$out" --variants "$(IFS=,; echo "${variants[*]}")" \
+/usr/bin/python3 "$NADIR_ROOT/studies/solver_variants/variant_table.py" --root "$out" --variants "$(IFS=,; echo "${variants[*]}")" \
   "${runs[@]}" | tee "$out/compare.md"
 for t in test1 test2 test3; do
   read -ra all <<< "${seeds[$t]}"
-  /usr/bin/python3 "$NADIR_ROOT/tools/eval/plot_bars.py" --out "$out/compare-$t.png" \
+  /usr/bin/python3 "$NADIR_ROOT/studies/lib/plot_bars.py" --out "$out/compare-$t.png" \
     --title "Solver variants on $t, seed ${all[0]} (3-D error, % of distance)" --metrics error_pct_3d,rms_error_pct_3d \
     --labels "final %,RMS over the flight %" $(for v in "${variants[@]}"; do echo "$v=$out/$t-${all[0]}-$v"; done)
 done

@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-namespace nadir::ins_bridge {
+namespace nadir {
 
 inline constexpr int64_t kGpsEpochUnixSeconds = 315964800;  // 1980-01-06T00:00:00Z
 inline constexpr int64_t kSecondsPerWeek = 604800;
@@ -24,4 +24,4 @@ int64_t unix_to_gps_us(int64_t unix_us);
 // whose time is nearest `reference_gps_us`.
 uint32_t unwrap_week_1024(uint32_t week, double seconds_of_week, int64_t reference_gps_us);
 
-}  // namespace nadir::ins_bridge
+}  // namespace nadir

@@ -8,9 +8,28 @@
 #include <cstdint>
 #include <string>
 
-#include "processes/ins_bridge/bridge_options.h"
+#include "common/config.h"
 
-namespace nadir::ins_bridge {
+namespace nadir {
+
+// A serial device's settings, e.g. the `ins_bridge.ins.serial:` section.
+struct SerialOptions {
+  std::string device;            // path, e.g. /dev/ttyUSB0 or a pty symlink
+  int baud = 115200;
+  int data_bits = 8;             // 5..8
+  std::string parity = "none";   // none | even | odd
+  int stop_bits = 1;             // 1 | 2
+  std::string flow_control = "none";  // none | rtscts | xonxoff
+  double stall_timeout_s = 1.0;  // no byte for this long: stall, reopen
+  double reopen_min_s = 0.1;     // reopen delay after a hangup/stall; doubles per failed open of a present device
+  double reopen_max_s = 5.0;     // backoff cap
+  double absent_poll_s = 0.1;    // while the path does not exist (unplugged): fixed poll, no backoff
+  // Seconds one character takes on the line (start + data + parity + stop bits).
+  double byte_time_us() const;
+  static SerialOptions from_config(const Config& section, const SerialOptions& defaults);
+  void Check(const std::string& source, const std::string& key) const;
+};
+
 
 class SerialPort {
  public:
@@ -42,4 +61,4 @@ class SerialPort {
 // termios speed constant for a baud rate; false when not supported.
 bool baud_to_speed(int baud, unsigned* speed);
 
-}  // namespace nadir::ins_bridge
+}  // namespace nadir

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Consistency of the reported covariance over many evaluated flights (issue 23).
+"""Consistency of the reported covariance over many evaluated flights.
 
 Usage: consistency_table.py [--json] [--plot PNG] NAME=DIR [NAME=DIR ...]
 
