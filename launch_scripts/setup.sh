@@ -9,8 +9,12 @@
 #   --tests  every program, the test suites, the benchmarks and the study
 #            programs, and the packages the tests use (GoogleTest, Google
 #            Benchmark, Slurm, Java for lcm-spy, node-mavlink, MkDocs)
-# NADIR_DEBUG_INFO=lines (CI) configures a new build with line-table debug
-# information only (see cmake/NadirHelpers.cmake).
+# A new build is configured for Ninja (every object of the chosen targets
+# compiles as soon as its inputs are there: both cores stay busy) with
+# line-table debug information (-g1: backtraces and sanitizer reports with
+# file:line, about a third less compile time than -g); NADIR_DEBUG_INFO=full
+# configures a new build with full debug information (see
+# cmake/NadirHelpers.cmake).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
@@ -27,7 +31,7 @@ esac
 # CLI11, the camera and GPIO libraries the configure step looks for, the
 # network namespace tools and matplotlib for the report's plots.
 packages=(
-  build-essential cmake pkg-config git
+  build-essential cmake ninja-build pkg-config git
   liblcm-dev liblcm-bin
   libeigen3-dev libopencv-dev libyaml-cpp-dev libcli11-dev
   libaravis-dev libusb-1.0-0-dev libgpiod-dev
@@ -67,7 +71,7 @@ configure=()
 # setup) are found by configuring again.
 reconfigure=$((${#missing[@]} > 0))
 [ -f "$NADIR_BUILD/CMakeCache.txt" ] ||
-  configure=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_MODULES= -DNADIR_DEBUG_INFO="${NADIR_DEBUG_INFO:-full}"
+  configure=(-G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_MODULES= -DNADIR_DEBUG_INFO="${NADIR_DEBUG_INFO:-lines}"
              -DNADIR_BUILD_TESTS=OFF)
 if [ "$scope" = tests ] && ! grep -qxF "NADIR_BUILD_TESTS:BOOL=ON" "$NADIR_BUILD/CMakeCache.txt" 2>/dev/null; then
   configure+=(-DNADIR_BUILD_TESTS=ON)
@@ -82,7 +86,7 @@ case "$scope" in
 esac
 echo "setup: building ${scope} into $NADIR_BUILD"
 cmake --build "$NADIR_BUILD" -j"$(nproc)" "${targets[@]}" 2>&1 |
-  grep -vE '^\[ *[0-9]+%\] (Building|Linking|Built)' || true
+  grep -vE '^\[ *[0-9]+(%\]|/[0-9]+\]) (Building|Linking|Built)' || true
 test "${PIPESTATUS[0]}" -eq 0
 if [ "$scope" = tests ]; then
   # node-mavlink from the npm registry: the independent MAVLink implementation

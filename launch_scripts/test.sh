@@ -17,8 +17,8 @@ if [ "${NADIR_SKIP_SANITIZERS:-0}" != 1 ]; then
   asan="$NADIR_ROOT/build-asan"
   sanitized_modules="ins_bridge;vo_solver;yaw_fusion;tracker;mavlink_bridge"
   if [ ! -f "$asan/CMakeCache.txt" ]; then
-    cmake -S "$NADIR_ROOT" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_SANITIZE=ON \
-      -DNADIR_MODULES="$sanitized_modules" -DNADIR_DEBUG_INFO="${NADIR_DEBUG_INFO:-full}" >/dev/null
+    cmake -G Ninja -S "$NADIR_ROOT" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNADIR_SANITIZE=ON \
+      -DNADIR_MODULES="$sanitized_modules" -DNADIR_DEBUG_INFO="${NADIR_DEBUG_INFO:-lines}" >/dev/null
   elif ! grep -qxF "NADIR_MODULES:STRING=$sanitized_modules" "$asan/CMakeCache.txt"; then
     cmake -S "$NADIR_ROOT" -B "$asan" -DNADIR_MODULES="$sanitized_modules" >/dev/null  # the list grew
   fi
@@ -30,7 +30,7 @@ if [ "${NADIR_SKIP_SANITIZERS:-0}" != 1 ]; then
                         sed -n 's/^ *Test *#[0-9]*: //p')
   ((${#suites[@]})) || { echo "test: no ASan/UBSan suite matches in $asan" >&2; exit 1; }
   echo "test: building the ${#suites[@]} ASan/UBSan suites in $asan"
-  cmake --build "$asan" -j"$(nproc)" --target "${suites[@]}" 2>&1 | grep -vE '^\[ *[0-9]+%\] (Building|Linking|Built)' || true
+  cmake --build "$asan" -j"$(nproc)" --target "${suites[@]}" 2>&1 | grep -vE '^\[ *[0-9]+(%\]|/[0-9]+\]) (Building|Linking|Built)' || true
   test "${PIPESTATUS[0]}" -eq 0
   echo "test: ASan/UBSan run"
   (cd "$asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
