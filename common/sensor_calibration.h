@@ -1,6 +1,6 @@
 #pragma once
 // Installation calibration applied where sensor data enters the estimators
-// (issue 17; the values come from nadir_calibrate, tools/calibrate/README.md,
+// (the values come from nadir_calibrate, docs/calibration.md,
 // and, for the lever arms, from the installation drawing):
 //
 //   camera.time_offset_us    exposure time = image stamp + offset: the INS

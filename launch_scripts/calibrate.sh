@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Installation calibration from a calibration flight, one command (issue 17;
-# tools/calibrate/README.md). Two passes of nadir_calibrate:
+# Installation calibration from a calibration flight, one command
+# (docs/calibration.md). Two passes of nadir_calibrate:
 #   1. tracker replay -> epipolar fit (boresight, time offset, focal scale,
 #      k1 check) and altimeter regression (scale, bias);
 #   2. tracker + vo_solver replay with pass 1 applied -> the image scale against

@@ -27,7 +27,7 @@ replay_and_eval() {
 # metric DIR KEY: one number from DIR/metrics.json
 metric() { /usr/bin/python3 -c 'import json,sys; print("%.3f" % json.load(open(sys.argv[1]))[sys.argv[2]])' "$1/metrics.json" "$2"; }
 
-# The options table1.sh and noise_study.sh share (issue 17). The caller
+# The options table1.sh and noise_study.sh share. The caller
 # declares sim_args=() overlays=() report_suffix="".
 # use_sensor_set NAME OUT_VAR: simulate with config/sim_sensors.yaml's set NAME
 # (standard: nothing to add); other sets get their own logs, OUT_VAR-NAME.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Trigger -> POSE latency of a live process set over several runs (issue 20):
+# Trigger -> POSE latency of a live process set over several runs:
 # flies the demo profile through SET (sim: separate processes; sim_composed:
 # the estimator nodes in one process) RUNS times inside the private network
 # namespace, evaluates each capture and prints per run the latency by stage

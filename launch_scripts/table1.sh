@@ -6,9 +6,9 @@
 #                  [--sensor-set NAME] [--config-overlay FILE]...
 #   --reuse     keeps simulator logs already in logs/table1/
 #   --profiles  the rows (default test1,test2,test3); the rough-ground profiles
-#               of issue 16 (rough_120, rough_250: seeds 104, 105) have no paper figures
+#               of the rough-ground study (rough_120, rough_250: seeds 104, 105) have no paper figures
 #   --sensor-set  simulate with this set of config/sim_sensors.yaml (default standard;
-#               logs in logs/table1-NAME/), e.g. realistic (issue 17)
+#               logs in logs/table1-NAME/), e.g. realistic
 #   --config-overlay  replay with this fragment merged into the config, e.g.
 #               launch_scripts/calibrate.sh's calibration.yaml (reports in <profile>-<file name>/)
 set -euo pipefail

@@ -75,7 +75,7 @@ BENCHMARK(BM_RenderStatic)->Unit(benchmark::kMillisecond);
 void BM_RenderTest2(benchmark::State& state) { render_along(state, "test2"); }
 BENCHMARK(BM_RenderTest1)->Unit(benchmark::kMillisecond)->MinTime(5.0);
 BENCHMARK(BM_RenderTest2)->Unit(benchmark::kMillisecond)->MinTime(5.0);
-// Issue 16: the rough profiles over their own relief and over flat ground
+// The rough profiles over their own relief and over flat ground
 // (the same flight); the renderer should cost about the same on both.
 void BM_RenderRough120Flat(benchmark::State& state) { render_along(state, "rough_120", 0.0); }
 void BM_RenderRough120Relief3(benchmark::State& state) { render_along(state, "rough_120", 3.0); }

@@ -1,5 +1,5 @@
 #pragma once
-// Coasting (issue 23): when the VO deltas are there but their translation
+// Coasting: when the VO deltas are there but their translation
 // cannot be trusted -- the altimeter range that scales them is missing or
 // stale, the ground has no texture, the solve is bad -- yaw fusion does not
 // integrate them. It coasts: the last good velocity, held in the level

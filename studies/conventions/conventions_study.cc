@@ -44,7 +44,7 @@ struct Pair {
   int inliers = 0;
 };
 
-// The upper middle value (the figures in tools/import/README.md were printed
+// The upper middle value (the figures in docs/research/2026-11-seneca.md were printed
 // with it); NaN for no values, printed as such.
 double median(const std::vector<double>& v) {
   return v.empty() ? NAN : nadir::median(v, nadir::EvenMedian::kUpper);
@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
   double scale = 0.5;
   double max_dpsi = 20.0;
   CLI::App app{"Matches consecutive photos of a senseFly flight and prints the evidence for heading / roll / pitch "
-               "signs, which image axis is forward, and the focal length (tools/import/README.md).",
+               "signs, which image axis is forward, and the focal length (docs/research/2026-11-seneca.md).",
                "nadir_import_conventions"};
   std::string log_path, config_path;
   app.add_option("--photos", dir, "photo folder (senseFly XMP)");

@@ -63,7 +63,7 @@ TEST(Config, OverridesEditNestedKeysAndAreNamedInErrors) {
 }
 
 TEST(Config, AnOverlayMergesAFragmentKeyByKey) {
-  // nadir_calibrate's fragment (tools/calibrate/README.md) over a config.
+  // nadir_calibrate's fragment (docs/calibration.md) over a config.
   Config c = Config::parse(
       "camera: {fx: 398.79, fy: 398.79, cx: 305.5, mount_rpy_deg: [0, 0, 0]}\naltimeter: {beam_body: [0, 0, 1]}\n",
       "x.yaml");

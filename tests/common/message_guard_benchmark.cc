@@ -1,7 +1,7 @@
 // How long a process spends on one message before it can take the next:
 // valid messages of full size against hostile ones that declare huge or
 // negative lengths. The guard must decide a hostile message in about the time
-// it takes to read its header (issue 25: "no stall over 10 ms").
+// it takes to read its header ("no stall over 10 ms").
 #include <benchmark/benchmark.h>
 
 #include <climits>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 20: what the `propagate` attitude policy itself does to the estimate,
+# What the `propagate` attitude policy itself does to the estimate,
 # on a Table 1 profile (test3, seed 103, its first 40 s) with the INS's
 # per-sample white noise switched off, so that both policies see the same
 # attitude signal and only the method differs. The simulated flight is

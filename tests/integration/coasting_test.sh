@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 23's coasting on real simulated flights (rough_120: relief 3, level
+# The coasting on real simulated flights (rough_120: relief 3, level
 # for the first 15 s, then a 40 m climb to 45 s; seed 1), through nadir_replay
 # (tracker, vo_solver, yaw_fusion) and nadir_eval.
 #   coasting_test.sh altimeter: the same 45 s flight with and without a 10 s
@@ -12,7 +12,7 @@
 #   coasting_test.sh texture: a 25 s flight with a 10 s texture outage
 #     (contrast 0.03) from 3.5 s (level flight: without VO nothing measures a
 #     climb over rough ground, the climb rate is held): coasting flagged, no
-#     vertical excursion (the vertical error moves less than 3 m; issue 23 saw
+#     vertical excursion (the vertical error moves less than 3 m; the coasting study saw
 #     8 m in 1.5 s), every POSE field finite.
 # Nothing is cached: the flights are simulated each run (short for that).
 set -uo pipefail

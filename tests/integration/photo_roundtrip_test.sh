@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 22's round trip without real data: the simulator's survey flight
+# The round trip without real data: the simulator's survey flight
 # exported as a DJI-style photo survey (0.5 Hz, 74-79 % overlap on the lines,
 # one 180 deg turn between consecutive photos), imported back, replayed
 # through tracker + vo_solver + yaw_fusion and evaluated against the sim's

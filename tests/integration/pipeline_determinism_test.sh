@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# End-to-end determinism of the estimator (issue 6):
+# End-to-end determinism of the estimator:
 #  (a) nadir_replay of a simulator log through tracker+vo_solver+yaw_fusion,
 #      twice, gives byte-identical output logs;
 #  (b) the inputs captured in a live run of the sim set (udpm, inside the
@@ -7,9 +7,9 @@
 #      messages: same count, same values (default config: attitude_policy
 #      interpolate);
 #  (c) the same with attitude_policy propagate (no wait for the INS sample
-#      after a frame; issue 20);
+#      after a frame);
 #  (d) the same for the sim_composed set (the three nodes in one process,
-#      nadir_composed; issue 20), with propagate.
+#      nadir_composed), with propagate.
 set -uo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 source "$root/launch_scripts/common.sh"

@@ -4,7 +4,7 @@
 // the tracker over the flight): camera-body boresight, camera-INS time offset
 // and focal length scale by an epipolar fit; altimeter scale and bias by a
 // regression of the measured range against the height above ground along the
-// beam. Method and the flight it needs: tools/calibrate/README.md.
+// beam. Method and the flight it needs: docs/calibration.md.
 
 #include <array>
 #include <limits>

@@ -1,5 +1,5 @@
 // nadir_calibrate: camera boresight, camera time offset, focal scale and
-// altimeter scale/bias from a flight segment (tools/calibrate/README.md).
+// altimeter scale/bias from a flight segment (docs/calibration.md).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>

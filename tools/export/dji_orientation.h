@@ -1,5 +1,5 @@
 #pragma once
-// The DJI photo orientation (issue 22's contract, section 3) for a simulator
+// The DJI photo orientation (the contract, section 3) for a simulator
 // camera. The simulator's image has columns along the camera x axis (body
 // forward at the nominal mount); a DJI nadir photo has its top towards the
 // aircraft's forward. The exporter turns every image 90 deg counter-clockwise

@@ -1,5 +1,5 @@
 #pragma once
-// nadir_sim log -> what a real flight brings (issue 22's round trip):
+// nadir_sim log -> what a real flight brings (the round trip):
 //  - a DJI-style photo survey: JPEG photos every `interval_s` of sensor time,
 //    none while the aircraft turns faster than `max_yaw_rate_dps` (a survey
 //    camera triggers on the lines), turned to the DJI orientation, EXIF/XMP

@@ -1,6 +1,6 @@
 // nadir_export: a nadir_sim log -> a DJI-style photo survey or a video with
 // SRT/CSV telemetry, so that nadir_import can bring a flight back whose truth
-// is known (issue 22's round trip).
+// is known (the round trip).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 #pragma once
 // A recorded flight (a photo folder, or a video with .SRT / CSV telemetry) ->
 // a nadir LCM log OUT.lcmlog + the config OUT.yaml that nadir_replay and
-// nadir_eval run on unchanged. Conventions: tools/import/README.md.
+// nadir_eval run on unchanged. Conventions: docs/own-flight.md.
 
 #include <Eigen/Core>
 
@@ -34,7 +34,7 @@ CameraIntrinsics read_camera_file(const std::string& path);
 // senseFly, video: the top of the image is the aircraft's forward -> [0, 0, 90].
 inline constexpr std::array<double, 3> kTopForwardMount{0.0, 0.0, 90.0};
 
-// senseFly XMP (established from the Seneca flight, tools/import/README.md):
+// senseFly XMP (established from the Seneca flight, docs/own-flight.md):
 // body attitude = ZYX(yaw = Heading, pitch = kSenseflyPitchSign * PitchAngle,
 // roll = kSenseflyRollSign * RollAngle), camera mounted with kSenseflyMount.
 inline constexpr double kSenseflyRollSign = 1.0;

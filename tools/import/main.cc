@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
       "drone-dji: or senseFly sensefly: XMP attitude and height) or a video with a DJI-style .SRT or a CSV "
       "(time_s,roll_deg,pitch_deg,yaw_deg,range_m|height_m,lat_deg,lon_deg,alt_m). Writes OUT.lcmlog (CONFIG, "
       "CAMERA_IMAGE grey, INS, ALTIMETER, GROUND_TRUTH from GPS) and OUT.yaml for nadir_replay --config. "
-      "Conventions: tools/import/README.md.",
+      "Conventions: docs/own-flight.md.",
       "nadir_import"};
   app.add_option("--photos", o.photos_dir, "folder of photos (taken in file-name order)");
   app.add_option("--video", o.video, "video file (OpenCV VideoCapture)");

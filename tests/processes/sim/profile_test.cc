@@ -68,7 +68,7 @@ INSTANTIATE_TEST_SUITE_P(Table1, ProfileFlight,
                                            Expected{"rough_250", 5000, 250, 25, 0.3}),
                          [](const auto& info) { return std::string(info.param.name); });
 
-// The rough profiles (issue 16) fly low over the steepest relief: with every
+// The rough profiles fly low over the steepest relief: with every
 // seed the rough study uses, the aircraft stays well clear of the ground
 // (at least half its nominal height above the terrain below it).
 TEST(RoughProfiles, KeepClearOfTheRidges) {

@@ -3,7 +3,7 @@
 // features, near-zero, negative and huge ranges, attitudes at the edge of the
 // physical range, and random mixtures. Whatever comes in, every published
 // field must be finite, and an estimate that is not good must say so in its
-// quality bits (issue 23: "nothing non-finite is ever published").
+// quality bits ("nothing non-finite is ever published").
 #include <gtest/gtest.h>
 
 #include <cmath>

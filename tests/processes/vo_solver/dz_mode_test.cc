@@ -1,7 +1,7 @@
 // Why forward and time-reversed dz disagree, and what each dz mode does with
-// INS levelling errors that are white or correlated in time (issue 21,
-// DERIVATION.md section 7b). The study table printed here is the synthetic
-// part of the README's dz-mode evidence.
+// INS levelling errors that are white or correlated in time
+// (DERIVATION.md section 7b). The study table printed here is the synthetic
+// part of the dz-mode study (docs/research/).
 
 #include <gtest/gtest.h>
 

@@ -175,7 +175,7 @@ TEST(FrameSync, OptionsAreChecked) {
   EXPECT_THROW(bad.Check(), std::invalid_argument);
 }
 
-// Issue 17: a camera stamping its frames `offset` before the exposure and an
+// A camera stamping its frames `offset` before the exposure and an
 // altimeter measuring scale * true + bias; with the calibration in the sync
 // options the frame's attitude and range are the true ones at the exposure,
 // exactly (noise-free, attitude and range linear in time).

@@ -1,4 +1,4 @@
-// Issue 17: a camera and an altimeter mounted away from the INS reference
+// A camera and an altimeter mounted away from the INS reference
 // point, the altimeter's beam misaligned. The pair is built here from world
 // poses (INS position and attitude, each sensor at INS + R lever) and plain
 // ray/plane intersection; with the installation in SensorCalibration the

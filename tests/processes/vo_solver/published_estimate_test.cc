@@ -1,5 +1,5 @@
 // VO_DELTA's figures must describe the estimate that is published, whatever
-// the variant and dz mode (issue 21). The reprojection error and the altitude
+// the variant and dz mode. The reprojection error and the altitude
 // are recomputed here from world poses and a plain ray/plane intersection, not
 // with the solver's residual code.
 

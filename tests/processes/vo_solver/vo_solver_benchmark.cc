@@ -2,7 +2,7 @@
 // iteration, for each variant; the goal for `paper` and `feature_depth` is
 // <= 0.5 ms per frame on one core. Run: build/bin/nadir_bench_vo_solver (pin
 // with taskset -c 0).
-// Issue 16, this machine under load (load average ~3), back to back:
+// this machine under load (load average ~3), back to back:
 // Paper_Noise05px_Outliers30 748-828 us CPU before (main's build), 525-560 us
 // after (LM reuses the trial's normal equations, lower-triangle accumulation,
 // inlined eq. (9), forward covariance once, -O3 for the solver library; the

@@ -417,7 +417,7 @@ namespace {
 TEST(VoSolverNode, ShippedConfigBuildsTheNode) {
   const Config config = Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml");
   const VoSolverOptions options = VoSolverOptions::from_config(config);
-  EXPECT_EQ(options.solver.variant, vo::Variant::kFeatureDepth);  // the default since issue 16
+  EXPECT_EQ(options.solver.variant, vo::Variant::kFeatureDepth);  // the default
   EXPECT_DOUBLE_EQ(options.solver.focal_px, 398.79);
   EXPECT_EQ(options.sync.altimeter_wait_us, 300000);
   LcmBusOptions bus_options;

@@ -1,4 +1,4 @@
-// Coasting (issue 23): deltas whose translation cannot be trusted are not
+// Coasting: deltas whose translation cannot be trusted are not
 // integrated; the pose coasts on the last velocity, flagged, with a growing
 // covariance, and resumes without a jump. Also: nothing non-finite is ever
 // published whatever the VO_DELTA holds.

@@ -581,7 +581,7 @@ TEST(YawFusionOptions, CheckedInDefaultConfigLoads) {
   EXPECT_EQ(o.reject_quality_mask, YawFusionOptions{}.reject_quality_mask);
 }
 
-// Issue 17: the camera stamps each frame 3 ms before its exposure and the
+// The camera stamps each frame 3 ms before its exposure and the
 // altimeter measures 1.01 * true + 0.3 m. With camera.time_offset_us and
 // altimeter.range_scale / range_bias_m in the config the noise-free flight is
 // recovered exactly (poses keep the frames' stamps); without them it is not.
