@@ -5,7 +5,10 @@
 # stops them all cleanly on Ctrl-C / SIGTERM. Optional lcm-logger capture.
 #
 # Usage: run_set.sh SET [--no-capture] [--duration S] [--max-restarts N] [--lcm-url URL]
-#                    [--rt-priority P]
+#                    [--rt-priority P] [--print-commands]
+# --print-commands prints each process of the set as `KIND NAME COMMAND...`
+# (variables expanded, nothing started; `capture NAME` for the logger) and
+# exits: what launch_scripts/systemd_units.sh turns into systemd units.
 # --rt-priority P runs every `run` process (the vehicle's long-running nodes, not
 # the finite source) and the capture logger (the stand-in for the POSE
 # consumer, and the latency instrument: it must not be starved by the nodes)
@@ -27,13 +30,14 @@
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-usage() { sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; }
 set_arg=""
 capture_enabled=1
 duration=""
 max_restarts=5
 grace_s=2
 rt_priority=
+print_commands=0
 while (($#)); do
   case "$1" in
     -h|--help) usage; exit 0 ;;
@@ -42,6 +46,7 @@ while (($#)); do
     --max-restarts) max_restarts="$2"; shift 2 ;;
     --lcm-url) export LCM_DEFAULT_URL="$2"; shift 2 ;;
     --rt-priority) rt_priority="$2"; shift 2 ;;
+    --print-commands) print_commands=1; shift ;;
     -*) echo "run_set: error: unknown option $1" >&2; exit 2 ;;
     *) set_arg="$1"; shift ;;
   esac
@@ -87,6 +92,16 @@ while IFS= read -r raw || [ -n "$raw" ]; do
   esac
 done <"$set_file"
 ((${#names[@]})) || { echo "run_set: error: $set_file starts no process" >&2; exit 2; }
+
+if ((print_commands)); then
+  [ -n "$capture_name" ] && echo "capture $capture_name"
+  for n in "${names[@]}"; do
+    expanded="$(bash -c "echo ${cmd[$n]}")" ||
+      { echo "run_set: error: set '$set_name': cannot expand the command of $n" >&2; exit 2; }
+    echo "${kind[$n]} $n $expanded"
+  done
+  exit 0
+fi
 
 logger_pid=""
 capture_dir=""

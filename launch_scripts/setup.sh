@@ -40,12 +40,13 @@ packages=(
 if [ "$scope" != demo ]; then
   # The other programs and their tools: photo import (exiv2), lcm-spy (Java,
   # jchart2d, Xvfb for a headless check), the Aravis fake camera, gpiod,
-  # campaigns on Slurm, the tests and benchmarks, and the documentation site.
+  # campaigns on Slurm, the tests and benchmarks, the documentation site and
+  # systemd-analyze (the vehicle's units are verified by the tests).
   packages+=(
     liblcm-java libexiv2-dev aravis-tools aravis-tools-cli gpiod
     libgtest-dev libgmock-dev libbenchmark-dev
     openjdk-17-jdk-headless libjchart2d-java xvfb xauth
-    python3-yaml slurm-wlm munge mkdocs
+    python3-yaml slurm-wlm munge mkdocs systemd libgeographiclib-dev
   )
   # node and npm (node-mavlink, for the MAVLink bridge's tests): Debian's only
   # where none is installed -- Debian's npm conflicts with a nodesource nodejs.

@@ -78,8 +78,13 @@ void BridgeRunner::service_serial(int64_t now_us) {
 void BridgeRunner::read_udp() {
   std::vector<uint8_t> datagram;
   // Bounded per round so a flood cannot starve LCM.
-  for (int i = 0; i < 64 && udp_->receive(&datagram); ++i) {
-    bridge_.on_bytes(datagram.data(), datagram.size(), vehicle_time_now_us(), 0.0, true);
+  sockaddr_in from{};
+  for (int i = 0; i < 64 && udp_->receive(&datagram, &from); ++i) {
+    // Replies go where the autopilot's valid frames come from, never to the
+    // sender of a datagram that decoded to nothing of the autopilot's.
+    if (bridge_.on_bytes(datagram.data(), datagram.size(), vehicle_time_now_us(), 0.0, true) > 0) {
+      udp_->set_peer(from);
+    }
   }
 }
 
@@ -142,6 +147,7 @@ StatusReport BridgeRunner::status() const {
   if (udp_) {
     r.counters.emplace_back("udp_datagrams_in", static_cast<double>(udp_->datagrams_in()));
     r.counters.emplace_back("udp_datagrams_out", static_cast<double>(udp_->datagrams_out()));
+    r.counters.emplace_back("udp_peer_changes", static_cast<double>(udp_->peer_changes()));
     if (!udp_->has_peer()) {
       if (r.state == status_t::STATE_OK) r.state = status_t::STATE_WARN;
       r.detail += std::string(r.detail.empty() ? "" : "; ") + "UDP: nothing heard on " + options_.link.local;

@@ -31,6 +31,7 @@ class BridgeRunner {
   void publish_status(int8_t forced_state = -1);
   const MavlinkBridge& bridge() const { return bridge_; }
   uint16_t udp_port() const { return udp_ ? udp_->local_port() : 0; }
+  int64_t udp_peer_changes() const { return udp_ ? udp_->peer_changes() : 0; }
 
  private:
   void write(const std::vector<uint8_t>& frame);

@@ -46,12 +46,14 @@ MavlinkBridge::MavlinkBridge(const BridgeOptions& options, Bus& bus, Send send)
   options_.Check();
 }
 
-void MavlinkBridge::on_bytes(const uint8_t* data, size_t size, int64_t arrival_us, double byte_time_us,
-                             bool datagram) {
+int MavlinkBridge::on_bytes(const uint8_t* data, size_t size, int64_t arrival_us, double byte_time_us,
+                            bool datagram) {
   frames_.clear();
   parser_.feed(data, size, arrival_us, byte_time_us, &frames_);
   if (datagram) parser_.end_of_datagram(&frames_);
-  for (const mavlink::Frame& frame : frames_) handle(frame);
+  int from_autopilot = 0;
+  for (const mavlink::Frame& frame : frames_) from_autopilot += handle(frame) ? 1 : 0;
+  return from_autopilot;
 }
 
 void MavlinkBridge::on_link_reopened() {
@@ -59,20 +61,28 @@ void MavlinkBridge::on_link_reopened() {
   clock_.restart("MAVLink link reopened");
 }
 
-void MavlinkBridge::handle(const mavlink::Frame& frame) {
+bool MavlinkBridge::handle(const mavlink::Frame& frame) {
   using namespace mavlink;
-  if (frame.sysid == options_.system_id && frame.compid == options_.component_id) return;  // our own echo
+  if (frame.sysid == options_.system_id && frame.compid == options_.component_id) return false;  // our own echo
   if (frame.msgid == Heartbeat::kId) {
     const Heartbeat hb = frame.decode<Heartbeat>();
     ++in_.heartbeats;
     // The first system that says it is an autopilot is the one we listen to.
     if (autopilot_sysid_ == 0 && hb.autopilot != kMavAutopilotInvalid) autopilot_sysid_ = frame.sysid;
-    return;
+    return autopilot_sysid_ != 0 && frame.sysid == autopilot_sysid_;
   }
   if (autopilot_sysid_ != 0 && frame.sysid != autopilot_sysid_) {
     ++in_.other_system;
-    return;
+    return false;
   }
+  // Before the first autopilot HEARTBEAT any system's frames are taken (and
+  // answered): a configured autopilot_system_id narrows that from the start.
+  handle_from_autopilot(frame);
+  return true;
+}
+
+void MavlinkBridge::handle_from_autopilot(const mavlink::Frame& frame) {
+  using namespace mavlink;
   switch (frame.msgid) {
     case SystemTime::kId:
       clock_sample(int64_t{frame.decode<SystemTime>().time_boot_ms} * 1000, frame.start_arrival_us);

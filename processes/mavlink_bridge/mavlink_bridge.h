@@ -56,8 +56,11 @@ class MavlinkBridge {
   using Send = std::function<void(const std::vector<uint8_t>& frame)>;
   MavlinkBridge(const BridgeOptions& options, Bus& bus, Send send);
 
-  // Bytes from the link; `datagram`: they are one whole UDP datagram.
-  void on_bytes(const uint8_t* data, size_t size, int64_t arrival_us, double byte_time_us, bool datagram);
+  // Bytes from the link; `datagram`: they are one whole UDP datagram. Returns
+  // how many of the frames they held came from the autopilot (valid frames of
+  // the autopilot's system, or its HEARTBEAT): the UDP server answers only a
+  // sender with at least one.
+  int on_bytes(const uint8_t* data, size_t size, int64_t arrival_us, double byte_time_us, bool datagram);
   void on_link_reopened();
   void on_pose(const pose_t& pose);
   // Periodic output (HEARTBEAT, TIMESYNC requests) due at vehicle time now_us.
@@ -72,7 +75,9 @@ class MavlinkBridge {
   int autopilot_system() const { return autopilot_sysid_; }
 
  private:
-  void handle(const mavlink::Frame& frame);
+  // True when the frame came from the autopilot.
+  bool handle(const mavlink::Frame& frame);
+  void handle_from_autopilot(const mavlink::Frame& frame);
   void clock_sample(int64_t device_us, int64_t arrival_us);
   void on_attitude(uint32_t time_boot_ms, double roll, double pitch, double yaw, const float rates[3]);
   void on_distance(const mavlink::Frame& frame);

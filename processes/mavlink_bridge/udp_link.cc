@@ -68,7 +68,7 @@ uint16_t UdpLink::local_port() const {
   return ntohs(addr.sin_port);
 }
 
-bool UdpLink::receive(std::vector<uint8_t>* datagram) {
+bool UdpLink::receive(std::vector<uint8_t>* datagram, sockaddr_in* sender) {
   datagram->resize(65536);
   sockaddr_in from{};
   socklen_t len = sizeof from;
@@ -79,11 +79,17 @@ bool UdpLink::receive(std::vector<uint8_t>* datagram) {
   }
   datagram->resize(static_cast<size_t>(got));
   ++datagrams_in_;
-  if (server_) {
-    peer_ = from;
-    have_peer_ = true;
-  }
+  if (sender) *sender = from;
   return true;
+}
+
+void UdpLink::set_peer(const sockaddr_in& peer) {
+  if (!server_) return;
+  const bool same = have_peer_ && peer.sin_addr.s_addr == peer_.sin_addr.s_addr && peer.sin_port == peer_.sin_port;
+  if (same) return;
+  if (have_peer_) ++peer_changes_;
+  peer_ = peer;
+  have_peer_ = true;
 }
 
 bool UdpLink::send(const uint8_t* data, size_t size) {

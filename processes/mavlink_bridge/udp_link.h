@@ -1,7 +1,11 @@
 #pragma once
-// One UDP socket for MAVLink: as a server (bound, answers whoever sent last,
-// as an autopilot's companion link is usually set up) or as a client (sends
-// to a fixed address). Non-blocking; every datagram holds whole frames.
+// One UDP socket for MAVLink: as a server (bound, answers the autopilot at the
+// address its last valid frame came from, as an autopilot's companion link is
+// usually set up) or as a client (sends to a fixed address). Non-blocking;
+// every datagram holds whole frames. The socket never picks its reply address
+// itself: a datagram's sender becomes the peer only when the caller says its
+// frames were the autopilot's (set_peer), so a stray or forged datagram from
+// another port diverts nothing.
 
 #include <netinet/in.h>
 
@@ -25,8 +29,12 @@ class UdpLink {
   void open();
   int fd() const { return fd_; }
   uint16_t local_port() const;
-  // One datagram, or false when none is waiting.
-  bool receive(std::vector<uint8_t>* datagram);
+  // One datagram and its sender (`from` may be null), or false when none is waiting.
+  bool receive(std::vector<uint8_t>* datagram, sockaddr_in* from = nullptr);
+  // Server: reply to `peer` from now on (counted when it changes). Ignored by
+  // a client, whose peer is its configured remote.
+  void set_peer(const sockaddr_in& peer);
+  int64_t peer_changes() const { return peer_changes_; }
   // False when there is nobody to send to yet (server before the first
   // datagram) or the send failed (counted).
   bool send(const uint8_t* data, size_t size);
@@ -47,6 +55,7 @@ class UdpLink {
   int64_t datagrams_in_ = 0;
   int64_t datagrams_out_ = 0;
   int64_t send_failures_ = 0;
+  int64_t peer_changes_ = 0;
   std::string last_error_;
 };
 

@@ -29,7 +29,16 @@ fi
 [ -x "$tool" ] || fail "$tool not built"
 
 work="$(mktemp -d)"
-export NADIR_SLURM_DIR="$work/slurm" NADIR_SLURM_CTLD_PORT=16817 NADIR_SLURM_D_PORT=16818
+# Ports of its own, free now (another one-node cluster on the machine, e.g.
+# another checkout's test, must not be reached nor collided with), and its
+# own state, spool and log folders under $work.
+read -r ctld_port d_port < <(/usr/bin/python3 -c '
+import socket
+socks = [socket.socket() for _ in range(2)]
+for s in socks: s.bind(("127.0.0.1", 0))
+print(*(s.getsockname()[1] for s in socks))')
+[ -n "$d_port" ] || fail "no free ports for the test cluster"
+export NADIR_SLURM_DIR="$work/slurm" NADIR_SLURM_CTLD_PORT="$ctld_port" NADIR_SLURM_D_PORT="$d_port"
 cleanup() {
   "$root/launch_scripts/slurm_local.sh" stop >/dev/null 2>&1
   rm -rf "$work"

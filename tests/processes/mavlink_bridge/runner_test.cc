@@ -206,5 +206,64 @@ TEST(MavlinkBridgeRunner, UdpServerAnswersWhoeverSent) {
   EXPECT_EQ(runner.bridge().rejected_frames(), 0);
 }
 
+// A datagram from another local port must not take the bridge's replies: not
+// one with a bad CRC, not garbage, not a valid frame from a system that is not
+// the autopilot. Before the fix, the first of these diverted every frame
+// (HEARTBEAT, TIMESYNC, the position) to the sender until the autopilot spoke
+// again.
+TEST(MavlinkBridgeRunner, UdpServerRepliesOnlyToTheAutopilotsValidFrames) {
+  BridgeOptions options;
+  options.link.kind = "udp_server";
+  options.link.local = "127.0.0.1:0";
+  t::Collected got;
+  std::unique_ptr<LcmBus> bus = t::memq_bus(&got);
+  BridgeRunner runner(options, *bus, "mavlink_bridge", 0.5);
+  const std::string bridge_address = "127.0.0.1:" + std::to_string(runner.udp_port());
+  UdpLink socket(false, "127.0.0.1:0", bridge_address);
+  socket.open();
+  UdpLink intruder(false, "127.0.0.1:0", bridge_address);
+  intruder.open();
+  Autopilot autopilot([&](const std::vector<uint8_t>& f) { socket.send(f.data(), f.size()); });
+  auto serve = [&] {
+    std::vector<uint8_t> datagram;
+    while (socket.receive(&datagram)) autopilot.on_bytes(datagram.data(), datagram.size(), true);
+  };
+  run_for(1.2, runner, autopilot, serve);
+  ASSERT_EQ(runner.bridge().autopilot_system(), 1);
+
+  // A valid ATTITUDE with one byte of its payload flipped (bad CRC), bytes
+  // that are no frame at all, and a well-formed frame from system 77.
+  mavlink::FrameEncoder autopilot_encoder(1, 1), stranger_encoder(77, 1);
+  std::vector<uint8_t> bad_crc = autopilot_encoder.encode(mavlink::Attitude{});
+  bad_crc[12] ^= 0x5a;
+  const std::vector<uint8_t> garbage(40, 0xfd);
+  mavlink::Heartbeat gcs_heartbeat;  // a ground station: not an autopilot
+  gcs_heartbeat.autopilot = mavlink::kMavAutopilotInvalid;
+  const std::vector<uint8_t> stranger = stranger_encoder.encode(mavlink::Attitude{});
+  for (const auto* d : {&bad_crc, &garbage, &stranger}) intruder.send(d->data(), d->size());
+  const std::vector<uint8_t> gcs = stranger_encoder.encode(gcs_heartbeat);
+  intruder.send(gcs.data(), gcs.size());
+
+  const int vpe_before = autopilot.received(mavlink::VisionPositionEstimate::kId);
+  const int timesync_before = autopilot.received(mavlink::TimeSync::kId);
+  // Only the intruder's datagrams this round: the autopilot stays quiet for
+  // 0.3 s while the bridge keeps sending (TIMESYNC at 10 Hz) and a POSE comes.
+  const auto quiet_until = Clock::now() + std::chrono::milliseconds(300);
+  bus->publish(channels::kPose, a_pose());
+  while (Clock::now() < quiet_until) {
+    runner.step(2);
+    serve();
+  }
+  std::vector<uint8_t> datagram;
+  int diverted = 0;
+  while (intruder.receive(&datagram)) ++diverted;
+  EXPECT_EQ(diverted, 0) << "the bridge sent to the intruder's port";
+  EXPECT_EQ(autopilot.received(mavlink::VisionPositionEstimate::kId), vpe_before + 1);
+  EXPECT_GT(autopilot.received(mavlink::TimeSync::kId), timesync_before);
+  EXPECT_EQ(runner.udp_peer_changes(), 0);
+  EXPECT_GE(runner.bridge().rejected_frames(), 1);  // the bad CRC and the garbage were counted
+  EXPECT_GE(runner.bridge().input().other_system, 1);
+}
+
 }  // namespace
 }  // namespace nadir::mavlink_bridge
