@@ -18,10 +18,10 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "tools", "campaign"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "tools", "campaign"))
 from campaign_stats import bootstrap_ci  # noqa: E402
 
-GROUP = 3  # the goal is over three seeds
+GROUP = 3  # the goal is over three seeds
 COLUMNS = ("profile", "seed", "ground", "variant", "final_error_pct")
 
 

@@ -60,7 +60,7 @@ systemd-analyze verify --man=no "$work/plain"/*.service || fail "systemd-analyze
 
 # Bad arguments.
 out="$("$root/launch_scripts/systemd_units.sh" vehicle "$work/bad" --user root 2>&1)" && fail "--user root accepted"
-echo "$out" | grep -q "runs unprivileged" || fail "--user root: unclear message: $out"
+echo "$out" | grep -q "run unprivileged" || fail "--user root: unclear message: $out"
 out="$("$root/launch_scripts/systemd_units.sh" vehicle "$work/bad" --rt-priority 99 2>&1)" && fail "--rt-priority 99 accepted"
 echo "$out" | grep -q "\[1, 98\]" || fail "--rt-priority 99: unclear message: $out"
 out="$("$root/launch_scripts/systemd_units.sh" sim "$work/bad" 2>&1)" && fail "a set with a finite process accepted"

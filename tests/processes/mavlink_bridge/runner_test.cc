@@ -181,21 +181,42 @@ TEST(MavlinkBridgeRunner, SerialLinkOverAPseudoTerminalWithAReplug) {
   EXPECT_EQ(runner.bridge().rejected_frames(), 0);
 }
 
-TEST(MavlinkBridgeRunner, UdpServerAnswersWhoeverSent) {
-  BridgeOptions options;
-  options.link.kind = "udp_server";
-  options.link.local = "127.0.0.1:0";
-  t::Collected got;
-  std::unique_ptr<LcmBus> bus = t::memq_bus(&got);
-  BridgeRunner runner(options, *bus, "mavlink_bridge", 0.5);
-  UdpLink socket(false, "127.0.0.1:0", "127.0.0.1:" + std::to_string(runner.udp_port()));
-  socket.open();
-  Autopilot autopilot([&](const std::vector<uint8_t>& f) { socket.send(f.data(), f.size()); });
-  auto serve = [&] {
+// The bridge as a UDP server on loopback and the autopilot on a client socket.
+struct UdpServerSetup {
+  UdpServerSetup()
+      : bus(t::memq_bus(&got)),
+        runner(server_options(), *bus, "mavlink_bridge", 0.5),
+        socket(false, "127.0.0.1:0", bridge_address()),
+        autopilot([this](const std::vector<uint8_t>& f) { socket.send(f.data(), f.size()); }) {
+    socket.open();
+  }
+  static BridgeOptions server_options() {
+    BridgeOptions options;
+    options.link.kind = "udp_server";
+    options.link.local = "127.0.0.1:0";
+    return options;
+  }
+  std::string bridge_address() const { return "127.0.0.1:" + std::to_string(runner.udp_port()); }
+  // Reads the autopilot's end of the link.
+  void serve() {
     std::vector<uint8_t> datagram;
     while (socket.receive(&datagram)) autopilot.on_bytes(datagram.data(), datagram.size(), true);
-  };
-  run_for(1.5, runner, autopilot, serve);
+  }
+  void run(double seconds) { run_for(seconds, runner, autopilot, [this] { serve(); }); }
+
+  t::Collected got;
+  std::unique_ptr<LcmBus> bus;
+  BridgeRunner runner;
+  UdpLink socket;
+  Autopilot autopilot;
+};
+
+TEST(MavlinkBridgeRunner, UdpServerAnswersWhoeverSent) {
+  UdpServerSetup setup;
+  auto& [got, bus, runner, socket, autopilot] = setup;
+  (void)socket;
+  auto serve = [&] { setup.serve(); };
+  setup.run(1.5);
   t::drain(*bus);
   expect_times_mapped(got, autopilot.boot_us(), 50);
   bus->publish(channels::kPose, a_pose());
@@ -212,23 +233,13 @@ TEST(MavlinkBridgeRunner, UdpServerAnswersWhoeverSent) {
 // (HEARTBEAT, TIMESYNC, the position) to the sender until the autopilot spoke
 // again.
 TEST(MavlinkBridgeRunner, UdpServerRepliesOnlyToTheAutopilotsValidFrames) {
-  BridgeOptions options;
-  options.link.kind = "udp_server";
-  options.link.local = "127.0.0.1:0";
-  t::Collected got;
-  std::unique_ptr<LcmBus> bus = t::memq_bus(&got);
-  BridgeRunner runner(options, *bus, "mavlink_bridge", 0.5);
-  const std::string bridge_address = "127.0.0.1:" + std::to_string(runner.udp_port());
-  UdpLink socket(false, "127.0.0.1:0", bridge_address);
-  socket.open();
-  UdpLink intruder(false, "127.0.0.1:0", bridge_address);
+  UdpServerSetup setup;
+  auto& [got, bus, runner, socket, autopilot] = setup;
+  (void)got;
+  (void)socket;
+  UdpLink intruder(false, "127.0.0.1:0", setup.bridge_address());
   intruder.open();
-  Autopilot autopilot([&](const std::vector<uint8_t>& f) { socket.send(f.data(), f.size()); });
-  auto serve = [&] {
-    std::vector<uint8_t> datagram;
-    while (socket.receive(&datagram)) autopilot.on_bytes(datagram.data(), datagram.size(), true);
-  };
-  run_for(1.2, runner, autopilot, serve);
+  setup.run(1.2);
   ASSERT_EQ(runner.bridge().autopilot_system(), 1);
 
   // A valid ATTITUDE with one byte of its payload flipped (bad CRC), bytes
@@ -240,7 +251,9 @@ TEST(MavlinkBridgeRunner, UdpServerRepliesOnlyToTheAutopilotsValidFrames) {
   mavlink::Heartbeat gcs_heartbeat;  // a ground station: not an autopilot
   gcs_heartbeat.autopilot = mavlink::kMavAutopilotInvalid;
   const std::vector<uint8_t> stranger = stranger_encoder.encode(mavlink::Attitude{});
-  for (const auto* d : {&bad_crc, &garbage, &stranger}) intruder.send(d->data(), d->size());
+  for (const std::vector<uint8_t>* d : std::initializer_list<const std::vector<uint8_t>*>{&bad_crc, &garbage, &stranger}) {
+    intruder.send(d->data(), d->size());
+  }
   const std::vector<uint8_t> gcs = stranger_encoder.encode(gcs_heartbeat);
   intruder.send(gcs.data(), gcs.size());
 
@@ -252,7 +265,7 @@ TEST(MavlinkBridgeRunner, UdpServerRepliesOnlyToTheAutopilotsValidFrames) {
   bus->publish(channels::kPose, a_pose());
   while (Clock::now() < quiet_until) {
     runner.step(2);
-    serve();
+    setup.serve();
   }
   std::vector<uint8_t> datagram;
   int diverted = 0;
