@@ -192,7 +192,7 @@ class NodeRoundTrip : public ::testing::Test {
  protected:
   void SetUp() override {
     if (node_modules().empty()) {
-      FAIL() << "node-mavlink is not installed: run launch_scripts/setup.sh, or "
+      FAIL() << "node-mavlink is not installed: run launch_scripts/setup.sh --tests, or "
                 "tests/processes/mavlink_bridge/install_node_mavlink.sh " NADIR_BINARY_DIR " (outside the netns)";
     }
   }
