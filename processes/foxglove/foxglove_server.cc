@@ -136,9 +136,8 @@ class FoxgloveServer::Impl {
         return true;
       }
     }
-    ++rejected_;
-    note_event(con->get_remote_endpoint() + " refused: no " + kSubprotocol + " subprotocol requested");
-    return false;
+    refused_reason_ = std::string("no ") + kSubprotocol + " subprotocol requested";
+    return false;  // on_fail counts it
   }
 
   void on_open(connection_hdl hdl) {
@@ -175,7 +174,9 @@ class FoxgloveServer::Impl {
   }
 
   void on_close(connection_hdl hdl) {
-    WsServer::connection_ptr con = server_.get_con_from_hdl(hdl);
+    websocketpp::lib::error_code ec;
+    WsServer::connection_ptr con = server_.get_con_from_hdl(hdl, ec);
+    if (ec) return forget(hdl);
     const auto code = con->get_remote_close_code();
     auto it = clients_.find(hdl);
     if (it != clients_.end() && !it->second.closing &&
@@ -189,11 +190,18 @@ class FoxgloveServer::Impl {
   }
 
   void on_fail(connection_hdl hdl) {
-    WsServer::connection_ptr con = server_.get_con_from_hdl(hdl);
-    if (clients_.count(hdl)) {
+    websocketpp::lib::error_code ec;
+    WsServer::connection_ptr con = server_.get_con_from_hdl(hdl, ec);
+    if (!ec && clients_.count(hdl)) {
       ++protocol_disconnected_;
       note_event(clients_[hdl].peer + " failed: " + con->get_ec().message());
+    } else if (!ec) {
+      // The handshake failed: not HTTP, not a WebSocket upgrade, or refused by on_validate.
+      ++rejected_;
+      note_event(con->get_remote_endpoint() + " refused: " +
+                 (refused_reason_.empty() ? con->get_ec().message() : refused_reason_));
     }
+    refused_reason_.clear();
     forget(hdl);
   }
 
@@ -286,19 +294,22 @@ class FoxgloveServer::Impl {
 
   void deliver(int channel, int64_t timestamp_ns, const std::string& payload) {
     const int64_t now = steady_ns();
+    // Cut after the loop: terminating runs the close handler, which erases from clients_.
+    std::vector<WsServer::connection_ptr> to_cut;
     for (auto& [hdl, client] : clients_) {
       if (client.closing) continue;
       for (const auto& [sub, ch] : client.subscriptions) {
         if (ch != channel) continue;
-        WsServer::connection_ptr con = server_.get_con_from_hdl(hdl);
+        websocketpp::lib::error_code ec;
+        WsServer::connection_ptr con = server_.get_con_from_hdl(hdl, ec);
+        if (ec) break;
         if (con->get_buffered_amount() > options_.max_client_buffer_bytes) {
           ++dropped_client_;
           if (client.over_buffer_since_ns < 0) client.over_buffer_since_ns = now;
           if (now - client.over_buffer_since_ns > static_cast<int64_t>(options_.slow_client_timeout_s * 1e9)) {
             ++slow_disconnected_;
             disconnect(hdl, client, websocketpp::close::status::policy_violation, "slow consumer");
-            // The close frame waits behind the unsent data: cut it now.
-            con->terminate(websocketpp::lib::error_code());
+            to_cut.push_back(con);  // the close frame would wait behind the unsent data
           }
           break;
         }
@@ -306,9 +317,9 @@ class FoxgloveServer::Impl {
         std::string frame(13 + payload.size(), '\0');
         frame[0] = 0x01;  // messageData
         for (int i = 0; i < 4; ++i) frame[1 + i] = static_cast<char>((sub >> (8 * i)) & 0xff);
-        for (int i = 0; i < 8; ++i) frame[5 + i] = static_cast<char>((static_cast<uint64_t>(timestamp_ns) >> (8 * i)) & 0xff);
+        for (int i = 0; i < 8; ++i)
+          frame[5 + i] = static_cast<char>((static_cast<uint64_t>(timestamp_ns) >> (8 * i)) & 0xff);
         std::memcpy(&frame[13], payload.data(), payload.size());
-        websocketpp::lib::error_code ec;
         server_.send(hdl, frame, websocketpp::frame::opcode::binary, ec);
         if (!ec) {
           ++sent_;
@@ -316,6 +327,7 @@ class FoxgloveServer::Impl {
         }
       }
     }
+    for (const WsServer::connection_ptr& con : to_cut) con->terminate(websocketpp::lib::error_code());
   }
 
   FoxgloveServerOptions options_;
@@ -328,6 +340,7 @@ class FoxgloveServer::Impl {
   std::map<connection_hdl, Client, std::owner_less<connection_hdl>> clients_;
   std::atomic<int64_t> connected_{0}, total_{0}, rejected_{0}, slow_disconnected_{0}, protocol_disconnected_{0},
       protocol_errors_{0}, sent_{0}, dropped_client_{0}, dropped_pending_{0}, bytes_sent_{0}, pending_bytes_{0};
+  std::string refused_reason_;  // set by on_validate for the on_fail that follows
   mutable std::mutex event_mutex_;
   std::string last_event_;
 };

@@ -87,8 +87,13 @@ async function main() {
       records++;
       if (r.type === "Channel") streamChannels.set(r.id, r.topic);
       if (r.type === "Message") {
+        // File order: first and last sensor time (publish time) and log time per topic.
         const topic = streamChannels.get(r.channelId);
-        streamCounts[topic] = (streamCounts[topic] || 0) + 1;
+        const c = streamCounts[topic] || (streamCounts[topic] = { count: 0, first_publish_ns: r.publishTime.toString(),
+                                                                  first_log_ns: r.logTime.toString() });
+        c.count++;
+        c.last_publish_ns = r.publishTime.toString();
+        c.last_log_ns = r.logTime.toString();
       }
     }
   }
