@@ -30,7 +30,7 @@ function rawGarbage() {
 
 // A connection that sends `frames` (strings or Buffers) once advertised and
 // collects status messages until closed or `waitMs` passes.
-function session(frames, { protocols = [PROTO], waitMs = 4000, raw = null } = {}) {
+function session(frames, { protocols = [PROTO], waitMs = 4000, raw = null, spacingMs = 0 } = {}) {
   return new Promise((resolve) => {
     const r = { opened: false, statuses: [], closed: false, close_code: null, error: null };
     const ws = new WebSocket(url, protocols);
@@ -41,7 +41,10 @@ function session(frames, { protocols = [PROTO], waitMs = 4000, raw = null } = {}
       if (isBinary) return;
       const m = JSON.parse(data.toString());
       if (m.op === "advertise") {
-        for (const f of frames) ws.send(f);
+        frames.forEach((f, i) => {
+          if (!spacingMs) ws.send(f);
+          else setTimeout(() => { if (ws.readyState === WebSocket.OPEN) ws.send(f); }, i * spacingMs);
+        });
         if (raw) ws._socket.write(raw);
       }
       if (m.op === "status") r.statuses.push(m.message);
@@ -92,7 +95,7 @@ async function main() {
     session([Buffer.from([1, 2, 3, 4])]),
     session(["x".repeat(200 * 1024)]),
     session([], { raw: Buffer.from([0x81, 0x05, 0x68, 0x65, 0x6c, 0x6c, 0x6f]) }),  // unmasked client frame
-    session(Array.from({ length: 15 }, () => JSON.stringify({ op: "unadvertise" })), { waitMs: 6000 }),
+    session(Array.from({ length: 15 }, () => JSON.stringify({ op: "unadvertise" })), { waitMs: 6000, spacingMs: 50 }),
   ]);
   [results.raw_garbage, results.no_subprotocol, results.not_json, results.unknown_op, results.unknown_channel,
    results.binary, results.oversized, results.invalid_frame, results.many_errors] = parallel;
