@@ -124,7 +124,8 @@ int main(int argc, char** argv) {
                "or an MJPG AVI video with a DJI-style SRT and a generic CSV. Positions are the simulator's truth "
                "(GPS); attitudes the truth at each exposure (--attitude truth) or the INS's measured attitude "
                "(--attitude ins). Pipeline: nadir_sim --profile survey --out SIM.lcmlog && "
-               "nadir_export photos --in SIM.lcmlog --out DIR.",
+               "nadir_export photos --in SIM.lcmlog --out DIR. Also any nadir log as MCAP for Foxglove "
+               "(nadir_export mcap --in LOG --out FLIGHT.mcap; docs/foxglove.md).",
                "nadir_export"};
   app.require_subcommand(1);
   std::string in, attitude = "truth";
