@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Watching a lockstep replay in Foxglove changes nothing for the estimator:
 # nadir_replay with and without the foxglove node (served to a client that
-# stays and one that disconnects mid-run) writes the same POSE messages,
+# stays and one that disconnects after 1000 messages, mid-run) writes the same POSE messages,
 # byte for byte. Runs in a private network namespace (its own loopback).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/../../.." && pwd)"
@@ -19,7 +19,7 @@ nadir_replay --in "$work/sim.lcmlog" --out "$work/plain.lcmlog" --nodes tracker,
   fail "nadir_replay without foxglove failed"
 node "$here/ws_client.js" ws://127.0.0.1:8765 "$work/stay.json" --topics POSE,CAMERA_IMAGE,TRACKS --idle-exit 0 --max-wait 60 &
 stay=$!
-node "$here/ws_client.js" ws://127.0.0.1:8765 "$work/leave.json" --topics '*' --disconnect-after 2 --idle-exit 0 --max-wait 60 &
+node "$here/ws_client.js" ws://127.0.0.1:8765 "$work/leave.json" --topics '*' --disconnect-after-messages 1000 --idle-exit 0 --max-wait 60 &
 leave=$!
 nadir_replay --in "$work/sim.lcmlog" --out "$work/watched.lcmlog" --nodes tracker,vo_solver,yaw_fusion,foxglove \
   >"$work/watched.txt" 2>&1 || { cat "$work/watched.txt"; fail "nadir_replay with foxglove failed"; }

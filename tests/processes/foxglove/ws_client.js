@@ -3,7 +3,7 @@
 // the server is up), subscribes to the given topics, records what arrives
 // and writes a JSON summary.
 // Usage: node ws_client.js URL OUT.json [--topics A,B,...] [--disconnect-after S]
-//          [--idle-exit S] [--max-wait S]
+//          [--disconnect-after-messages N] [--idle-exit S] [--max-wait S]
 // POSE messages are kept whole (utime, position, sigma, protection level);
 // for the others counts and first/last timestamps. The last STATUS of the
 // bridge itself (name "foxglove") is kept, with its peak resident memory read
@@ -14,7 +14,7 @@ const WebSocket = require("ws");
 const { FoxgloveClient } = require("@foxglove/ws-protocol");
 
 const [url, outPath, ...rest] = process.argv.slice(2);
-const opt = { topics: "POSE", disconnectAfter: 0, idleExit: 5, maxWait: 60 };
+const opt = { topics: "POSE", disconnectAfter: 0, disconnectAfterMessages: 0, idleExit: 5, maxWait: 60 };
 for (let i = 0; i < rest.length; i += 2) {
   const key = rest[i].replace(/^--/, "").replace(/-([a-z])/g, (_, c) => c.toUpperCase());
   opt[key] = key === "topics" ? rest[i + 1] : Number(rest[i + 1]);
@@ -69,6 +69,12 @@ function connect() {
   client.on("message", ({ subscriptionId, timestamp, data }) => {
     lastMessage = Date.now();
     result.received++;
+    if (opt.disconnectAfterMessages > 0 && result.received === opt.disconnectAfterMessages) {
+      result.closed_by = "client (disconnect-after-messages)";
+      client.close();
+      finish("client");
+      return;
+    }
     const topic = subs.get(subscriptionId);
     const t = result.topics[topic];
     t.count++;
