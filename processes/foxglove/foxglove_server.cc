@@ -184,7 +184,8 @@ class FoxgloveServer::Impl {
          con->get_local_close_code() == websocketpp::close::status::message_too_big ||
          con->get_local_close_code() == websocketpp::close::status::protocol_error)) {
       ++protocol_disconnected_;
-      note_event(it->second.peer + " disconnected: " + con->get_ec().message());
+      note_event(it->second.peer + " disconnected: closed with " + std::to_string(con->get_local_close_code()) + " (" +
+                 con->get_local_close_reason() + ")");
     }
     forget(hdl);
   }
