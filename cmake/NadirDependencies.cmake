@@ -8,6 +8,12 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc video calib3d imgcodecs features2d)
 find_package(yaml-cpp REQUIRED)
 find_package(Threads REQUIRED)
+# JSON for the Foxglove topics and the MCAP export (nadir_log); the Foxglove
+# WebSocket bridge also needs websocketpp on Boost.Asio (optional: without
+# them nadir_foxglove is not built, e.g. in the demo's build).
+find_package(nlohmann_json 3 REQUIRED)
+find_package(websocketpp QUIET)
+find_package(Boost 1.70 QUIET)
 find_package(Java COMPONENTS Development)
 find_program(LCM_GEN lcm-gen REQUIRED)
 if(NADIR_BUILD_TESTS)

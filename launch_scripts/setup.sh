@@ -8,7 +8,8 @@
 #            nadir_log and nadir_eval, and only the packages they need
 #   --tests  every program, the test suites, the benchmarks and the study
 #            programs, and the packages the tests use (GoogleTest, Google
-#            Benchmark, Slurm, Java for lcm-spy, node-mavlink, MkDocs)
+#            Benchmark, Slurm, Java for lcm-spy, node-mavlink, MkDocs,
+#            Chromium, Foxglove's npm client and MCAP reader)
 # A new build is configured for Ninja (every object of the chosen targets
 # compiles as soon as its inputs are there: both cores stay busy) with
 # line-table debug information (-g1: backtraces and sanitizer reports with
@@ -33,17 +34,20 @@ esac
 packages=(
   build-essential cmake ninja-build pkg-config git
   liblcm-dev liblcm-bin
-  libeigen3-dev libopencv-dev libyaml-cpp-dev libcli11-dev
+  libeigen3-dev libopencv-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libaravis-dev libusb-1.0-0-dev libgpiod-dev
   iproute2 util-linux python3 python3-matplotlib python3-numpy
 )
 if [ "$scope" != demo ]; then
   # The other programs and their tools: photo import (exiv2), lcm-spy (Java,
   # jchart2d, Xvfb for a headless check), the Aravis fake camera, gpiod,
-  # campaigns on Slurm, the tests and benchmarks, the documentation site and
-  # systemd-analyze (the vehicle's units are verified by the tests).
+  # campaigns on Slurm, the tests and benchmarks, the documentation site,
+  # systemd-analyze (the vehicle's units are verified by the tests), the
+  # Foxglove bridge (websocketpp on Boost.Asio) and headless Chromium (the
+  # HTML report's test and screenshot).
   packages+=(
     liblcm-java libexiv2-dev aravis-tools aravis-tools-cli gpiod
+    libwebsocketpp-dev libboost-dev chromium
     libgtest-dev libgmock-dev libbenchmark-dev
     openjdk-17-jdk-headless libjchart2d-java xvfb xauth
     python3-yaml slurm-wlm munge mkdocs systemd libgeographiclib-dev
@@ -94,5 +98,9 @@ if [ "$scope" = tests ]; then
   # the MAVLink bridge's codec is tested against (once; tests run without network).
   "$NADIR_ROOT/tests/processes/mavlink_bridge/install_node_mavlink.sh" "$NADIR_BUILD" ||
     echo "setup: warning: node-mavlink not installed; nadir_test_mavlink_bridge_node will fail until it is" >&2
+  # Foxglove's own WebSocket client, an independent MCAP reader and a JSON
+  # Schema validator, for nadir_foxglove's and the MCAP export's tests.
+  "$NADIR_ROOT/tests/processes/foxglove/install_node_foxglove.sh" "$NADIR_BUILD" ||
+    echo "setup: warning: the Foxglove npm packages are not installed; the foxglove tests will fail until they are" >&2
 fi
 echo "setup: built into $NADIR_BUILD"

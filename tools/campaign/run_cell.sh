@@ -16,5 +16,5 @@ while (($#)) && [ "$1" != "--" ]; do sim_opts+=("$1"); shift; done
 mkdir -p "$dir"
 simulate "$profile" "$seed" "$dir/sim.lcmlog" "${sim_opts[@]}"
 replay_and_eval "$dir/sim.lcmlog" "$dir/eval" "$@"
-rm -f "$dir"/eval/*.png "$dir/eval/trajectory.geojson" "$dir/eval/trajectory.kml"
+rm -f "$dir"/eval/*.png "$dir/eval/index.html" "$dir/eval/trajectory.geojson" "$dir/eval/trajectory.kml"
 [ "${KEEP_LOGS:-0}" = 1 ] || rm -f "$dir/sim.lcmlog"

@@ -75,6 +75,15 @@ int main(int argc, char** argv) {
         return 1;
       }
     }
+    {
+      // The same figures as one self-contained page (report_html.py; no matplotlib needed).
+      const std::string html_command =
+          "/usr/bin/python3 '" + nadir::checkout_root() + "/tools/eval/report_html.py' '" + out_dir + "'";
+      if (std::system(html_command.c_str()) != 0) {
+        std::fprintf(stderr, "nadir_eval: error: the HTML report failed (%s)\n", html_command.c_str());
+        return 1;
+      }
+    }
     const nadir::EvalMetrics& m = result.metrics;
     if (json) {
       std::printf("%s\n", metrics.c_str());

@@ -1,6 +1,6 @@
 // nadir_export: a nadir_sim log -> a DJI-style photo survey or a video with
 // SRT/CSV telemetry, so that nadir_import can bring a flight back whose truth
-// is known (the round trip).
+// is known (the round trip); or any nadir log -> MCAP for Foxglove.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -11,8 +11,43 @@
 #include "common/robust_stats.h"
 #include "common/progress.h"
 #include "tools/export/exporter.h"
+#include "tools/export/mcap_export.h"
 
 namespace {
+
+int export_mcap_file(const std::string& in, const std::string& out, nadir::McapExportOptions options,
+                     const std::vector<double>& origin, bool json) {
+  if (!origin.empty()) {
+    options.origin_from_ins = false;
+    options.origin = {origin[0], origin[1], origin[2]};
+  }
+  const nadir::McapExportStats s = nadir::export_mcap(in, out, options);
+  if (json) {
+    nadir::JsonWriter j;
+    j.begin_object()
+        .field("in", in)
+        .field("out", out)
+        .field("log_events", s.log_events)
+        .field("mcap_messages", s.messages)
+        .field("chunks", static_cast<int64_t>(s.chunks))
+        .field("undecodable", s.undecodable)
+        .field("images_decimated", s.images_decimated)
+        .field("corrupt_records", s.corrupt_records);
+    j.key("lcm_messages").begin_object();
+    for (const auto& [channel, n] : s.lcm_messages) j.field(channel, n);
+    j.end_object().key("skipped_channels").begin_object();
+    for (const auto& [channel, n] : s.skipped) j.field(channel, n);
+    j.end_object().end_object();
+    std::printf("%s\n", j.str().c_str());
+  }
+  std::fprintf(stderr, "nadir_export: %s: %lld log events -> %lld MCAP messages in %u chunks into %s", in.c_str(),
+               static_cast<long long>(s.log_events), static_cast<long long>(s.messages), s.chunks, out.c_str());
+  for (const auto& [channel, n] : s.skipped)
+    std::fprintf(stderr, "; skipped %s (%lld, no topic)", channel.c_str(), static_cast<long long>(n));
+  if (s.undecodable) std::fprintf(stderr, "; %lld undecodable", static_cast<long long>(s.undecodable));
+  std::fprintf(stderr, "\n");
+  return 0;
+}
 
 using nadir::exporter::PhotoExportResult;
 
@@ -89,10 +124,12 @@ int main(int argc, char** argv) {
                "or an MJPG AVI video with a DJI-style SRT and a generic CSV. Positions are the simulator's truth "
                "(GPS); attitudes the truth at each exposure (--attitude truth) or the INS's measured attitude "
                "(--attitude ins). Pipeline: nadir_sim --profile survey --out SIM.lcmlog && "
-               "nadir_export photos --in SIM.lcmlog --out DIR.",
+               "nadir_export photos --in SIM.lcmlog --out DIR. Also any nadir log as MCAP for Foxglove "
+               "(nadir_export mcap --in LOG --out FLIGHT.mcap; docs/foxglove.md).",
                "nadir_export"};
   app.require_subcommand(1);
   std::string in, attitude = "truth";
+  std::vector<double> mcap_origin;
   bool json = false;
 
   nadir::exporter::PhotoExportOptions photo;
@@ -124,12 +161,25 @@ int main(int argc, char** argv) {
   vid->add_option("--every", video.every, "every Nth camera frame (default 1)");
   vid->add_option("--attitude", attitude, "truth (default) or ins");
   vid->add_flag("--json", json, "print a machine-readable summary on stdout");
+  nadir::McapExportOptions mcap;
+  std::string mcap_path;
+  CLI::App* mcap_cmd = app.add_subcommand(
+      "mcap", "any nadir log -> MCAP with the Foxglove bridge's topics and JSON schemas (opens in Foxglove with "
+              "config/foxglove/nadir_layout.json; docs/foxglove.md)");
+  mcap_cmd->add_option("--in", in, "nadir LCM log")->required();
+  mcap_cmd->add_option("--out", mcap_path, "MCAP file to write")->required();
+  mcap_cmd->add_option("--image-rate", mcap.image_rate_hz, "CAMERA_IMAGE at most this often, Hz (default 0: every frame)")
+      ->check(CLI::Range(0.0, 1000.0));
+  mcap_cmd->add_option("--origin", mcap_origin, "POSE's NED origin: latitude_deg longitude_deg height_m (default: the INS position at the first POSE)")
+      ->expected(3);
+  mcap_cmd->add_flag("--json", json, "print a machine-readable summary on stdout");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
   try {
+    if (*mcap_cmd) return export_mcap_file(in, mcap_path, mcap, mcap_origin, json);
     const auto log = nadir::exporter::SimLog::load(in);
     if (*photos) {
       photo.attitude = nadir::exporter::parse_attitude_source(attitude);

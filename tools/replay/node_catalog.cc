@@ -9,6 +9,9 @@
 #ifdef NADIR_HAVE_YAW_FUSION
 #include "processes/yaw_fusion/yaw_fusion_node.h"
 #endif
+#ifdef NADIR_HAVE_FOXGLOVE
+#include "processes/foxglove/foxglove_node.h"
+#endif
 
 namespace nadir {
 
@@ -21,6 +24,9 @@ void register_all_nodes(NodeRegistry& registry) {
 #endif
 #ifdef NADIR_HAVE_YAW_FUSION
   register_yaw_fusion_node(registry);
+#endif
+#ifdef NADIR_HAVE_FOXGLOVE
+  register_foxglove_node(registry);  // watch a replay in Foxglove; publishes only STATUS
 #endif
   (void)registry;
 }

@@ -1,0 +1,71 @@
+#pragma once
+// nadir's LCM channels as Foxglove topics: which topics each channel feeds,
+// their schemas, and each message as JSON. Shared by the live bridge
+// (nadir_foxglove) and the MCAP export (nadir_log export --mcap), so a
+// recorded flight opens in Foxglove exactly like a live one.
+//
+// World frame "map": east-north-up about POSE's origin (Foxglove's 3-D panel
+// is z-up); bodies "base_link" (estimate) and "truth_base_link" (simulator
+// truth) are forward-left-up.
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "common/geodetic.h"
+
+namespace nadir {
+
+struct FoxgloveTopic {
+  std::string name;         // e.g. "POSE/fix"
+  std::string lcm_channel;  // e.g. "POSE"
+  std::string schema_name;  // e.g. "foxglove.LocationFix"
+};
+
+struct FoxgloveMessage {
+  int topic = 0;            // index into FoxgloveTranslator::topics()
+  int64_t time_ns = 0;      // the message's sensor time (utime) in ns
+  std::string json;
+};
+
+struct FoxgloveTranslatorOptions {
+  // POSE's NED origin on the globe: the INS position at the first POSE (the
+  // NED origin is the position at the first frame), or `origin` when
+  // origin_from_ins is false. Until the INS gives it, no LocationFix.
+  bool origin_from_ins = true;
+  GeodeticPoint origin;
+  double image_rate_hz = 0.0;  // CAMERA_IMAGE at most this often (sensor time); 0: every frame
+};
+
+class FoxgloveTranslator {
+ public:
+  explicit FoxgloveTranslator(const FoxgloveTranslatorOptions& options);
+
+  const std::vector<FoxgloveTopic>& topics() const { return topics_; }
+  // The LCM channels that feed at least one topic, in topics() order.
+  std::vector<std::string> lcm_channels() const;
+
+  // The messages one LCM message gives, for the topics `wanted` accepts (all
+  // when empty): nothing is encoded for a topic nobody wants. Returns false
+  // with `reason` when the message does not decode as its channel's type;
+  // true with no message for a channel without topics or a decimated image.
+  bool translate(const std::string& channel, const uint8_t* data, size_t size,
+                 const std::function<bool(int topic)>& wanted, std::vector<FoxgloveMessage>* out,
+                 std::string* reason);
+
+  int64_t images_decimated() const { return images_decimated_; }
+
+ private:
+  FoxgloveTranslatorOptions options_;
+  LocalTangentPlane plane_;
+  bool origin_known_ = false;
+  bool have_ins_ = false;
+  GeodeticPoint last_ins_;
+  std::vector<FoxgloveTopic> topics_;
+  int64_t last_image_bucket_ = -1;
+  int64_t images_decimated_ = 0;
+};
+
+}  // namespace nadir
