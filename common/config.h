@@ -65,7 +65,8 @@ class Config {
   }
 
   // Throws ConfigError naming the first key of this section that is not in
-  // `known` (a misspelt option must not silently fall back to its default).
+  // `known` (a misspelt option must not silently fall back to its default),
+  // its line and the nearest known key (options_schema.h).
   void require_known_keys(const std::vector<std::string>& known) const;
 
   // "file: key 'a.b.c' <what>"

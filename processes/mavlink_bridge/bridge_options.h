@@ -65,6 +65,8 @@ struct BridgeOptions {
 
   // `root` is the whole config (mavlink_bridge: and altimeter: sections).
   static BridgeOptions from_config(const Config& root);
+  static const OptionsSchema<BridgeOptions>& schema();  // every key of `mavlink_bridge:`
+  static BridgeOptions defaults();  // what an absent key means (the serial link's device and rate)
   void Check() const;
 };
 

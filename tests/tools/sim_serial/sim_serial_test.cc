@@ -53,14 +53,14 @@ TEST(DeviceFormatter, EveryFormatDecodesBackToTheSameAttitude) {
       const ins_bridge::SpanConverter converter(mount);
       for (int i = 0; i < 300; ++i) {
         const ins_t m = sample_ins(i);
-        const int64_t gps_us = ins_bridge::gps_time_us(2300, 1000 + i * 0.01);
+        const int64_t gps_us = gps_time_us(2300, 1000 + i * 0.01);
         const std::vector<uint8_t> bytes = formatter.ins_bytes(m, gps_us);
         std::vector<ins_bridge::NovatelFrame> frames;
         parser.feed(bytes.data(), bytes.size(), 0, 0, &frames);
         ASSERT_FALSE(frames.empty()) << parser.counts().last_error;
         const ins_bridge::NovatelFrame& f = frames.back();
         ASSERT_EQ(f.kind, ins_bridge::NovatelFrame::Kind::kInsPva);
-        EXPECT_EQ(ins_bridge::gps_time_us(f.pva.gps_week, f.pva.gps_seconds), gps_us);
+        EXPECT_EQ(gps_time_us(f.pva.gps_week, f.pva.gps_seconds), gps_us);
         const ins_bridge::ProjectAttitude a = converter.attitude(f.pva);
         const double tolerance = format == InsFormat::kBinary ? 1e-12 : 1e-9;
         EXPECT_NEAR(a.roll, m.roll, tolerance) << i;
@@ -84,7 +84,7 @@ TEST(DeviceFormatter, StdDevReportsTheLogsAttitudeSigmas) {
     m.has_stddev = from_log;
     m.attitude_stddev[0] = m.attitude_stddev[1] = deg_to_rad(0.05);
     m.attitude_stddev[2] = deg_to_rad(0.1);
-    const std::vector<uint8_t> bytes = formatter.ins_bytes(m, ins_bridge::gps_time_us(2300, 1000.0));
+    const std::vector<uint8_t> bytes = formatter.ins_bytes(m, gps_time_us(2300, 1000.0));
     std::vector<ins_bridge::NovatelFrame> frames;
     parser.feed(bytes.data(), bytes.size(), 0, 0, &frames);
     ASSERT_EQ(frames.size(), 2u) << parser.counts().last_error;
