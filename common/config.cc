@@ -30,6 +30,14 @@ Config::Config(YAML::Node node, std::string source, std::string path)
   if (!node_.IsMap()) throw ConfigError(source_ + ": " + (path_.empty() ? "top level" : "key '" + path_ + "'") + " must be a map");
 }
 
+Config& Config::operator=(const Config& other) {
+  if (this == &other) return *this;
+  node_.reset(other.node_);
+  source_ = other.source_;
+  path_ = other.path_;
+  return *this;
+}
+
 bool Config::has(const std::string& key) const { return static_cast<bool>(node_[key]); }
 
 Config Config::section(const std::string& key) const {

@@ -26,6 +26,11 @@ class Config {
 
   Config() = default;
   Config(YAML::Node node, std::string source, std::string path);
+  Config(const Config&) = default;
+  // Rebinds to the other config's tree. (yaml-cpp's Node::operator= would
+  // instead write the other tree into this one's, editing every config that
+  // shares it.)
+  Config& operator=(const Config& other);
 
   bool has(const std::string& key) const;
   // Child section; throws if missing. `path` in errors is dotted: tracker.klt.window.

@@ -107,14 +107,9 @@ std::string render_reference(const std::vector<SectionDoc>& sections) {
 namespace schema_detail {
 
 std::pair<Config, std::string> locate(const Config& section, const std::string& dotted) {
-  Config c = section;
-  size_t start = 0;
-  while (true) {
-    const size_t dot = dotted.find('.', start);
-    if (dot == std::string::npos) return {c, dotted.substr(start)};
-    c = c.section_or_empty(dotted.substr(start, dot - start));
-    start = dot + 1;
-  }
+  const size_t dot = dotted.find('.');
+  if (dot == std::string::npos) return {section, dotted};
+  return locate(section.section_or_empty(dotted.substr(0, dot)), dotted.substr(dot + 1));
 }
 
 Config descend(const Config& section, const std::string& dotted) {

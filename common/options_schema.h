@@ -266,8 +266,26 @@ class OptionsSchema {
   // A condition between fields that no single key's range says
   // ("replenish_below <= features_per_cell"); reported against `key`.
   OptionsSchema& rule(const std::string& key, std::function<bool(const T&)> ok, const std::string& what) {
-    rules_.push_back(Rule{key, std::move(ok), what});
+    return rule(key, std::move(ok), [what](const T&) { return what; });
+  }
+  // The same with a message built from the values ("= 4 is out of range [1, 3]").
+  OptionsSchema& rule(const std::string& key, std::function<bool(const T&)> ok,
+                      std::function<std::string(const T&)> what) {
+    rules_.push_back(Rule{key, std::move(ok), std::move(what)});
     return *this;
+  }
+
+  // A number field at most another field (klt_predicted_levels <= klt_pyramid_levels):
+  // reported as "= v is out of range [lo, bound]".
+  template <class V>
+  OptionsSchema& at_most(const std::string& key, V lo, std::function<V(const T&)> value,
+                         std::function<V(const T&)> bound) {
+    return rule(
+        key, [value, bound](const T& o) { return value(o) <= bound(o); },
+        [lo, value, bound](const T& o) {
+          return "= " + schema_detail::show(value(o)) + " is out of range [" + schema_detail::show(lo) + ", " +
+                 schema_detail::show(bound(o)) + "]";
+        });
   }
 
   // The keys of another section's schema, read into a member (vo_solver's
@@ -291,7 +309,7 @@ class OptionsSchema {
     for (const auto& r : sub.rules()) {
       rules_.push_back(Rule{prefix + "." + r.key,
                             [ok = r.ok, path...](const T& v) { return ok(schema_detail::reach(v, path...)); },
-                            r.what});
+                            [what = r.what, path...](const T& v) { return what(schema_detail::reach(v, path...)); }});
     }
     return *this;
   }
@@ -323,7 +341,7 @@ class OptionsSchema {
       if (!what.empty()) throw where.error(e.doc.key, what);
     }
     for (const auto& r : rules_) {
-      if (!r.ok(value)) throw where.error(r.key, r.what);
+      if (!r.ok(value)) throw where.error(r.key, r.what(value));
     }
   }
   // The same for a struct built in code (the options structs' Check()):
@@ -350,7 +368,7 @@ class OptionsSchema {
   struct Rule {
     std::string key;
     std::function<bool(const T&)> ok;
-    std::string what;
+    std::function<std::string(const T&)> what;
   };
   const std::vector<Entry>& entries() const { return entries_; }
   const std::vector<Rule>& rules() const { return rules_; }

@@ -9,12 +9,12 @@
 
 namespace nadir::mavlink_bridge {
 
-BridgeOptions BridgeOptions::defaults() {
-  BridgeOptions o;
-  o.link.serial.device = "/dev/ttyACM0";
-  o.link.serial.baud = 921600;
-  o.link.serial.stall_timeout_s = 5.0;
-  return o;
+SerialOptions LinkOptions::default_serial() {
+  SerialOptions s;
+  s.device = "/dev/ttyACM0";
+  s.baud = 921600;
+  s.stall_timeout_s = 5.0;
+  return s;
 }
 
 const OptionsSchema<BridgeOptions>& BridgeOptions::schema() {
@@ -77,7 +77,7 @@ const OptionsSchema<BridgeOptions>& BridgeOptions::schema() {
 }
 
 BridgeOptions BridgeOptions::from_config(const Config& root) {
-  BridgeOptions o = defaults();
+  BridgeOptions o;
   o.source = root.source();
   schema().read(root.section_or_empty("mavlink_bridge"), &o);
 

@@ -98,16 +98,16 @@ const OptionsSchema<TrackerOptions>& TrackerOptions::schema() {
                 &O::gap_factor)
         .number("max_gap_s", 0.001, 3600.0, "s", "beyond this the tracker restarts from the new frame",
                 &O::max_gap_s)
-        .rule("replenish_below", [](const O& o) { return o.replenish_below <= o.features_per_cell; },
-              "must be <= features_per_cell")
-        .rule("klt_predicted_levels", [](const O& o) { return o.klt_predicted_levels <= o.klt_pyramid_levels; },
-              "must be <= klt_pyramid_levels")
-        .rule("fb_pyramid_levels", [](const O& o) { return o.fb_pyramid_levels <= o.klt_pyramid_levels; },
-              "must be <= klt_pyramid_levels")
-        .rule("fb_window_px", [](const O& o) { return o.fb_window_px <= o.klt_window_px; },
-              "must be <= klt_window_px")
-        .rule("min_tracks", [](const O& o) { return o.min_tracks <= o.max_features(); },
-              "must be <= grid_cols x grid_rows x features_per_cell")
+        .at_most<int>("replenish_below", 1, [](const O& o) { return o.replenish_below; },
+                      [](const O& o) { return o.features_per_cell; })
+        .at_most<int>("klt_predicted_levels", 1, [](const O& o) { return o.klt_predicted_levels; },
+                      [](const O& o) { return o.klt_pyramid_levels; })
+        .at_most<int>("fb_pyramid_levels", 1, [](const O& o) { return o.fb_pyramid_levels; },
+                      [](const O& o) { return o.klt_pyramid_levels; })
+        .at_most<int>("fb_window_px", 5, [](const O& o) { return o.fb_window_px; },
+                      [](const O& o) { return o.klt_window_px; })
+        .at_most<int>("min_tracks", 0, [](const O& o) { return o.min_tracks; },
+                      [](const O& o) { return o.max_features(); })
         .rule("saturated_level", [](const O& o) { return o.saturated_level > o.dark_level; },
               "must be > dark_level");
     return s;

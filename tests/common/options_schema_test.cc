@@ -75,6 +75,24 @@ TEST(OptionsSchema, AbsentKeysKeepTheDefaults) {
   EXPECT_EQ(d.wait_us, 9000);
 }
 
+TEST(OptionsSchema, ReadingNestedKeysLeavesTheConfigAsItWas) {
+  const Config c = Config::parse("demo: {gain: 2, inner: {radius: 0.5}, wait_ms: 3}\nother: {a: 1}\n", "t.yaml");
+  const std::string before = c.dump();
+  EXPECT_EQ(schema().read(c.section("demo")).inner.radius, 0.5);
+  EXPECT_EQ(c.dump(), before);
+}
+
+TEST(Config, AssignmentRebindsAndLeavesTheOtherTreeAlone) {
+  const Config a = Config::parse("x: {k: 1}\n", "a.yaml");
+  const Config b = Config::parse("y: {k: 2}\n", "b.yaml");
+  const std::string a_text = a.dump();
+  Config c = a;
+  c = b;
+  EXPECT_EQ(a.dump(), a_text);
+  EXPECT_EQ(c.source(), "b.yaml");
+  EXPECT_TRUE(c.has("y"));
+}
+
 TEST(OptionsSchema, MisspeltKeyNamesFileLinePathAndSuggestion) {
   const std::string e = error_of("demo:\n  gain: 2\n  min_featurs: 3\n");
   EXPECT_NE(e.find("test.yaml"), std::string::npos) << e;

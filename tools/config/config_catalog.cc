@@ -21,7 +21,7 @@ std::vector<SectionDoc> all_section_docs() {
       YawFusionOptions::schema().describe(),
       InputCheckOptions::schema().describe(),
       ins_bridge::BridgeOptions::schema().describe(ins_bridge::BridgeOptions::defaults()),
-      mavlink_bridge::BridgeOptions::schema().describe(mavlink_bridge::BridgeOptions::defaults()),
+      mavlink_bridge::BridgeOptions::schema().describe(),
       sim::SensorOptions::schema().describe(),
   };
 }

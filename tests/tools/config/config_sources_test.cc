@@ -72,8 +72,7 @@ TEST(ConfigSources, EveryFileUnderConfigLoads) {
   const Config root = Config::load_file(kRoot + "/config/default.yaml");
   EXPECT_NO_THROW(check_every_section(root));
   for (const std::string& path : files_in("config/installation")) {
-    Config c = root;
-    c = Config::load_file(kRoot + "/config/default.yaml");
+    Config c = Config::load_file(kRoot + "/config/default.yaml");
     c.apply_overlay(Config::load_file(path));
     EXPECT_NO_THROW(check_every_section(c)) << path;
   }
