@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/geometry.h"
+#include "common/sensor_calibration.h"
 
 namespace nadir {
 
@@ -21,6 +22,7 @@ CameraModel CameraModel::pinhole(int width, int height, double focal_px) {
 
 CameraModel CameraModel::from_config(const Config& root) {
   const Config c = root.section("camera");
+  c.require_known_keys(SensorCalibration::camera_keys());
   CameraModel m;
   m.width = c.get<int>("width");
   m.height = c.get<int>("height");

@@ -6,24 +6,30 @@
 
 namespace nadir {
 
-void ClockSyncOptions::Check() const {
-  require_option(window_s >= 2.0 && window_s <= 3600.0, "clock_sync", "window_s", "must be in [2, 3600]");
-  require_option(block_s > 0.0 && block_s <= window_s / 2, "clock_sync", "block_s", "must be in (0, window_s/2]");
-  require_option(jump_threshold_us > 0.0, "clock_sync", "jump_threshold_us", "must be > 0");
-  require_option(min_delay_us >= 0.0, "clock_sync", "min_delay_us", "must be >= 0");
-  require_option(settle_s >= 0.0 && settle_s <= 10.0, "clock_sync", "settle_s", "must be in [0, 10]");
-  require_option(step_confirm_s > 0.0 && step_confirm_s <= 10.0, "clock_sync", "step_confirm_s",
-                 "must be in (0, 10]");
+const OptionsSchema<ClockSyncOptions>& ClockSyncOptions::schema() {
+  using O = ClockSyncOptions;
+  static const OptionsSchema<O> schema = [] {
+    OptionsSchema<O> s("clock_sync", "Device time -> vehicle time: minimum-delay offset tracking with drift "
+                                     "(common/clock_sync.h).");
+    s.number("window_s", 2.0, 3600.0, "s", "sliding window for the fit", &O::window_s)
+        .above("block_s", 0.0, 1800.0, "s", "one minimum per block (at most window_s / 2)", &O::block_s)
+        .above("jump_threshold_us", 0.0, 1e12, "us", "error beyond which a sample's time is not trusted",
+               &O::jump_threshold_us)
+        .number("min_delay_us", 0.0, 1e12, "us", "known minimum transport delay", &O::min_delay_us)
+        .number("settle_s", 0.0, 10.0, "s", "after a restart: the minimum must hold this long", &O::settle_s)
+        .above("step_confirm_s", 0.0, 10.0, "s", "late beyond the threshold this long: an offset step",
+               &O::step_confirm_s)
+        .rule("block_s", [](const O& o) { return o.block_s <= o.window_s / 2; }, "must be at most window_s / 2");
+    return s;
+  }();
+  return schema;
 }
 
+void ClockSyncOptions::Check() const { schema().check(*this); }
+
 ClockSyncOptions ClockSyncOptions::from_config(const Config& section, const ClockSyncOptions& defaults) {
-  ClockSyncOptions o;
-  o.window_s = section.get<double>("window_s", defaults.window_s);
-  o.block_s = section.get<double>("block_s", defaults.block_s);
-  o.jump_threshold_us = section.get<double>("jump_threshold_us", defaults.jump_threshold_us);
-  o.min_delay_us = section.get<double>("min_delay_us", defaults.min_delay_us);
-  o.settle_s = section.get<double>("settle_s", defaults.settle_s);
-  o.step_confirm_s = section.get<double>("step_confirm_s", defaults.step_confirm_s);
+  ClockSyncOptions o = defaults;
+  schema().read(section, &o);
   return o;
 }
 

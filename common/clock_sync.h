@@ -22,9 +22,9 @@
 #include <deque>
 #include <string>
 
-namespace nadir {
+#include "common/options_schema.h"
 
-class Config;
+namespace nadir {
 
 struct ClockSyncOptions {
   double window_s = 30.0;            // sliding window for the fit
@@ -36,6 +36,7 @@ struct ClockSyncOptions {
   void Check() const;                // throws ConfigError naming the option
   // The keys above from a `clock_sync:` section; absent keys keep `defaults`.
   static ClockSyncOptions from_config(const Config& section, const ClockSyncOptions& defaults);
+  static const OptionsSchema<ClockSyncOptions>& schema();
 };
 
 struct ClockSyncState {

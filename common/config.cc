@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "common/options_schema.h"
+
 namespace nadir {
 
 Config Config::load_file(const std::string& path) {
@@ -28,6 +30,14 @@ Config::Config(YAML::Node node, std::string source, std::string path)
   if (!node_.IsMap()) throw ConfigError(source_ + ": " + (path_.empty() ? "top level" : "key '" + path_ + "'") + " must be a map");
 }
 
+Config& Config::operator=(const Config& other) {
+  if (this == &other) return *this;
+  node_.reset(other.node_);
+  source_ = other.source_;
+  path_ = other.path_;
+  return *this;
+}
+
 bool Config::has(const std::string& key) const { return static_cast<bool>(node_[key]); }
 
 Config Config::section(const std::string& key) const {
@@ -49,14 +59,12 @@ ConfigError Config::error(const std::string& key, const std::string& what) const
 }
 
 void Config::require_known_keys(const std::vector<std::string>& known) const {
-  if (!node_.IsMap()) return;
-  for (const auto& item : node_) {
-    const std::string key = item.first.as<std::string>();
-    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
-    std::string list;
-    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-    throw error(key, "is not a known key here (line " + std::to_string(item.first.Mark().line + 1) + "; known: " + list + ")");
+  // Only this level: a listed key may hold a subsection read elsewhere.
+  std::vector<std::string> foreign;
+  for (const std::string& k : known) {
+    if (node_[k] && node_[k].IsMap()) foreign.push_back(k);
   }
+  require_declared_keys(*this, known, foreign);
 }
 
 void Config::apply_override(const std::string& assignment) {

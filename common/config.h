@@ -26,6 +26,11 @@ class Config {
 
   Config() = default;
   Config(YAML::Node node, std::string source, std::string path);
+  Config(const Config&) = default;
+  // Rebinds to the other config's tree. (yaml-cpp's Node::operator= would
+  // instead write the other tree into this one's, editing every config that
+  // shares it.)
+  Config& operator=(const Config& other);
 
   bool has(const std::string& key) const;
   // Child section; throws if missing. `path` in errors is dotted: tracker.klt.window.
@@ -65,7 +70,8 @@ class Config {
   }
 
   // Throws ConfigError naming the first key of this section that is not in
-  // `known` (a misspelt option must not silently fall back to its default).
+  // `known` (a misspelt option must not silently fall back to its default),
+  // its line and the nearest known key (options_schema.h).
   void require_known_keys(const std::vector<std::string>& known) const;
 
   // "file: key 'a.b.c' <what>"

@@ -3,59 +3,55 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-#include <string>
 
 #include "common/geometry.h"
 
 namespace nadir {
-namespace {
 
-void require(bool ok, const std::string& field, const std::string& range) {
-  if (!ok) throw std::invalid_argument("uncertainty." + field + " must be " + range);
+const OptionsSchema<DeltaUncertaintyOptions>& DeltaUncertaintyOptions::schema() {
+  using O = DeltaUncertaintyOptions;
+  static const OptionsSchema<O> schema = [] {
+    OptionsSchema<O> s("vo_solver.uncertainty",
+                       "Errors of the INS/altimeter inputs every solve takes as exact, propagated into VO_DELTA's "
+                       "covariance (read by vo_solver and yaw_fusion).");
+    s.flag("enabled", "false: VO_DELTA carries the image covariance only", &O::enabled)
+        .number("roll_pitch_stddev_deg", 0.0, 10.0, "deg", "INS roll/pitch white noise per sample",
+                &O::roll_pitch_stddev_deg)
+        .number("yaw_stddev_deg", 0.0, 30.0, "deg", "INS yaw white noise (the flow variant's dyaw only)",
+                &O::yaw_stddev_deg)
+        .number("altimeter_stddev_m", 0.0, 100.0, "m", "altimeter range noise, constant part",
+                &O::altimeter_stddev_m)
+        .number("altimeter_stddev_fraction", 0.0, 0.5, "", "altimeter range noise, fraction of the range",
+                &O::altimeter_stddev_fraction)
+        .number("range_scale_stddev", 0.0, 0.5, "", "systematic altimeter scale error (fraction, 1 sigma)",
+                &O::range_scale_stddev)
+        .number("relief_walk_along_m_per_sqrt_m", 0.0, 10.0, "m/sqrt(m)",
+                "relief model error along the step, random walk in the distance flown",
+                &O::relief_walk_along_m_per_sqrt_m)
+        .number("relief_walk_across_m_per_sqrt_m", 0.0, 10.0, "m/sqrt(m)",
+                "relief model error across the step, random walk in the distance flown",
+                &O::relief_walk_across_m_per_sqrt_m)
+        .number("dyaw_model_stddev_deg", 0.0, 10.0, "deg", "model error of each heading change",
+                &O::dyaw_model_stddev_deg)
+        .number("heading_drift_deg_per_s_per_deg", 0.0, 10.0, "deg/s per deg",
+                "heading drift rate stddev per degree of roll_pitch_stddev_deg", &O::heading_drift_deg_per_s_per_deg)
+        .number("heading_drift_time_s", 0.01, 1e6, "s", "correlation time of the heading drift (Gauss-Markov)",
+                &O::heading_drift_time_s);
+    return s;
+  }();
+  return schema;
 }
 
-}  // namespace
-
 DeltaUncertaintyOptions DeltaUncertaintyOptions::from_config(const Config& vo_solver_section) {
-  DeltaUncertaintyOptions o;
-  const Config c = vo_solver_section.section_or_empty("uncertainty");
-  o.enabled = c.get<bool>("enabled", o.enabled);
-  o.roll_pitch_stddev_deg = c.get_in_range("roll_pitch_stddev_deg", o.roll_pitch_stddev_deg, 0.0, 10.0);
-  o.yaw_stddev_deg = c.get_in_range("yaw_stddev_deg", o.yaw_stddev_deg, 0.0, 30.0);
-  o.altimeter_stddev_m = c.get_in_range("altimeter_stddev_m", o.altimeter_stddev_m, 0.0, 100.0);
-  o.altimeter_stddev_fraction = c.get_in_range("altimeter_stddev_fraction", o.altimeter_stddev_fraction, 0.0, 0.5);
-  o.range_scale_stddev = c.get_in_range("range_scale_stddev", o.range_scale_stddev, 0.0, 0.5);
-  o.relief_walk_along_m_per_sqrt_m =
-      c.get_in_range("relief_walk_along_m_per_sqrt_m", o.relief_walk_along_m_per_sqrt_m, 0.0, 10.0);
-  o.relief_walk_across_m_per_sqrt_m =
-      c.get_in_range("relief_walk_across_m_per_sqrt_m", o.relief_walk_across_m_per_sqrt_m, 0.0, 10.0);
-  o.dyaw_model_stddev_deg = c.get_in_range("dyaw_model_stddev_deg", o.dyaw_model_stddev_deg, 0.0, 10.0);
-  o.heading_drift_deg_per_s_per_deg =
-      c.get_in_range("heading_drift_deg_per_s_per_deg", o.heading_drift_deg_per_s_per_deg, 0.0, 10.0);
-  o.heading_drift_time_s = c.get_in_range("heading_drift_time_s", o.heading_drift_time_s, 0.01, 1e6);
-  try {
-    o.Check();
-  } catch (const std::invalid_argument& e) {
-    throw c.error("", e.what());
-  }
-  return o;
+  return schema().read(vo_solver_section.section_or_empty("uncertainty"));
 }
 
 void DeltaUncertaintyOptions::Check() const {
-  require(roll_pitch_stddev_deg >= 0 && roll_pitch_stddev_deg <= 10, "roll_pitch_stddev_deg", "in [0, 10]");
-  require(yaw_stddev_deg >= 0 && yaw_stddev_deg <= 30, "yaw_stddev_deg", "in [0, 30]");
-  require(altimeter_stddev_m >= 0 && altimeter_stddev_m <= 100, "altimeter_stddev_m", "in [0, 100]");
-  require(altimeter_stddev_fraction >= 0 && altimeter_stddev_fraction <= 0.5, "altimeter_stddev_fraction",
-          "in [0, 0.5]");
-  require(range_scale_stddev >= 0 && range_scale_stddev <= 0.5, "range_scale_stddev", "in [0, 0.5]");
-  require(relief_walk_along_m_per_sqrt_m >= 0 && relief_walk_along_m_per_sqrt_m <= 10, "relief_walk_along_m_per_sqrt_m",
-          "in [0, 10]");
-  require(relief_walk_across_m_per_sqrt_m >= 0 && relief_walk_across_m_per_sqrt_m <= 10,
-          "relief_walk_across_m_per_sqrt_m", "in [0, 10]");
-  require(dyaw_model_stddev_deg >= 0 && dyaw_model_stddev_deg <= 10, "dyaw_model_stddev_deg", "in [0, 10]");
-  require(heading_drift_deg_per_s_per_deg >= 0 && heading_drift_deg_per_s_per_deg <= 10,
-          "heading_drift_deg_per_s_per_deg", "in [0, 10]");
-  require(heading_drift_time_s >= 0.01 && heading_drift_time_s <= 1e6, "heading_drift_time_s", "in [0.01, 1e6]");
+  try {
+    schema().check(*this);
+  } catch (const ConfigError& e) {
+    throw std::invalid_argument(e.what());
+  }
 }
 
 double DeltaUncertaintyOptions::heading_drift_stddev_rad_s() const {

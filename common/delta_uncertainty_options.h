@@ -4,6 +4,7 @@
 // the per-frame levelling variances both processes compute the same way.
 
 #include "common/config.h"
+#include "common/options_schema.h"
 
 namespace nadir {
 
@@ -52,8 +53,10 @@ struct DeltaUncertaintyOptions {
 
   // Reads `vo_solver.uncertainty:` (keys as the fields, missing = default).
   static DeltaUncertaintyOptions from_config(const Config& vo_solver_section);
-  // Throws std::invalid_argument naming the field and its allowed range.
+  // Throws std::invalid_argument naming the key and its allowed range.
   void Check() const;
+  // Every key of `vo_solver.uncertainty:` (options_schema.h).
+  static const OptionsSchema<DeltaUncertaintyOptions>& schema();
   double range_stddev(double range_m) const { return altimeter_stddev_m + altimeter_stddev_fraction * range_m; }
   // Stationary stddev (rad/s) of the heading drift rate; 0 when disabled.
   double heading_drift_stddev_rad_s() const;

@@ -8,10 +8,6 @@
 namespace nadir {
 namespace {
 
-void check(bool ok, const std::string& key, const std::string& what) {
-  require_option(ok, "config", "input_checks." + key, what);
-}
-
 bool finite_all(const double* values, int n) {
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(values[i])) return false;
@@ -35,45 +31,43 @@ std::string verdict_reason(StreamClock::Verdict verdict) {
 
 }  // namespace
 
-InputCheckOptions InputCheckOptions::from_config(const Config& root) {
-  InputCheckOptions o;
-  const Config c = root.section_or_empty("input_checks");
-  o.max_ahead_s = c.get<double>("max_ahead_s", o.max_ahead_s);
-  o.max_behind_s = c.get<double>("max_behind_s", o.max_behind_s);
-  o.relock_messages = c.get<int>("relock_messages", o.relock_messages);
-  o.max_attitude_step_rate_rad_s = c.get<double>("max_attitude_step_rate_rad_s", o.max_attitude_step_rate_rad_s);
-  o.attitude_step_noise_sigmas = c.get<double>("attitude_step_noise_sigmas", o.attitude_step_noise_sigmas);
-  o.max_angular_rate_rad_s = c.get<double>("max_angular_rate_rad_s", o.max_angular_rate_rad_s);
-  o.min_range_m = c.get<double>("min_range_m", o.min_range_m);
-  o.max_range_m = c.get<double>("max_range_m", o.max_range_m);
-  o.max_abs_normalized = c.get<double>("max_abs_normalized", o.max_abs_normalized);
-  o.pixel_margin = c.get<double>("pixel_margin", o.pixel_margin);
-  o.max_speed_m_s = c.get<double>("max_speed_m_s", o.max_speed_m_s);
-  o.max_yaw_rate_rad_s = c.get<double>("max_yaw_rate_rad_s", o.max_yaw_rate_rad_s);
-  o.levelling_allowance_deg = c.get<double>("levelling_allowance_deg", o.levelling_allowance_deg);
-  o.Check();
-  return o;
+const OptionsSchema<InputCheckOptions>& InputCheckOptions::schema() {
+  using O = InputCheckOptions;
+  static const OptionsSchema<O> schema = [] {
+    OptionsSchema<O> s("input_checks", "Plausibility checks every estimator applies to its inputs "
+                                       "(common/input_checks.h).");
+    s.above("max_ahead_s", 0.0, 3600.0, "s", "newer than the newest accepted time by more: rejected",
+            &O::max_ahead_s)
+        .above("max_behind_s", 0.0, 3600.0, "s", "older than its channel's newest by more: rejected",
+               &O::max_behind_s)
+        .number("relock_messages", 2, 1000, "", "this many rejected messages agreeing with each other re-anchor",
+                &O::relock_messages)
+        .above("max_attitude_step_rate_rad_s", 0.0, 1000.0, "rad/s", "INS attitude change between samples per second",
+               &O::max_attitude_step_rate_rad_s)
+        .number("attitude_step_noise_sigmas", 0.0, 20.0, "", "... plus this many sigmas of the samples' own noise",
+                &O::attitude_step_noise_sigmas)
+        .above("max_angular_rate_rad_s", 0.0, 1000.0, "rad/s", "INS angular rates", &O::max_angular_rate_rad_s)
+        .number("min_range_m", 0.0, 1e5, "m", "a valid altimeter range below this: rejected", &O::min_range_m)
+        .above("max_range_m", 0.0, 1e5, "m", "... or above this", &O::max_range_m)
+        .above("max_abs_normalized", 0.0, 100.0, "", "undistorted track coordinates |x|, |y|",
+               &O::max_abs_normalized)
+        .number("pixel_margin", 0.0, 10000.0, "px", "track pixels this far outside the image: rejected",
+                &O::pixel_margin)
+        .above("max_speed_m_s", 0.0, 10000.0, "m/s", "VO_DELTA translation over its interval, plus ...",
+               &O::max_speed_m_s)
+        .number("levelling_allowance_deg", 0.0, 45.0, "deg", "... altitude x tan(this)", &O::levelling_allowance_deg)
+        .above("max_yaw_rate_rad_s", 0.0, 1000.0, "rad/s", "VO_DELTA dyaw over its interval", &O::max_yaw_rate_rad_s)
+        .rule("min_range_m", [](const O& o) { return o.min_range_m < o.max_range_m; }, "must be < max_range_m");
+    return s;
+  }();
+  return schema;
 }
 
-void InputCheckOptions::Check() const {
-  check(max_ahead_s > 0.0 && max_ahead_s <= 3600.0, "max_ahead_s", "must be in (0, 3600]");
-  check(max_behind_s > 0.0 && max_behind_s <= 3600.0, "max_behind_s", "must be in (0, 3600]");
-  check(relock_messages >= 2 && relock_messages <= 1000, "relock_messages", "must be in [2, 1000]");
-  check(max_attitude_step_rate_rad_s > 0.0 && max_attitude_step_rate_rad_s <= 1000.0, "max_attitude_step_rate_rad_s",
-        "must be in (0, 1000]");
-  check(attitude_step_noise_sigmas >= 0.0 && attitude_step_noise_sigmas <= 20.0, "attitude_step_noise_sigmas",
-        "must be in [0, 20]");
-  check(max_angular_rate_rad_s > 0.0 && max_angular_rate_rad_s <= 1000.0, "max_angular_rate_rad_s",
-        "must be in (0, 1000]");
-  check(min_range_m >= 0.0 && min_range_m < max_range_m, "min_range_m", "must be >= 0 and < max_range_m");
-  check(max_range_m > 0.0 && max_range_m <= 1e5, "max_range_m", "must be in (0, 100000]");
-  check(max_abs_normalized > 0.0 && max_abs_normalized <= 100.0, "max_abs_normalized", "must be in (0, 100]");
-  check(pixel_margin >= 0.0 && pixel_margin <= 10000.0, "pixel_margin", "must be in [0, 10000]");
-  check(max_speed_m_s > 0.0 && max_speed_m_s <= 10000.0, "max_speed_m_s", "must be in (0, 10000]");
-  check(max_yaw_rate_rad_s > 0.0 && max_yaw_rate_rad_s <= 1000.0, "max_yaw_rate_rad_s", "must be in (0, 1000]");
-  check(levelling_allowance_deg >= 0.0 && levelling_allowance_deg <= 45.0, "levelling_allowance_deg",
-        "must be in [0, 45]");
+InputCheckOptions InputCheckOptions::from_config(const Config& root) {
+  return schema().read(root.section_or_empty("input_checks"));
 }
+
+void InputCheckOptions::Check() const { schema().check(*this); }
 
 StreamClock::Verdict StreamClock::admit(int64_t utime, const InputCheckOptions& options, int64_t* gate_newest) {
   const int64_t ahead_us = static_cast<int64_t>(options.max_ahead_s * 1e6);

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "common/config.h"
+#include "common/options_schema.h"
 #include "common/status.h"
 #include "nadir/altimeter_t.hpp"
 #include "nadir/image_t.hpp"
@@ -57,6 +58,7 @@ struct InputCheckOptions {
   static InputCheckOptions from_config(const Config& root);
   // Throws ConfigError naming the key and the allowed range.
   void Check() const;
+  static const OptionsSchema<InputCheckOptions>& schema();  // every key of `input_checks:`
 };
 
 // The newest accepted sensor time of one channel and the run of rejected

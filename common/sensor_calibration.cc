@@ -25,9 +25,24 @@ Eigen::VectorXd get_numbers(const Config& section, const std::string& key, const
 }
 }  // namespace
 
+const std::vector<std::string>& SensorCalibration::camera_keys() {
+  static const std::vector<std::string> keys{"width",         "height",      "fx",        "fy",
+                                             "cx",            "cy",          "distortion", "mount_rpy_deg",
+                                             "rate_hz",       "lever_arm_m", "time_offset_us"};
+  return keys;
+}
+
+const std::vector<std::string>& SensorCalibration::altimeter_keys() {
+  static const std::vector<std::string> keys{"beam_body", "lever_arm_m", "beam_misalignment_deg", "range_scale",
+                                             "range_bias_m"};
+  return keys;
+}
+
 SensorCalibration SensorCalibration::from_config(const Config& root) {
   SensorCalibration c;
   const Config camera = root.section_or_empty("camera");
+  camera.require_known_keys(camera_keys());
+  root.section_or_empty("altimeter").require_known_keys(altimeter_keys());
   c.camera_time_offset_us = camera.get<int64_t>("time_offset_us", c.camera_time_offset_us);  // integer us
   c.camera_lever_arm_m = get_numbers(camera, "lever_arm_m", c.camera_lever_arm_m);
   const Config altimeter = root.section_or_empty("altimeter");

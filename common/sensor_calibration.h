@@ -50,6 +50,11 @@ struct SensorCalibration {
   // Reads the keys above from the config root (each optional) and checks
   // them; throws ConfigError naming the key.
   static SensorCalibration from_config(const Config& root);
+  // Every key of the shared `camera:` and `altimeter:` sections, whichever
+  // process reads which (camera model, calibration, rate, beam): the readers
+  // refuse any other key there.
+  static const std::vector<std::string>& camera_keys();
+  static const std::vector<std::string>& altimeter_keys();
   // Throws ConfigError naming the key and its allowed range: |time offset| <
   // 1 s, scale in (0.5, 2), |bias| < 100 m, misalignment within 10 deg, lever
   // arms within 20 m per axis. `source` names the config in the error.

@@ -14,43 +14,45 @@ double SerialOptions::byte_time_us() const {
   return bits * 1e6 / baud;
 }
 
+const OptionsSchema<SerialOptions>& SerialOptions::schema() {
+  using O = SerialOptions;
+  static const OptionsSchema<O> schema = [] {
+    OptionsSchema<O> s("serial", "A serial line (common/serial_port.h); each bridge gives its own device default.");
+    std::vector<std::pair<std::string, int>> bauds;
+    for (int b : {1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200, 230400, 460800, 500000, 576000, 921600,
+                  1000000, 2000000, 4000000}) {
+      bauds.emplace_back(std::to_string(b), b);
+    }
+    s.text("device", "path, e.g. /dev/ttyUSB0 or a pty symlink", &O::device)
+        .choice<int>("baud", bauds, "line rate (bit/s)", &O::baud)
+        .number("data_bits", 5, 8, "bits", "data bits per character", &O::data_bits)
+        .choice<std::string>("parity", {{"none", "none"}, {"even", "even"}, {"odd", "odd"}}, "parity bit",
+                             &O::parity)
+        .choice<int>("stop_bits", {{"1", 1}, {"2", 2}}, "stop bits", &O::stop_bits)
+        .choice<std::string>("flow_control", {{"none", "none"}, {"rtscts", "rtscts"}, {"xonxoff", "xonxoff"}},
+                             "flow control", &O::flow_control)
+        .number("stall_timeout_s", 0.05, 600.0, "s", "no byte for this long: stall, reopen", &O::stall_timeout_s)
+        .number("reopen_min_s", 0.01, 60.0, "s", "reopen delay after a hangup or stall (doubles per failed open)",
+                &O::reopen_min_s)
+        .number("reopen_max_s", 0.01, 600.0, "s", "backoff cap (at least reopen_min_s)", &O::reopen_max_s)
+        .number("absent_poll_s", 0.01, 10.0, "s", "while the path does not exist: fixed poll", &O::absent_poll_s)
+        .rule("device", [](const O& o) { return !o.device.empty(); }, "must name a serial device")
+        .rule("reopen_max_s", [](const O& o) { return o.reopen_max_s >= o.reopen_min_s; },
+              "must be >= reopen_min_s");
+    return s;
+  }();
+  return schema;
+}
+
 SerialOptions SerialOptions::from_config(const Config& s, const SerialOptions& d) {
-  SerialOptions o;
-  o.device = s.get<std::string>("device", d.device);
-  o.baud = s.get<int>("baud", d.baud);
-  o.data_bits = s.get<int>("data_bits", d.data_bits);
-  o.parity = s.get<std::string>("parity", d.parity);
-  o.stop_bits = s.get<int>("stop_bits", d.stop_bits);
-  o.flow_control = s.get<std::string>("flow_control", d.flow_control);
-  o.stall_timeout_s = s.get<double>("stall_timeout_s", d.stall_timeout_s);
-  o.reopen_min_s = s.get<double>("reopen_min_s", d.reopen_min_s);
-  o.reopen_max_s = s.get<double>("reopen_max_s", d.reopen_max_s);
-  o.absent_poll_s = s.get<double>("absent_poll_s", d.absent_poll_s);
+  SerialOptions o = d;
+  schema().read(s, &o);
   return o;
 }
 
 void SerialOptions::Check(const std::string& source, const std::string& key) const {
-  static const int kBauds[] = {1200,   2400,   4800,   9600,    19200,   38400,   57600,  115200,
-                               230400, 460800, 500000, 576000, 921600, 1000000, 2000000, 4000000};
-  bool baud_ok = false;
-  for (int b : kBauds) baud_ok |= b == baud;
-  require_option(!device.empty(), source, key + ".device", "must name a serial device");
-  require_option(baud_ok, source, key + ".baud",
-                 "= " + std::to_string(baud) + " is not a standard rate (1200 .. 4000000, e.g. 115200, 230400)");
-  require_option(data_bits >= 5 && data_bits <= 8, source, key + ".data_bits", "must be in [5, 8]");
-  require_option(parity == "none" || parity == "even" || parity == "odd", source, key + ".parity",
-                 "= '" + parity + "' must be none, even or odd");
-  require_option(stop_bits == 1 || stop_bits == 2, source, key + ".stop_bits", "must be 1 or 2");
-  require_option(flow_control == "none" || flow_control == "rtscts" || flow_control == "xonxoff", source,
-                 key + ".flow_control", "= '" + flow_control + "' must be none, rtscts or xonxoff");
-  require_option(stall_timeout_s >= 0.05 && stall_timeout_s <= 600, source, key + ".stall_timeout_s",
-                 "must be in [0.05, 600]");
-  require_option(reopen_min_s >= 0.01 && reopen_min_s <= 60, source, key + ".reopen_min_s", "must be in [0.01, 60]");
-  require_option(reopen_max_s >= reopen_min_s && reopen_max_s <= 600, source, key + ".reopen_max_s",
-                 "must be in [reopen_min_s, 600]");
-  require_option(absent_poll_s >= 0.01 && absent_poll_s <= 10, source, key + ".absent_poll_s", "must be in [0.01, 10]");
+  schema().check(*this, Config(YAML::Node(YAML::NodeType::Map), source, key));
 }
-
 
 bool baud_to_speed(int baud, unsigned* speed) {
   switch (baud) {

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "common/config.h"
+#include "common/options_schema.h"
 
 namespace nadir {
 
@@ -28,6 +29,8 @@ struct SerialOptions {
   double byte_time_us() const;
   static SerialOptions from_config(const Config& section, const SerialOptions& defaults);
   void Check(const std::string& source, const std::string& key) const;
+  // The keys of a serial line's section (options_schema.h).
+  static const OptionsSchema<SerialOptions>& schema();
 };
 
 

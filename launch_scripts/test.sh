@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Sets up (setup.sh --tests), checks the documentation site (mkdocs build
-# --strict: a broken link or a page missing from the navigation fails), then
+# Sets up (setup.sh --tests), checks that the configuration reference is the
+# one the options schemas generate (nadir_config --config-reference) and the
+# documentation site (mkdocs build --strict: a broken link or a page missing
+# from the navigation fails), then
 # runs every test suite. All tests run inside a private network
 # namespace (LCM udpm and the Aravis fake camera stay on its loopback).
 # Then the parsers, estimator and runtime suites run again in an
@@ -9,6 +11,13 @@
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 "$NADIR_ROOT/launch_scripts/setup.sh" --tests
+
+echo "test: configuration reference (docs/reference/configuration.md against the options schemas)"
+if ! "$NADIR_BUILD/bin/nadir_config" --config-reference | diff -u "$NADIR_ROOT/docs/reference/configuration.md" -; then
+  echo "test: docs/reference/configuration.md differs from what the options schemas generate;" \
+       "regenerate it with: $NADIR_BUILD/bin/nadir_config --config-reference --out $NADIR_ROOT/docs/reference/configuration.md" >&2
+  exit 1
+fi
 
 echo "test: documentation site (mkdocs build --strict)"
 (cd "$NADIR_ROOT" && mkdocs build --strict --quiet --site-dir "$NADIR_BUILD/site")

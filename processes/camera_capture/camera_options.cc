@@ -6,9 +6,12 @@ namespace nadir {
 
 CameraOptions CameraOptions::FromConfig(const Config& c) {
   CameraOptions o;
+  c.require_known_keys({"id", "pixel_format", "roi", "binning", "exposure", "gain_db", "frame_rate_hz", "trigger",
+                        "gige", "stream_buffers", "optional_features"});
   o.id = c.get<std::string>("id", o.id);
   o.pixel_format = c.get<std::string>("pixel_format", o.pixel_format);
   const Config roi = c.section_or_empty("roi");
+  roi.require_known_keys({"x", "y", "width", "height"});
   o.roi_x = roi.get_in_range<int>("x", o.roi_x, 0, 65535);
   o.roi_y = roi.get_in_range<int>("y", o.roi_y, 0, 65535);
   o.roi_width = roi.get_in_range<int>("width", o.roi_width, 0, 65535);
@@ -18,6 +21,7 @@ CameraOptions CameraOptions::FromConfig(const Config& c) {
   o.binning_x = binning[0];
   o.binning_y = binning[1];
   const Config exposure = c.section_or_empty("exposure");
+  exposure.require_known_keys({"mode", "time_us", "auto_min_us", "auto_max_us"});
   o.exposure_mode = exposure.get<std::string>("mode", o.exposure_mode);
   o.exposure_us = exposure.get_in_range<double>("time_us", o.exposure_us, 1.0, 1e6);
   o.exposure_auto_min_us = exposure.get_in_range<double>("auto_min_us", o.exposure_auto_min_us, 1.0, 1e6);
@@ -25,12 +29,14 @@ CameraOptions CameraOptions::FromConfig(const Config& c) {
   o.gain_db = c.get_in_range<double>("gain_db", o.gain_db, -20.0, 60.0);
   o.frame_rate_hz = c.get_in_range<double>("frame_rate_hz", o.frame_rate_hz, 0.1, 1000.0);
   const Config trigger = c.section_or_empty("trigger");
+  trigger.require_known_keys({"mode", "line", "activation", "debounce_us", "software_rate_hz"});
   o.trigger_mode = trigger.get<std::string>("mode", o.trigger_mode);
   o.trigger_line = trigger.get<std::string>("line", o.trigger_line);
   o.trigger_activation = trigger.get<std::string>("activation", o.trigger_activation);
   o.trigger_debounce_us = trigger.get_in_range<double>("debounce_us", o.trigger_debounce_us, 0.0, 1e5);
   o.software_trigger_rate_hz = trigger.get_in_range<double>("software_rate_hz", o.software_trigger_rate_hz, 0.0, 1000.0);
   const Config gige = c.section_or_empty("gige");
+  gige.require_known_keys({"packet_size", "packet_delay_ns"});
   o.packet_size = gige.get_in_range<int>("packet_size", o.packet_size, 0, 16000);
   o.packet_delay_ns = gige.get_in_range<int>("packet_delay_ns", o.packet_delay_ns, 0, 100000000);
   o.stream_buffers = c.get_in_range<int>("stream_buffers", o.stream_buffers, 2, 256);

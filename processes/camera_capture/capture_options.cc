@@ -4,8 +4,11 @@ namespace nadir {
 
 CaptureOptions CaptureOptions::FromConfig(const Config& c) {
   CaptureOptions o;
+  c.require_known_keys({"camera", "trigger_input", "timing", "association", "clock_sync", "unassociated_frames",
+                        "reconnect"});
   o.camera = CameraOptions::FromConfig(c.section_or_empty("camera"));
   const Config trigger = c.section_or_empty("trigger_input");
+  trigger.require_known_keys({"source", "chip", "line", "edge"});
   o.trigger_input = trigger.get<std::string>("source", o.trigger_input);
   if (o.trigger_input != "gpiod" && o.trigger_input != "none" && o.trigger_input != "scripted") {
     throw trigger.error("source", "= '" + o.trigger_input + "' is not gpiod, none or scripted");
@@ -18,22 +21,14 @@ CaptureOptions CaptureOptions::FromConfig(const Config& c) {
   }
   o.timing = ImageTimingOptions::FromConfig(c.section_or_empty("timing"));
   o.association = AssociationOptions::FromConfig(c.section_or_empty("association"));
-  const Config sync = c.section_or_empty("clock_sync");
-  o.clock_sync.window_s = sync.get<double>("window_s", o.clock_sync.window_s);
-  o.clock_sync.block_s = sync.get<double>("block_s", o.clock_sync.block_s);
-  o.clock_sync.jump_threshold_us = sync.get<double>("jump_threshold_us", o.clock_sync.jump_threshold_us);
-  o.clock_sync.min_delay_us = sync.get<double>("min_delay_us", o.clock_sync.min_delay_us);
-  try {
-    o.clock_sync.Check();
-  } catch (const ConfigError& e) {
-    throw ConfigError(c.source() + ": camera_capture." + e.what());
-  }
+  o.clock_sync = ClockSyncOptions::from_config(c.section_or_empty("clock_sync"), o.clock_sync);
   const std::string policy = c.get<std::string>("unassociated_frames", "publish_flagged");
   if (policy != "publish_flagged" && policy != "drop") {
     throw c.error("unassociated_frames", "= '" + policy + "' is not publish_flagged or drop");
   }
   o.publish_unassociated = policy == "publish_flagged";
   const Config reconnect = c.section_or_empty("reconnect");
+  reconnect.require_known_keys({"initial_backoff_s", "max_backoff_s", "frame_timeout_s", "retry_at_start"});
   o.reconnect_initial_backoff_s =
       reconnect.get_in_range<double>("initial_backoff_s", o.reconnect_initial_backoff_s, 0.01, 60.0);
   o.reconnect_max_backoff_s = reconnect.get_in_range<double>("max_backoff_s", o.reconnect_max_backoff_s,

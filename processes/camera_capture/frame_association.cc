@@ -11,6 +11,9 @@ bool is_counter_wrap(int64_t previous, int64_t next) { return previous >= 0xFF00
 
 AssociationOptions AssociationOptions::FromConfig(const Config& c) {
   AssociationOptions o;
+  c.require_known_keys({"min_latency_us", "max_latency_us", "offset_tolerance_us", "min_edge_interval_us",
+                        "frame_wait_us", "edge_timeout_us", "relock_after_misses", "max_pending_edges",
+                        "max_pending_frames"});
   o.min_latency_us = c.get<double>("min_latency_us", o.min_latency_us);
   o.max_latency_us = c.get<double>("max_latency_us", o.max_latency_us);
   o.offset_tolerance_us = c.get<double>("offset_tolerance_us", o.offset_tolerance_us);

@@ -6,6 +6,7 @@ namespace nadir {
 
 ImageTimingOptions ImageTimingOptions::FromConfig(const Config& c) {
   ImageTimingOptions o;
+  c.require_known_keys({"trigger_delay_us", "camera_stamp_to_exposure_start_us"});
   o.trigger_delay_us = c.get_in_range<double>("trigger_delay_us", o.trigger_delay_us, 0.0, 1e6);
   o.camera_stamp_to_exposure_start_us =
       c.get_in_range<double>("camera_stamp_to_exposure_start_us", o.camera_stamp_to_exposure_start_us, -1e6, 1e6);

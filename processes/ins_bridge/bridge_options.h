@@ -44,6 +44,8 @@ struct BridgeOptions {
   // `root` is the whole config (ins_bridge: and altimeter: sections).
   static BridgeOptions from_config(const Config& root);
   void Check() const;
+  static const OptionsSchema<BridgeOptions>& schema();  // every key of `ins_bridge:`
+  static BridgeOptions defaults();  // what an absent key means (each serial line's device and rate)
   std::string source = "<defaults>";
 };
 

@@ -19,7 +19,8 @@ struct LinkOptions {
   // (port 0: any) and send to `remote`.
   std::string local = "127.0.0.1:14540";  // loopback unless configured: nothing listens outside by default
   std::string remote = "127.0.0.1:14580";
-  SerialOptions serial;  // kind serial: termios settings as the INS bridge's
+  SerialOptions serial = default_serial();  // kind serial: termios settings as the INS bridge's
+  static SerialOptions default_serial();     // /dev/ttyACM0 at 921600, 5 s stall timeout
 };
 
 struct InputOptions {
@@ -65,6 +66,7 @@ struct BridgeOptions {
 
   // `root` is the whole config (mavlink_bridge: and altimeter: sections).
   static BridgeOptions from_config(const Config& root);
+  static const OptionsSchema<BridgeOptions>& schema();  // every key of `mavlink_bridge:`
   void Check() const;
 };
 

@@ -19,15 +19,18 @@ FlightLeg parse_leg(const Config& c) {
   FlightLeg leg;
   const std::string type = c.get<std::string>("type");
   if (type == "straight") {
+    c.require_known_keys({"type", "distance_m"});
     leg.type = FlightLeg::kStraight;
     leg.distance_m = c.has("distance_m") ? c.get_in_range<double>("distance_m", 0.0, 1.0, 1e6) : -1.0;
   } else if (type == "turn") {
+    c.require_known_keys({"type", "angle_deg", "bank_deg"});
     leg.type = FlightLeg::kTurn;
     leg.angle_deg = c.get<double>("angle_deg");
     c.check_range("angle_deg", leg.angle_deg, -720.0, 720.0);
     if (std::fabs(leg.angle_deg) < 1.0) throw c.error("angle_deg", "must be at least 1 degree in magnitude");
     leg.bank_deg = c.get_in_range<double>("bank_deg", 15.0, 1.0, 35.0);
   } else if (type == "climb") {
+    c.require_known_keys({"type", "distance_m", "delta_alt_m"});
     leg.type = FlightLeg::kClimb;
     leg.distance_m = c.get_in_range<double>("distance_m", 0.0, 10.0, 1e6);
     leg.delta_alt_m = c.get<double>("delta_alt_m");
@@ -98,6 +101,8 @@ FlightProfile FlightProfile::parse(const std::string& yaml_text, const std::stri
   FlightProfile p;
   p.source = source;
   p.yaml = yaml_text;
+  c.require_known_keys({"name", "distance_m", "speed_mps", "altitude_agl_m", "initial_heading_deg", "pitch_trim_deg",
+                        "oscillation", "reference", "terrain", "legs"});
   p.name = c.get<std::string>("name");
   p.distance_m = c.get_in_range<double>("distance_m", p.distance_m, 10.0, 1e6);
   p.speed_mps = c.get_in_range<double>("speed_mps", p.speed_mps, 1.0, 100.0);
@@ -105,14 +110,17 @@ FlightProfile FlightProfile::parse(const std::string& yaml_text, const std::stri
   p.initial_heading_deg = c.get_in_range<double>("initial_heading_deg", 0.0, -360.0, 360.0);
   p.pitch_trim_deg = c.get_in_range<double>("pitch_trim_deg", p.pitch_trim_deg, -15.0, 15.0);
   const Config osc = c.section_or_empty("oscillation");
+  osc.require_known_keys({"roll_deg", "pitch_deg", "yaw_deg"});
   p.roll_oscillation_deg = osc.get_in_range<double>("roll_deg", p.roll_oscillation_deg, 0.0, 10.0);
   p.pitch_oscillation_deg = osc.get_in_range<double>("pitch_deg", p.pitch_oscillation_deg, 0.0, 10.0);
   p.yaw_oscillation_deg = osc.get_in_range<double>("yaw_deg", p.yaw_oscillation_deg, 0.0, 10.0);
   const Config ref = c.section_or_empty("reference");
+  ref.require_known_keys({"latitude_deg", "longitude_deg", "height_m"});
   p.reference_latitude_deg = ref.get_in_range<double>("latitude_deg", p.reference_latitude_deg, -85.0, 85.0);
   p.reference_longitude_deg = ref.get_in_range<double>("longitude_deg", p.reference_longitude_deg, -180.0, 180.0);
   p.reference_height_m = ref.get_in_range<double>("height_m", p.reference_height_m, -500.0, 9000.0);
   const Config terrain = c.section_or_empty("terrain");
+  terrain.require_known_keys({"relief_scale"});
   p.terrain.relief_scale = terrain.get_in_range<double>("relief_scale", 1.0, 0.0, 3.0);
 
   const YAML::Node legs = c.node()["legs"];

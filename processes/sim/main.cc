@@ -305,6 +305,10 @@ int main(int argc, char** argv) {
       return run_live(args, sim, epoch, start_mono);
     }
     return run_log(args, sim);
+  } catch (const nadir::ConfigError& e) {
+    // A bad profile, sensor set or camera config: nothing was simulated.
+    std::fprintf(stderr, "nadir_sim: error: %s\n", e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nadir_sim: %s\n", e.what());
     return 1;

@@ -7,24 +7,6 @@
 namespace nadir::sim {
 namespace {
 
-// Reads a fixed-length list of numbers, or keeps the fallback when absent.
-template <size_t N>
-std::array<double, N> get_list(const Config& c, const std::string& key, const std::array<double, N>& fallback) {
-  if (!c.has(key)) return fallback;
-  const auto v = c.get<std::vector<double>>(key);
-  if (v.size() != N) throw c.error(key, "must list " + std::to_string(N) + " numbers");
-  std::array<double, N> out{};
-  for (size_t i = 0; i < N; ++i) out[i] = v[i];
-  return out;
-}
-
-template <size_t N>
-bool all_within(const std::array<double, N>& v, double limit) {
-  for (double x : v)
-    if (!(std::fabs(x) <= limit)) return false;
-  return true;
-}
-
 template <size_t N>
 bool any_nonzero(const std::array<double, N>& v) {
   for (double x : v)
@@ -41,101 +23,80 @@ void emit_list(YAML::Emitter& out, const char* key, const std::array<double, N>&
 
 }  // namespace
 
+const OptionsSchema<SensorOptions>& SensorOptions::schema() {
+  using O = SensorOptions;
+  using I = InsModelOptions;
+  using A = AltimeterModelOptions;
+  using C = CameraSensorOptions;
+  static const OptionsSchema<O> schema = [] {
+    OptionsSchema<O> s("sim_sensors.<set>", "A sensor set of config/sim_sensors.yaml (nadir_sim --sensor-set): the "
+                                            "simulated INS, altimeter and camera errors.");
+    s.number("ins.rate_hz", 1.0, 1000.0, "Hz", "INS sample rate", &O::ins, &I::rate_hz)
+        .number("ins.roll_pitch_noise_deg", 0.0, 10.0, "deg", "white noise sigma on roll and pitch", &O::ins,
+                &I::roll_pitch_noise_deg)
+        .number("ins.yaw_noise_deg", 0.0, 10.0, "deg", "white noise sigma on yaw", &O::ins, &I::yaw_noise_deg)
+        .number("ins.yaw_bias_initial_deg", -30.0, 30.0, "deg", "yaw bias at the start", &O::ins,
+                &I::yaw_bias_initial_deg)
+        .number("ins.yaw_bias_walk_deg_per_sqrt_s", 0.0, 1.0, "deg/sqrt(s)", "random-walk drift of the yaw bias",
+                &O::ins, &I::yaw_bias_walk_deg_per_sqrt_s)
+        .number("ins.roll_pitch_gm_sigma_deg", 0.0, 10.0, "deg", "Gauss-Markov roll/pitch error sigma", &O::ins,
+                &I::roll_pitch_gm_sigma_deg)
+        .number("ins.roll_pitch_gm_tau_s", 0.01, 1e5, "s", "... its correlation time", &O::ins,
+                &I::roll_pitch_gm_tau_s)
+        .number("ins.yaw_gm_sigma_deg", 0.0, 10.0, "deg", "Gauss-Markov yaw error sigma", &O::ins,
+                &I::yaw_gm_sigma_deg)
+        .number("ins.yaw_gm_tau_s", 0.01, 1e5, "s", "... its correlation time", &O::ins, &I::yaw_gm_tau_s)
+        .number("altimeter.rate_hz", 0.1, 1000.0, "Hz", "altimeter sample rate", &O::altimeter, &A::rate_hz)
+        .number("altimeter.noise_m", 0.0, 100.0, "m", "range noise sigma, constant part", &O::altimeter,
+                &A::noise_m)
+        .number("altimeter.noise_pct", 0.0, 20.0, "%", "... plus this percentage of the range", &O::altimeter,
+                &A::noise_pct)
+        .number("altimeter.dropout_probability", 0.0, 1.0, "", "published as VALID_NO_RETURN", &O::altimeter,
+                &A::dropout_probability)
+        .number("altimeter.max_range_m", 10.0, 1e5, "m", "beyond: VALID_OUT_OF_RANGE", &O::altimeter,
+                &A::max_range_m)
+        .number("altimeter.scale", 0.5, 2.0, "", "reported range = scale * true range + bias_m + noise",
+                &O::altimeter, &A::scale)
+        .number("altimeter.bias_m", -100.0, 100.0, "m", "range bias", &O::altimeter, &A::bias_m)
+        .numbers<2>("altimeter.beam_misalignment_deg", -10.0, 10.0, "deg", "true beam's roll, pitch from the reported",
+                    &O::altimeter, &A::beam_misalignment_deg)
+        .numbers<3>("altimeter.lever_arm_m", -20.0, 20.0, "m", "beam origin from the INS, body frame",
+                    &O::altimeter, &A::lever_arm_m)
+        .number("camera.trigger_jitter_us", 0.0, 5000.0, "us", "sigma of reported trigger time - true exposure time",
+                &O::camera, &C::trigger_jitter_us)
+        .number("camera.frame_drop_probability", 0.0, 0.5, "", "trigger published, image not", &O::camera,
+                &C::frame_drop_probability)
+        .number("camera.pixel_noise_dn", 0.0, 50.0, "DN", "pixel noise sigma", &O::camera, &C::pixel_noise_dn)
+        .above("camera.exposure_us", 0.0, 1e6, "us", "exposure time (motion blur)", &O::camera, &C::exposure_us)
+        .number("camera.gain_db", 0.0, 48.0, "dB", "sensor gain", &O::camera, &C::gain_db)
+        .numbers<3>("camera.boresight_rpy_deg", -10.0, 10.0, "deg", "true mount = configured mount * R(rpy)",
+                    &O::camera, &C::boresight_rpy_deg)
+        .number("camera.time_offset_us", -50000.0, 50000.0, "us", "exposure this long after the stamp", &O::camera,
+                &C::time_offset_us)
+        .number("camera.trigger_latency_us", 0.0, 50000.0, "us", "trigger edge to start of exposure", &O::camera,
+                &C::trigger_latency_us)
+        .number("camera.focal_scale", 0.8, 1.25, "", "true fx, fy = configured * focal_scale", &O::camera,
+                &C::focal_scale)
+        .numbers<5>("camera.distortion_error", -1.0, 1.0, "", "true k1, k2, p1, p2, k3 = configured + this",
+                    &O::camera, &C::distortion_error)
+        .numbers<3>("camera.lever_arm_m", -20.0, 20.0, "m", "camera centre from the INS, body frame", &O::camera,
+                    &C::lever_arm_m);
+    return s;
+  }();
+  return schema;
+}
+
 SensorOptions SensorOptions::from_config(const Config& root, const std::string& set_name) {
   SensorOptions o;
   o.set_name = set_name;
   o.source = root.source();
   if (!root.has(set_name)) throw root.error(set_name, "is not a sensor set in this file");
-  const Config s = root.section(set_name);
-  s.require_known_keys({"ins", "altimeter", "camera"});
-  const Config ins = s.section_or_empty("ins");
-  ins.require_known_keys({"rate_hz", "roll_pitch_noise_deg", "yaw_noise_deg", "yaw_bias_initial_deg",
-                          "yaw_bias_walk_deg_per_sqrt_s", "roll_pitch_gm_sigma_deg", "roll_pitch_gm_tau_s",
-                          "yaw_gm_sigma_deg", "yaw_gm_tau_s"});
-  o.ins.rate_hz = ins.get<double>("rate_hz", o.ins.rate_hz);
-  o.ins.roll_pitch_noise_deg = ins.get<double>("roll_pitch_noise_deg", o.ins.roll_pitch_noise_deg);
-  o.ins.yaw_noise_deg = ins.get<double>("yaw_noise_deg", o.ins.yaw_noise_deg);
-  o.ins.yaw_bias_initial_deg = ins.get<double>("yaw_bias_initial_deg", o.ins.yaw_bias_initial_deg);
-  o.ins.yaw_bias_walk_deg_per_sqrt_s = ins.get<double>("yaw_bias_walk_deg_per_sqrt_s", o.ins.yaw_bias_walk_deg_per_sqrt_s);
-  o.ins.roll_pitch_gm_sigma_deg = ins.get<double>("roll_pitch_gm_sigma_deg", o.ins.roll_pitch_gm_sigma_deg);
-  o.ins.roll_pitch_gm_tau_s = ins.get<double>("roll_pitch_gm_tau_s", o.ins.roll_pitch_gm_tau_s);
-  o.ins.yaw_gm_sigma_deg = ins.get<double>("yaw_gm_sigma_deg", o.ins.yaw_gm_sigma_deg);
-  o.ins.yaw_gm_tau_s = ins.get<double>("yaw_gm_tau_s", o.ins.yaw_gm_tau_s);
-  const Config alt = s.section_or_empty("altimeter");
-  alt.require_known_keys({"rate_hz", "noise_m", "noise_pct", "dropout_probability", "max_range_m", "scale", "bias_m",
-                          "beam_misalignment_deg", "lever_arm_m"});
-  o.altimeter.rate_hz = alt.get<double>("rate_hz", o.altimeter.rate_hz);
-  o.altimeter.noise_m = alt.get<double>("noise_m", o.altimeter.noise_m);
-  o.altimeter.noise_pct = alt.get<double>("noise_pct", o.altimeter.noise_pct);
-  o.altimeter.dropout_probability = alt.get<double>("dropout_probability", o.altimeter.dropout_probability);
-  o.altimeter.max_range_m = alt.get<double>("max_range_m", o.altimeter.max_range_m);
-  o.altimeter.scale = alt.get<double>("scale", o.altimeter.scale);
-  o.altimeter.bias_m = alt.get<double>("bias_m", o.altimeter.bias_m);
-  o.altimeter.beam_misalignment_deg = get_list(alt, "beam_misalignment_deg", o.altimeter.beam_misalignment_deg);
-  o.altimeter.lever_arm_m = get_list(alt, "lever_arm_m", o.altimeter.lever_arm_m);
-  const Config cam = s.section_or_empty("camera");
-  cam.require_known_keys({"trigger_jitter_us", "frame_drop_probability", "pixel_noise_dn", "exposure_us", "gain_db",
-                          "boresight_rpy_deg", "time_offset_us", "trigger_latency_us", "focal_scale",
-                          "distortion_error", "lever_arm_m"});
-  o.camera.trigger_jitter_us = cam.get<double>("trigger_jitter_us", o.camera.trigger_jitter_us);
-  o.camera.frame_drop_probability = cam.get<double>("frame_drop_probability", o.camera.frame_drop_probability);
-  o.camera.pixel_noise_dn = cam.get<double>("pixel_noise_dn", o.camera.pixel_noise_dn);
-  o.camera.exposure_us = cam.get<double>("exposure_us", o.camera.exposure_us);
-  o.camera.gain_db = cam.get<double>("gain_db", o.camera.gain_db);
-  o.camera.boresight_rpy_deg = get_list(cam, "boresight_rpy_deg", o.camera.boresight_rpy_deg);
-  o.camera.time_offset_us = cam.get<double>("time_offset_us", o.camera.time_offset_us);
-  o.camera.trigger_latency_us = cam.get<double>("trigger_latency_us", o.camera.trigger_latency_us);
-  o.camera.focal_scale = cam.get<double>("focal_scale", o.camera.focal_scale);
-  o.camera.distortion_error = get_list(cam, "distortion_error", o.camera.distortion_error);
-  o.camera.lever_arm_m = get_list(cam, "lever_arm_m", o.camera.lever_arm_m);
-  // Range errors name the set's file and the dotted key.
-  o.Check();
+  schema().read(root.section(set_name), &o);
   return o;
 }
 
 void SensorOptions::Check() const {
-  const std::string src = source.empty() ? "sensor options" : source;
-  const std::string prefix = set_name.empty() ? "" : set_name + ".";
-  const SensorOptions& c = *this;
-  auto check = [&](bool ok, const std::string& key, const std::string& what) {
-    require_option(ok, src, prefix + key, what);
-  };
-  check(c.ins.rate_hz >= 1 && c.ins.rate_hz <= 1000, "ins.rate_hz", "must be in [1, 1000]");
-  check(c.ins.roll_pitch_noise_deg >= 0 && c.ins.roll_pitch_noise_deg <= 10, "ins.roll_pitch_noise_deg", "must be in [0, 10]");
-  check(c.ins.yaw_noise_deg >= 0 && c.ins.yaw_noise_deg <= 10, "ins.yaw_noise_deg", "must be in [0, 10]");
-  check(std::fabs(c.ins.yaw_bias_initial_deg) <= 30, "ins.yaw_bias_initial_deg", "must be in [-30, 30]");
-  check(c.ins.yaw_bias_walk_deg_per_sqrt_s >= 0 && c.ins.yaw_bias_walk_deg_per_sqrt_s <= 1,
-        "ins.yaw_bias_walk_deg_per_sqrt_s", "must be in [0, 1]");
-  check(c.ins.roll_pitch_gm_sigma_deg >= 0 && c.ins.roll_pitch_gm_sigma_deg <= 10, "ins.roll_pitch_gm_sigma_deg",
-        "must be in [0, 10]");
-  check(c.ins.roll_pitch_gm_tau_s >= 0.01 && c.ins.roll_pitch_gm_tau_s <= 1e5, "ins.roll_pitch_gm_tau_s",
-        "must be in [0.01, 1e5]");
-  check(c.ins.yaw_gm_sigma_deg >= 0 && c.ins.yaw_gm_sigma_deg <= 10, "ins.yaw_gm_sigma_deg", "must be in [0, 10]");
-  check(c.ins.yaw_gm_tau_s >= 0.01 && c.ins.yaw_gm_tau_s <= 1e5, "ins.yaw_gm_tau_s", "must be in [0.01, 1e5]");
-  check(c.altimeter.rate_hz >= 0.1 && c.altimeter.rate_hz <= 1000, "altimeter.rate_hz", "must be in [0.1, 1000]");
-  check(c.altimeter.noise_m >= 0 && c.altimeter.noise_m <= 100, "altimeter.noise_m", "must be in [0, 100]");
-  check(c.altimeter.noise_pct >= 0 && c.altimeter.noise_pct <= 20, "altimeter.noise_pct", "must be in [0, 20]");
-  check(c.altimeter.dropout_probability >= 0 && c.altimeter.dropout_probability <= 1, "altimeter.dropout_probability",
-        "must be in [0, 1]");
-  check(c.altimeter.max_range_m >= 10 && c.altimeter.max_range_m <= 1e5, "altimeter.max_range_m", "must be in [10, 1e5]");
-  check(c.altimeter.scale >= 0.5 && c.altimeter.scale <= 2, "altimeter.scale", "must be in [0.5, 2]");
-  check(std::fabs(c.altimeter.bias_m) <= 100, "altimeter.bias_m", "must be in [-100, 100]");
-  check(all_within(c.altimeter.beam_misalignment_deg, 10), "altimeter.beam_misalignment_deg",
-        "must be in [-10, 10] per axis");
-  check(all_within(c.altimeter.lever_arm_m, 20), "altimeter.lever_arm_m", "must be in [-20, 20] per axis");
-  check(c.camera.trigger_jitter_us >= 0 && c.camera.trigger_jitter_us <= 5000, "camera.trigger_jitter_us", "must be in [0, 5000]");
-  check(c.camera.frame_drop_probability >= 0 && c.camera.frame_drop_probability <= 0.5, "camera.frame_drop_probability",
-        "must be in [0, 0.5]");
-  check(c.camera.pixel_noise_dn >= 0 && c.camera.pixel_noise_dn <= 50, "camera.pixel_noise_dn", "must be in [0, 50]");
-  check(c.camera.exposure_us > 0 && c.camera.exposure_us <= 1e6, "camera.exposure_us", "must be in (0, 1e6]");
-  check(c.camera.gain_db >= 0 && c.camera.gain_db <= 48, "camera.gain_db", "must be in [0, 48]");
-  check(all_within(c.camera.boresight_rpy_deg, 10), "camera.boresight_rpy_deg", "must be in [-10, 10] per axis");
-  check(std::fabs(c.camera.time_offset_us) <= 50000, "camera.time_offset_us", "must be in [-50000, 50000]");
-  check(c.camera.trigger_latency_us >= 0 && c.camera.trigger_latency_us <= 50000, "camera.trigger_latency_us",
-        "must be in [0, 50000]");
-  check(c.camera.focal_scale >= 0.8 && c.camera.focal_scale <= 1.25, "camera.focal_scale", "must be in [0.8, 1.25]");
-  check(all_within(c.camera.distortion_error, 1), "camera.distortion_error", "must be in [-1, 1] per coefficient");
-  check(all_within(c.camera.lever_arm_m, 20), "camera.lever_arm_m", "must be in [-20, 20] per axis");
+  schema().check(*this, Config(YAML::Node(YAML::NodeType::Map), source.empty() ? "sensor options" : source, set_name));
 }
 
 bool SensorOptions::has_installation_errors() const {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/config.h"
+#include "common/options_schema.h"
 
 namespace nadir::sim {
 
@@ -71,6 +72,7 @@ struct SensorOptions {
   static SensorOptions from_config(const Config& root, const std::string& set_name);
   // Throws ConfigError naming the option when a value is out of range.
   void Check() const;
+  static const OptionsSchema<SensorOptions>& schema();  // every key of a sensor set
   // True if any installation/intrinsic error (beyond noise) is set.
   bool has_installation_errors() const;
   // YAML text of the effective values (for CONFIG).

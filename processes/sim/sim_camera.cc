@@ -2,12 +2,14 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include "common/sensor_calibration.h"
 #include "processes/sim/sim_rotation.h"
 
 namespace nadir::sim {
 
 SimCamera SimCamera::from_config(const Config& root) {
   const Config c = root.section("camera");
+  c.require_known_keys(SensorCalibration::camera_keys());
   SimCamera cam;
   cam.width = c.get_in_range<int>("width", cam.width, 16, 8192);
   cam.height = c.get_in_range<int>("height", cam.height, 16, 8192);

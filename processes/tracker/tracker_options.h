@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/config.h"
+#include "common/options_schema.h"
 
 namespace nadir {
 
@@ -53,6 +54,7 @@ struct DescriptorOptions {
 
   // Throws ConfigError naming `tracker.descriptor.<key>` and the allowed values.
   void Check(const std::string& source) const;
+  static const OptionsSchema<DescriptorOptions>& schema();  // `tracker.descriptor:`
 };
 
 struct TrackerOptions {
@@ -156,6 +158,7 @@ struct TrackerOptions {
   static TrackerOptions from_config(const Config& root);
   // Throws ConfigError naming `tracker.<key>` and the allowed range.
   void Check(const std::string& source = "tracker options") const;
+  static const OptionsSchema<TrackerOptions>& schema();  // every key of `tracker:` (options_schema.h)
 
   int max_features() const { return grid_cols * grid_rows * features_per_cell; }
 };

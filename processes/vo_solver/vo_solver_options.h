@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include "common/config.h"
+#include "common/options_schema.h"
 #include "processes/vo_solver/delta_uncertainty.h"
 #include "processes/vo_solver/frame_sync.h"
 #include "processes/vo_solver/translation_solver.h"
@@ -20,6 +21,9 @@ struct VoSolverOptions {
 
   // Reads and checks; throws ConfigError naming the file and dotted key.
   static VoSolverOptions from_config(const Config& root);
+  // Every key of `vo_solver:` (options_schema.h); camera and altimeter are
+  // read by their own readers.
+  static const OptionsSchema<VoSolverOptions>& schema();
 };
 
 }  // namespace nadir

@@ -9,56 +9,50 @@
 
 namespace nadir {
 
-namespace {
-void check(bool ok, const std::string& key, const std::string& what) {
-  require_option(ok, "config", "yaw_fusion.coast." + key, what);
+const OptionsSchema<CoastOptions>& CoastOptions::schema() {
+  using O = CoastOptions;
+  static const OptionsSchema<O> schema = [] {
+    OptionsSchema<O> s("yaw_fusion.coast", "Coasting over deltas whose translation is not trusted (coasting.h).");
+    s.flag("enabled", "false: no coasting", &O::enabled)
+        .number("quality_mask", 0, 0x7fffffff, "bits", "VO_DELTA quality bits that make a delta coast",
+                &O::quality_mask)
+        .number("max_duration_s", 0.0, 3600.0, "s", "beyond, the VO-gap behaviour (hold, FLAG_VO_GAP)",
+                &O::max_duration_s)
+        .number("max_range_age_s", 0.0, 60.0, "s", "altimeter range older than this is not used while coasting",
+                &O::max_range_age_s)
+        .number("velocity_stddev_mps", 0.0, 100.0, "m/s", "error of the held velocity", &O::velocity_stddev_mps)
+        .number("velocity_random_walk", 0.0, 100.0, "m/s/sqrt(s)", "random walk of the held velocity",
+                &O::velocity_random_walk)
+        .number("vertical_velocity_stddev_mps", 0.0, 100.0, "m/s", "the same for down",
+                &O::vertical_velocity_stddev_mps)
+        .number("inlier_drop_fraction", 0.0, 1.0, "", "inliers below this fraction of the running median: coast",
+                &O::inlier_drop_fraction)
+        .number("inlier_median_window", 1, 100000, "deltas", "integrated deltas in the running median",
+                &O::inlier_median_window)
+        .number("vertical_gate_m", 0.0, 1e6, "m", "vertical gate, constant part", &O::vertical_gate_m)
+        .number("vertical_gate_slope", 0.0, 100.0, "", "vertical gate, per metre of horizontal step",
+                &O::vertical_gate_slope)
+        .number("vertical_gate_sigmas", 0.0, 100.0, "", "vertical gate in sigmas of the delta's dz",
+                &O::vertical_gate_sigmas)
+        .number("high_residual_window", 1, 100000, "deltas", "window of the HIGH_RESIDUAL share",
+                &O::high_residual_window)
+        .number("high_residual_fraction", 0.0, 1.0, "", "more HIGH_RESIDUAL than this share in the window: coast",
+                &O::high_residual_fraction)
+        .number("resume_good_deltas", 1, 100000, "deltas", "clean deltas in a row before integrating again",
+                &O::resume_good_deltas)
+        .flag("vo_direction", "a stale-range delta coasts along its own direction at the held speed",
+              &O::vo_direction)
+        .number("speed_window_s", 0.0, 60.0, "s", "window of the held speed", &O::speed_window_s)
+        .number("max_climb_ratio", 0.0, 10.0, "", "vo_direction: |dz| at most this share of the horizontal step",
+                &O::max_climb_ratio);
+    return s;
+  }();
+  return schema;
 }
-}  // namespace
 
-CoastOptions CoastOptions::from_config(const Config& c) {
-  CoastOptions o;
-  o.enabled = c.get<bool>("enabled", o.enabled);
-  o.quality_mask = c.get_in_range("quality_mask", o.quality_mask, 0, 0x7fffffff);
-  o.max_duration_s = c.get_in_range("max_duration_s", o.max_duration_s, 0.0, 3600.0);
-  o.max_range_age_s = c.get_in_range("max_range_age_s", o.max_range_age_s, 0.0, 60.0);
-  o.velocity_stddev_mps = c.get_in_range("velocity_stddev_mps", o.velocity_stddev_mps, 0.0, 100.0);
-  o.velocity_random_walk = c.get_in_range("velocity_random_walk", o.velocity_random_walk, 0.0, 100.0);
-  o.vertical_velocity_stddev_mps =
-      c.get_in_range("vertical_velocity_stddev_mps", o.vertical_velocity_stddev_mps, 0.0, 100.0);
-  o.inlier_drop_fraction = c.get_in_range("inlier_drop_fraction", o.inlier_drop_fraction, 0.0, 1.0);
-  o.inlier_median_window = c.get_in_range("inlier_median_window", o.inlier_median_window, 1, 100000);
-  o.vertical_gate_m = c.get_in_range("vertical_gate_m", o.vertical_gate_m, 0.0, 1e6);
-  o.vertical_gate_slope = c.get_in_range("vertical_gate_slope", o.vertical_gate_slope, 0.0, 100.0);
-  o.vertical_gate_sigmas = c.get_in_range("vertical_gate_sigmas", o.vertical_gate_sigmas, 0.0, 100.0);
-  o.high_residual_window = c.get_in_range("high_residual_window", o.high_residual_window, 1, 100000);
-  o.high_residual_fraction = c.get_in_range("high_residual_fraction", o.high_residual_fraction, 0.0, 1.0);
-  o.resume_good_deltas = c.get_in_range("resume_good_deltas", o.resume_good_deltas, 1, 100000);
-  o.vo_direction = c.get<bool>("vo_direction", o.vo_direction);
-  o.speed_window_s = c.get_in_range("speed_window_s", o.speed_window_s, 0.0, 60.0);
-  o.max_climb_ratio = c.get_in_range("max_climb_ratio", o.max_climb_ratio, 0.0, 10.0);
-  o.Check();
-  return o;
-}
+CoastOptions CoastOptions::from_config(const Config& c) { return schema().read(c); }
 
-void CoastOptions::Check() const {
-  check(quality_mask >= 0, "quality_mask", "must be >= 0");
-  check(max_duration_s >= 0.0, "max_duration_s", "must be >= 0");
-  check(max_range_age_s >= 0.0, "max_range_age_s", "must be >= 0");
-  check(velocity_stddev_mps >= 0.0, "velocity_stddev_mps", "must be >= 0");
-  check(velocity_random_walk >= 0.0, "velocity_random_walk", "must be >= 0");
-  check(vertical_velocity_stddev_mps >= 0.0, "vertical_velocity_stddev_mps", "must be >= 0");
-  check(inlier_drop_fraction >= 0.0 && inlier_drop_fraction <= 1.0, "inlier_drop_fraction", "must be in [0, 1]");
-  check(inlier_median_window >= 1, "inlier_median_window", "must be >= 1");
-  check(vertical_gate_m >= 0.0, "vertical_gate_m", "must be >= 0");
-  check(vertical_gate_slope >= 0.0, "vertical_gate_slope", "must be >= 0");
-  check(vertical_gate_sigmas >= 0.0, "vertical_gate_sigmas", "must be >= 0");
-  check(high_residual_window >= 1, "high_residual_window", "must be >= 1");
-  check(high_residual_fraction >= 0.0 && high_residual_fraction <= 1.0, "high_residual_fraction",
-        "must be in [0, 1]");
-  check(resume_good_deltas >= 1, "resume_good_deltas", "must be >= 1");
-  check(max_climb_ratio >= 0.0, "max_climb_ratio", "must be >= 0");
-  check(speed_window_s >= 0.0, "speed_window_s", "must be >= 0");
-}
+void CoastOptions::Check() const { schema().check(*this); }
 
 double coast_position_variance(double sigma_v, double q, double t) {
   if (!(t > 0.0)) return 0.0;

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "common/config.h"
+#include "common/options_schema.h"
 #include "nadir/vo_delta_t.hpp"
 
 namespace nadir {
@@ -69,7 +70,8 @@ struct CoastOptions {
 
   // Reads yaw_fusion.coast (keys named with their full path on error).
   static CoastOptions from_config(const Config& coast);
-  void Check() const;
+  void Check() const;  // throws ConfigError naming the key
+  static const OptionsSchema<CoastOptions>& schema();
 };
 
 // Position variance (m^2, one axis) after coasting t seconds with velocity

@@ -8,6 +8,7 @@
 
 #include "common/attitude_propagation.h"
 #include "common/config.h"
+#include "common/options_schema.h"
 #include "common/sensor_calibration.h"
 #include "common/delta_uncertainty_options.h"
 #include "processes/yaw_fusion/protection_level.h"
@@ -92,6 +93,8 @@ struct YawFusionOptions {
   // Reads `yaw_fusion:` (and camera.rate_hz, the calibration keys) from the whole config.
   static YawFusionOptions from_config(const Config& root);
   void Check() const;  // throws ConfigError naming the key and allowed range
+  // Every key of `yaw_fusion:` (options_schema.h).
+  static const OptionsSchema<YawFusionOptions>& schema();
 
   int64_t ins_wait_us() const { return static_cast<int64_t>(ins_wait_s * 1e6); }
   int64_t altimeter_wait_us() const { return static_cast<int64_t>(altimeter_wait_s * 1e6); }

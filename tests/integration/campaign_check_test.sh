@@ -41,6 +41,13 @@ expect_error "$good
 variants: {fast: {vo_solver.no_such_key: 1}}" "variants.fast.vo_solver.no_such_key"
 expect_error "$good
 sim: {duration: 20}" sim.duration
+# A misspelt key names the nearest known one.
+expect_error "$good
+sim: {duraton_s: 20}" sim.duraton_s
+grep -qF "did you mean sim.duration_s?" "$work/err" || fail "no suggestion for sim.duraton_s"
+expect_error "$good
+variants: {v: {vo_solver.min_featurs: 3}}" "variants.v.vo_solver.min_featurs"
+grep -qF "did you mean variants.v.vo_solver.min_features?" "$work/err" || fail "no suggestion for min_featurs"
 
 # A campaign whose second variant cannot run (tracker.grid_cols 0 is refused by the tracker).
 cat >"$work/c.yaml" <<'YAML'

@@ -1,6 +1,7 @@
 """A campaign file: loaded, checked against the checkout (profiles, sensor sets,
 config keys) and expanded into cells. Every error names the file and the key,
 and is raised before anything runs."""
+import difflib
 import itertools
 import os
 import re
@@ -48,6 +49,13 @@ def _fail(path, key, message):
     raise CampaignError(f"{path}: key '{key}': {message}")
 
 
+def _unknown(path, key, name, known, what="unknown key"):
+    """A key that nothing reads: the error names the nearest known one."""
+    near = difflib.get_close_matches(name, sorted(known), n=1, cutoff=0.75)
+    hint = f"; did you mean {key[:len(key) - len(name)]}{near[0]}?" if near else ""
+    _fail(path, key, f"{what}{hint} (known: {', '.join(sorted(known))})" if len(known) < 20 else f"{what}{hint}")
+
+
 def _names(path, key, value, known, what):
     if not isinstance(value, list) or not value:
         _fail(path, key, f"a non-empty list of {what} names is needed")
@@ -63,7 +71,8 @@ def _seeds(path, value):
     if isinstance(value, dict):
         unknown = set(value) - {"first", "count"}
         if unknown:
-            _fail(path, f"seeds.{sorted(unknown)[0]}", "unknown key (seeds takes a list, or first and count)")
+            name = sorted(unknown)[0]
+            _unknown(path, f"seeds.{name}", name, {"first", "count"})
         first, count = value.get("first"), value.get("count")
         if not isinstance(first, int) or not isinstance(count, int) or first < 0 or count < 1:
             _fail(path, "seeds", "first (>= 0) and count (>= 1) must be integers")
@@ -98,7 +107,7 @@ def _overrides(path, key, value, config_keys):
         _fail(path, key, "a map of config.key: value is needed")
     for k, v in value.items():
         if k not in config_keys:
-            _fail(path, f"{key}.{k}", "unknown config key (not in config/default.yaml)")
+            _unknown(path, f"{key}.{k}", k, config_keys, "unknown config key (not in config/default.yaml)")
         if isinstance(v, (dict, list)) or v is None:
             _fail(path, f"{key}.{k}", "the value must be a number, a string or a boolean")
     return {k: value[k] for k in sorted(value)}
@@ -110,7 +119,7 @@ def _section(path, key, value, defaults):
         _fail(path, key, "a map is needed")
     for k in value:
         if k not in defaults:
-            _fail(path, f"{key}.{k}", f"unknown key (known: {', '.join(sorted(defaults))})")
+            _unknown(path, f"{key}.{k}", k, defaults)
     return {**defaults, **value}
 
 
@@ -151,7 +160,7 @@ def load(path, root):
         raise CampaignError(f"{path}: a map of campaign keys is needed")
     for k in data:
         if k not in TOP_KEYS:
-            _fail(path, k, f"unknown key (known: {', '.join(sorted(TOP_KEYS))})")
+            _unknown(path, k, k, TOP_KEYS)
     for k in ("name", "profiles", "seeds"):
         if k not in data:
             _fail(path, k, "missing")

@@ -22,6 +22,7 @@
 #include "common/json_writer.h"
 #include "common/log_file.h"
 #include "common/message_guard.h"
+#include "common/options_schema.h"
 #include "common/progress.h"
 #include "common/robust_stats.h"
 #include "nadir/altimeter_t.hpp"
@@ -274,6 +275,22 @@ CameraIntrinsics read_camera_file(const std::string& path) {
     if (!fs.open(path, cv::FileStorage::READ)) throw std::runtime_error(path + ": cannot open camera calibration");
   } catch (const cv::Exception& e) {
     throw std::runtime_error(path + ": not an OpenCV calibration file: " + e.what());
+  }
+  // What nadir reads, and what OpenCV's calibration tools write beside it
+  // (read by nothing here, but not a misspelling): any other key is refused.
+  static const std::vector<std::string> kRead{"image_width", "image_height", "camera_matrix",
+                                              "distortion_coefficients", "mount_rpy_deg"};
+  static const std::vector<std::string> kOpenCv{
+      "calibration_time", "calibration_Time", "nr_of_frames", "nframes", "board_width", "board_height",
+      "board_Width", "board_Height", "square_size", "square_Size", "aspect_ratio", "aspectRatio", "flags",
+      "flagValue", "fisheye_model", "avg_reprojection_error", "per_view_reprojection_errors",
+      "extrinsic_parameters", "image_points", "grid_points", "marker_size"};
+  for (const std::string& key : fs.root().keys()) {
+    if (std::find(kRead.begin(), kRead.end(), key) != kRead.end()) continue;
+    if (std::find(kOpenCv.begin(), kOpenCv.end(), key) != kOpenCv.end()) continue;
+    const std::string near = nearest_key(key, kRead);
+    throw std::runtime_error(path + ": key '" + key + "' is not a known key" +
+                             (near.empty() ? std::string() : "; did you mean " + near + "?"));
   }
   CameraIntrinsics c;
   c.source = path;

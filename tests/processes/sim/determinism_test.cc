@@ -143,7 +143,7 @@ TEST(LogMode, ReliefScaleOverrideFliesTheSameFlightOverOtherGround) {
   // The images are not: relief is there.
   EXPECT_FALSE(channel_payloads(dir.file("rough.lcmlog"), channels::kCameraImage) ==
                channel_payloads(dir.file("flat.lcmlog"), channels::kCameraImage));
-  EXPECT_EQ(run(common + "--relief-scale 3.5 --out " + dir.file("bad.lcmlog"), dir.file("bad.err")), 1);
+  EXPECT_EQ(run(common + "--relief-scale 3.5 --out " + dir.file("bad.lcmlog"), dir.file("bad.err")), 2);
   EXPECT_NE(slurp(dir.file("bad.err")).find("terrain.relief_scale"), std::string::npos) << slurp(dir.file("bad.err"));
 }
 
@@ -154,7 +154,7 @@ TEST(LogMode, BadProfileIsRejectedNamingTheKey) {
     out << "name: bad\ndistance_m: 2000\nspeed_mps: 20\naltitude_agl_m: 150\n"
            "legs:\n  - {type: straight}\n  - {type: turn, angle_deg: 90, bank_deg: 89}\n";
   }
-  EXPECT_EQ(run("--profile " + dir.file("bad.yaml") + " --seed 1 --out " + dir.file("x.lcmlog"), dir.file("err")), 1);
+  EXPECT_EQ(run("--profile " + dir.file("bad.yaml") + " --seed 1 --out " + dir.file("x.lcmlog"), dir.file("err")), 2);
   const std::string err = slurp(dir.file("err"));
   EXPECT_NE(err.find("legs[1].bank_deg"), std::string::npos) << err;
   EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;

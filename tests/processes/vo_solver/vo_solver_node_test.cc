@@ -359,7 +359,7 @@ TEST(VoSolverNode, BadConfigNamesTheKey) {
   const std::string camera = "camera: {width: 612, height: 512, fx: 398.79, fy: 398.79, cx: 305.5, cy: 255.5}\n";
   expect_config_error(camera + "vo_solver: {variant: ransac}\n", {"vo_solver.variant"});
   expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {anchor_spots: spot}}\n",
-                      {"anchor_spots", "beam or track"});
+                      {"anchor_spots", "beam | track"});
   expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {scale_carry_pairs: -1}}\n",
                       {"scale_carry_pairs"});
   expect_config_error(camera + "vo_solver: {variant: feature_depth, feature_depth: {scale_process_noise: 0}}\n",
