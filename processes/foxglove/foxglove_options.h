@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common/config.h"
+#include "common/options_schema.h"
 
 namespace nadir {
 
@@ -35,6 +36,7 @@ struct FoxgloveOptions {
   // Malformed or unsupported client requests tolerated before disconnecting.
   int max_protocol_errors = 10;
 
+  static const OptionsSchema<FoxgloveOptions>& schema();  // every key of `foxglove:` (options_schema.h)
   static FoxgloveOptions from_config(const Config& root);
   void Check() const;  // throws ConfigError naming the key
 };

@@ -4,6 +4,7 @@
 #include "common/input_checks.h"
 #include "common/sensor_calibration.h"
 #include "processes/camera_capture/capture_options.h"
+#include "processes/foxglove/foxglove_options.h"
 #include "processes/ins_bridge/bridge_options.h"
 #include "processes/mavlink_bridge/bridge_options.h"
 #include "processes/sim/sim_camera.h"
@@ -23,6 +24,7 @@ std::vector<SectionDoc> all_section_docs() {
       ins_bridge::BridgeOptions::schema().describe(ins_bridge::BridgeOptions::defaults()),
       mavlink_bridge::BridgeOptions::schema().describe(),
       sim::SensorOptions::schema().describe(),
+      FoxgloveOptions::schema().describe(),
   };
 }
 
@@ -51,7 +53,7 @@ std::string configuration_reference() {
 void check_every_section(const Config& root) {
   // The sections of the shared file; another top-level key is a misspelt one.
   root.require_known_keys({"camera", "altimeter", "tracker", "vo_solver", "yaw_fusion", "camera_capture",
-                           "ins_bridge", "input_checks", "mavlink_bridge"});
+                           "ins_bridge", "input_checks", "mavlink_bridge", "foxglove"});
   CameraModel::from_config(root);
   sim::SimCamera::from_config(root);
   SensorCalibration::from_config(root);
@@ -62,6 +64,7 @@ void check_every_section(const Config& root) {
   CaptureOptions::FromConfig(root.section_or_empty("camera_capture"));
   ins_bridge::BridgeOptions::from_config(root);
   mavlink_bridge::BridgeOptions::from_config(root);
+  FoxgloveOptions::from_config(root);
 }
 
 }  // namespace nadir
