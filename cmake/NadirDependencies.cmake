@@ -5,6 +5,8 @@ pkg_check_modules(LCM REQUIRED IMPORTED_TARGET lcm)
 pkg_check_modules(ARAVIS REQUIRED IMPORTED_TARGET aravis-0.8)
 pkg_check_modules(GPIOD REQUIRED IMPORTED_TARGET libgpiod)
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+# Every conversion between geodetic and local coordinates (common/geodetic.cc).
+pkg_check_modules(GEOGRAPHICLIB REQUIRED IMPORTED_TARGET geographiclib)
 find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc video calib3d imgcodecs features2d)
 find_package(yaml-cpp REQUIRED)
 find_package(Threads REQUIRED)

@@ -1,44 +1,80 @@
 #include "common/geodetic.h"
 
+#include <GeographicLib/Rhumb.hpp>
+
 #include <cmath>
 
 #include "common/geometry.h"
 
 namespace nadir {
+namespace {
 
-// The operation order below is the simulator's since its first log: every
-// cached simulator log (and Table 1) depends on the INS latitude/longitude
-// bits, so do not reorder or "simplify" these expressions.
-LocalTangentPlane::LocalTangentPlane(const GeodeticPoint& origin) : origin_(origin) {
-  const double a = Wgs84::kSemiMajorAxisM, e2 = Wgs84::kFirstEccentricitySquared;
-  const double lat0 = deg_to_rad(origin.latitude_deg);
-  const double sin_lat = std::sin(lat0);
-  const double w = 1.0 - e2 * sin_lat * sin_lat;
-  normal_m_ = a / std::sqrt(w);
-  meridian_m_ = a * (1.0 - e2) / (w * std::sqrt(w));
-  cos_lat0_ = std::cos(lat0);
-  north_radius_m_ = meridian_m_ + origin.height_m;
-  east_radius_m_ = (normal_m_ + origin.height_m) * cos_lat0_;
+constexpr double kSemiMajorAxisM = 6378137.0;
+constexpr double kFirstEccentricitySquared = 6.69437999014e-3;
+
+const GeographicLib::Rhumb& rhumb() { return GeographicLib::Rhumb::WGS84(); }
+
+// A step of `north`, `east` metres flown at height `height_m` covers the same
+// latitude and longitude as `north * M / (M + h)`, `east * N / (N + h)` on the
+// ellipsoid surface (radii at the step's start latitude; the steps are metres,
+// so the change of the radii along one is below a micrometre).
+Eigen::Vector2d scale_to_surface(const CurvatureRadii& r, double height_m) {
+  return {r.meridian_m / (r.meridian_m + height_m), r.normal_m / (r.normal_m + height_m)};
 }
 
-Eigen::Vector2d LocalTangentPlane::north_east(double latitude_deg, double longitude_deg) const {
-  // Differences in degrees first: exact for nearby angles (Sterbenz), so a
-  // point at the origin maps to exactly zero.
-  return {deg_to_rad(latitude_deg - origin_.latitude_deg) * north_radius_m_,
-          deg_to_rad(longitude_deg - origin_.longitude_deg) * east_radius_m_};
+}  // namespace
+
+CurvatureRadii wgs84_radii(double latitude_deg) {
+  const double sin_lat = std::sin(deg_to_rad(latitude_deg));
+  const double w = 1.0 - kFirstEccentricitySquared * sin_lat * sin_lat;
+  CurvatureRadii r;
+  r.normal_m = kSemiMajorAxisM / std::sqrt(w);
+  r.meridian_m = kSemiMajorAxisM * (1.0 - kFirstEccentricitySquared) / (w * std::sqrt(w));
+  return r;
 }
 
-Eigen::Vector3d LocalTangentPlane::ned(const GeodeticPoint& p) const {
-  const Eigen::Vector2d ne = north_east(p.latitude_deg, p.longitude_deg);
-  return {ne.x(), ne.y(), origin_.height_m - p.height_m};
+GeodeticTrack::GeodeticTrack(const GeodeticPoint& origin) : origin_(origin), last_geodetic_(origin) {}
+
+void GeodeticTrack::restart() {
+  last_geodetic_ = origin_;
+  last_ned_.setZero();
 }
 
-GeodeticPoint LocalTangentPlane::geodetic(const Eigen::Vector3d& ned) const {
+GeodeticPoint GeodeticTrack::geodetic(const Eigen::Vector3d& ned) {
   GeodeticPoint p;
-  p.latitude_deg = origin_.latitude_deg + rad_to_deg(ned.x() / north_radius_m_);
-  p.longitude_deg = origin_.longitude_deg + rad_to_deg(ned.y() / east_radius_m_);
   p.height_m = origin_.height_m - ned.z();
+  const Eigen::Vector2d step = (ned - last_ned_).head<2>();
+  if (step.isZero()) {
+    p.latitude_deg = last_geodetic_.latitude_deg;
+    p.longitude_deg = last_geodetic_.longitude_deg;
+  } else {
+    const double mean_height = 0.5 * (last_geodetic_.height_m + p.height_m);
+    const Eigen::Vector2d surface =
+        step.cwiseProduct(scale_to_surface(wgs84_radii(last_geodetic_.latitude_deg), mean_height));
+    rhumb().Direct(last_geodetic_.latitude_deg, last_geodetic_.longitude_deg,
+                   rad_to_deg(std::atan2(surface.y(), surface.x())), surface.norm(), p.latitude_deg,
+                   p.longitude_deg);
+  }
+  last_geodetic_ = p;
+  last_ned_ = ned;
   return p;
+}
+
+Eigen::Vector3d GeodeticTrack::ned(const GeodeticPoint& p) {
+  Eigen::Vector3d n;
+  n.z() = origin_.height_m - p.height_m;
+  double distance_m = 0, azimuth_deg = 0;
+  rhumb().Inverse(last_geodetic_.latitude_deg, last_geodetic_.longitude_deg, p.latitude_deg, p.longitude_deg,
+                  distance_m, azimuth_deg);
+  const double mean_height = 0.5 * (last_geodetic_.height_m + p.height_m);
+  const Eigen::Vector2d surface(distance_m * std::cos(deg_to_rad(azimuth_deg)),
+                                distance_m * std::sin(deg_to_rad(azimuth_deg)));
+  const Eigen::Vector2d step =
+      surface.cwiseQuotient(scale_to_surface(wgs84_radii(last_geodetic_.latitude_deg), mean_height));
+  n.head<2>() = last_ned_.head<2>() + step;
+  last_geodetic_ = p;
+  last_ned_ = n;
+  return n;
 }
 
 }  // namespace nadir

@@ -1,20 +1,25 @@
 #pragma once
-// Local north-east-down <-> geodetic (WGS84) about an origin, flat-earth:
-// the WGS84 radii of curvature at the origin latitude, taken at the origin
-// height, scale angles to metres. Good to a few centimetres over the
-// kilometres of one flight; not a full ECEF conversion.
+// Local north-east-down <-> geodetic (WGS84) along the path a vehicle flies.
 //
-// Angles in degrees, heights in metres above the ellipsoid (or whatever datum
-// the caller's origin height uses: down = origin height - height).
+// nadir's position is dead-reckoned: each step is measured in the local level
+// frame of that moment, with its heading to the local north, and the vertical
+// follows the local vertical (the altimeter ties it to the ground). Over the
+// curved Earth such a sum is not a function of the end point alone (50 km east
+// then 50 km north ends ~400 m from 50 km north then 50 km east), so the
+// conversion follows the path: every step from the previous position is laid
+// on the ellipsoid as a constant-heading (rhumb) segment flown at its height,
+// with GeographicLib. For a straight leg this is exact at any length; for a
+// vehicle's steps (metres each) it is exact for any path. A conversion that
+// has seen no previous position starts at the origin.
+//
+// Angles in degrees, heights in metres above the ellipsoid, or above whatever
+// datum the caller's origin height uses (down = origin height - height; the
+// step's height above the ellipsoid scales it by ~1e-7 per metre, so a datum
+// offset of tens of metres moves a 100 km leg by centimetres).
 
 #include <Eigen/Core>
 
 namespace nadir {
-
-struct Wgs84 {
-  static constexpr double kSemiMajorAxisM = 6378137.0;
-  static constexpr double kFirstEccentricitySquared = 6.69437999014e-3;
-};
 
 struct GeodeticPoint {
   double latitude_deg = 0;
@@ -22,32 +27,33 @@ struct GeodeticPoint {
   double height_m = 0;
 };
 
-class LocalTangentPlane {
+// The WGS84 radii of curvature (m) at a latitude, on the ellipsoid surface.
+struct CurvatureRadii {
+  double meridian_m = 0;  // M: north-south
+  double normal_m = 0;    // N: prime vertical (east-west, times cos(latitude) for a parallel)
+};
+CurvatureRadii wgs84_radii(double latitude_deg);
+
+class GeodeticTrack {
  public:
-  // Radii at origin.latitude_deg, each plus origin.height_m. Callers that want
-  // the radii on the ellipsoid surface pass a height of 0 and do their own
-  // vertical.
-  explicit LocalTangentPlane(const GeodeticPoint& origin);
+  explicit GeodeticTrack(const GeodeticPoint& origin);
 
   const GeodeticPoint& origin() const { return origin_; }
-  // Meridian radius of curvature M and prime-vertical (normal) radius N at the
-  // origin latitude, on the ellipsoid surface (without the origin height).
-  double meridian_radius_m() const { return meridian_m_; }
-  double normal_radius_m() const { return normal_m_; }
 
-  // Geodetic -> local NED (metres).
-  Eigen::Vector3d ned(const GeodeticPoint& p) const;
-  // The horizontal part of ned(): north, east (m).
-  Eigen::Vector2d north_east(double latitude_deg, double longitude_deg) const;
-  // Local NED (metres) -> geodetic; the exact inverse of ned() up to rounding.
-  GeodeticPoint geodetic(const Eigen::Vector3d& ned) const;
+  // The geodetic point of local position `ned` (metres from the origin),
+  // reached from the previous position by one step.
+  GeodeticPoint geodetic(const Eigen::Vector3d& ned);
+  // The local position of geodetic point `p`, reached from the previous
+  // position by one step: the inverse of geodetic() along the same path.
+  Eigen::Vector3d ned(const GeodeticPoint& p);
+
+  // Forget the path: the next conversion starts at the origin again.
+  void restart();
 
  private:
   GeodeticPoint origin_;
-  double meridian_m_ = 0, normal_m_ = 0;
-  double cos_lat0_ = 1;
-  double north_radius_m_ = 0;  // meridian_m_ + origin height
-  double east_radius_m_ = 0;   // (normal_m_ + origin height) * cos(origin latitude)
+  GeodeticPoint last_geodetic_;
+  Eigen::Vector3d last_ned_ = Eigen::Vector3d::Zero();
 };
 
 }  // namespace nadir

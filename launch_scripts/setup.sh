@@ -29,12 +29,13 @@ case "${1:-}" in
 esac
 
 # What the demo builds and runs: compilers, LCM, Eigen, OpenCV, yaml-cpp,
-# CLI11, the camera and GPIO libraries the configure step looks for, the
-# network namespace tools and matplotlib for the report's plots.
+# CLI11, GeographicLib (every geodetic conversion), the camera and GPIO
+# libraries the configure step looks for, the network namespace tools and
+# matplotlib for the report's plots.
 packages=(
   build-essential cmake ninja-build pkg-config git
   liblcm-dev liblcm-bin
-  libeigen3-dev libopencv-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
+  libeigen3-dev libopencv-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev
   libaravis-dev libusb-1.0-0-dev libgpiod-dev
   iproute2 util-linux python3 python3-matplotlib python3-numpy
 )
@@ -50,7 +51,7 @@ if [ "$scope" != demo ]; then
     libwebsocketpp-dev libboost-dev chromium
     libgtest-dev libgmock-dev libbenchmark-dev
     openjdk-17-jdk-headless libjchart2d-java xvfb xauth
-    python3-yaml slurm-wlm munge mkdocs systemd libgeographiclib-dev
+    python3-yaml slurm-wlm munge mkdocs systemd
   )
   # node and npm (node-mavlink, for the MAVLink bridge's tests): Debian's only
   # where none is installed -- Debian's npm conflicts with a nodesource nodejs.

@@ -67,10 +67,10 @@ struct PoseViews {
   json fix, pose, tf;
 };
 
-PoseViews pose_views(const LocalTangentPlane& plane, int64_t utime, const double ned[3], double roll, double pitch,
+PoseViews pose_views(GeodeticTrack* track, int64_t utime, const double ned[3], double roll, double pitch,
                      double yaw, const double (*covariance)[3], const std::string& child_frame) {
   PoseViews v;
-  const GeodeticPoint g = plane.geodetic(Eigen::Vector3d(ned[0], ned[1], ned[2]));
+  const GeodeticPoint g = track->geodetic(Eigen::Vector3d(ned[0], ned[1], ned[2]));
   json cov = json::array();
   int type = 0;  // UNKNOWN
   if (covariance) {
@@ -122,7 +122,7 @@ std::string base64(const uint8_t* data, size_t size) {
 }  // namespace
 
 FoxgloveTranslator::FoxgloveTranslator(const FoxgloveTranslatorOptions& options)
-    : options_(options), plane_(options.origin), origin_known_(!options.origin_from_ins) {
+    : options_(options), pose_track_(options.origin), truth_track_(options.origin), origin_known_(!options.origin_from_ins) {
   topics_ = {
       {"POSE", ch::kPose, "nadir.Pose"},
       {"POSE/fix", ch::kPose, "foxglove.LocationFix"},
@@ -179,7 +179,7 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
     }
   }
   if (!origin_known_ && channel == ch::kPose && have_ins_) {
-    plane_ = LocalTangentPlane(last_ins_);
+    pose_track_ = truth_track_ = GeodeticTrack(last_ins_);
     origin_known_ = true;
   }
   if (!any_wanted(channel)) return true;  // no topic, or nobody listening: not even decoded
@@ -188,7 +188,7 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
     pose_t m;
     if (!decode_message(data, size, &m, reason)) return false;
     const PoseViews v =
-        pose_views(plane_, m.utime, m.position_ned, m.roll, m.pitch, m.yaw, m.position_covariance, "base_link");
+        pose_views(&pose_track_, m.utime, m.position_ned, m.roll, m.pitch, m.yaw, m.position_covariance, "base_link");
     emit("POSE", m.utime, [&] {
       return json{{"timestamp", stamp(m.utime)}, {"utime", m.utime}, {"north_m", m.position_ned[0]},
                   {"east_m", m.position_ned[1]}, {"down_m", m.position_ned[2]}, {"velocity_n", m.velocity_ned[0]},
@@ -212,7 +212,7 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
     ground_truth_t m;
     if (!decode_message(data, size, &m, reason)) return false;
     const PoseViews v =
-        pose_views(plane_, m.utime, m.position_ned, m.roll, m.pitch, m.yaw, nullptr, "truth_base_link");
+        pose_views(&truth_track_, m.utime, m.position_ned, m.roll, m.pitch, m.yaw, nullptr, "truth_base_link");
     emit("GROUND_TRUTH", m.utime, [&] {
       return json{{"timestamp", stamp(m.utime)}, {"utime", m.utime}, {"kind", m.kind},
                   {"north_m", m.position_ned[0]}, {"east_m", m.position_ned[1]}, {"down_m", m.position_ned[2]},

@@ -59,7 +59,8 @@ class FoxgloveTranslator {
 
  private:
   FoxgloveTranslatorOptions options_;
-  LocalTangentPlane plane_;
+  // The estimate's and the truth's paths on the globe from the origin.
+  GeodeticTrack pose_track_, truth_track_;
   bool origin_known_ = false;
   bool have_ins_ = false;
   GeodeticPoint last_ins_;

@@ -42,7 +42,9 @@ MavlinkBridge::MavlinkBridge(const BridgeOptions& options, Bus& bus, Send send)
       send_(std::move(send)),
       encoder_(static_cast<uint8_t>(options.system_id), static_cast<uint8_t>(options.component_id)),
       clock_(options.input.clock_sync),
-      autopilot_sysid_(options.input.autopilot_system_id) {
+      autopilot_sysid_(options.input.autopilot_system_id),
+      gps_track_({options.output.gps_input.origin_latitude_deg, options.output.gps_input.origin_longitude_deg,
+                  options.output.gps_input.origin_altitude_m}) {
   options_.Check();
 }
 
@@ -275,11 +277,15 @@ void MavlinkBridge::on_pose(const pose_t& pose) {
   if (have_pose_ && (pose.frames < last_frames_ || (initializing && !last_initializing_))) {
     ++reset_counter_;
     ++out_.resets;
+    gps_track_.restart();  // the new estimate starts its path again
   }
   have_pose_ = true;
   last_frames_ = pose.frames;
   last_initializing_ = initializing;
   const OutputOptions& o = options_.output;
+  // Every POSE moves the track, so GPS_INPUT follows the path at POSE's rate.
+  const GeodeticPoint position =
+      gps_track_.geodetic(Eigen::Vector3d(pose.position_ned[0], pose.position_ned[1], pose.position_ned[2]));
   if (due(o.vision_position_estimate_hz, pose.utime, &last_vpe_us_)) {
     send(vision_position_estimate(pose, o.attitude_variance_rad2, reset_counter_));
     ++out_.vision_position_estimate;
@@ -289,7 +295,7 @@ void MavlinkBridge::on_pose(const pose_t& pose) {
     ++out_.odometry;
   }
   if (due(o.gps_input_hz, pose.utime, &last_gps_input_us_)) {
-    send(gps_input(pose, o.gps_input));
+    send(gps_input(pose, position, o.gps_input));
     ++out_.gps_input;
   }
 }

@@ -19,6 +19,7 @@
 
 #include "common/bus.h"
 #include "common/clock_sync.h"
+#include "common/geodetic.h"
 #include "common/status.h"
 #include "nadir/pose_t.hpp"
 #include "processes/mavlink_bridge/bridge_options.h"
@@ -104,6 +105,7 @@ class MavlinkBridge {
   int64_t last_frames_ = 0;
   bool last_initializing_ = false;
   uint8_t reset_counter_ = 0;
+  GeodeticTrack gps_track_;  // POSE's path from the GPS_INPUT origin
   std::vector<int64_t> timesync_requests_ns_;  // ts1 of our recent requests
 };
 

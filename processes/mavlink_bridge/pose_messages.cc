@@ -76,7 +76,7 @@ mavlink::Odometry odometry(const pose_t& pose, double attitude_variance_rad2, ui
   return m;
 }
 
-mavlink::GpsInput gps_input(const pose_t& pose, const GpsInputOptions& o) {
+mavlink::GpsInput gps_input(const pose_t& pose, const GeodeticPoint& geo, const GpsInputOptions& o) {
   mavlink::GpsInput m;
   m.time_usec = static_cast<uint64_t>(pose.utime);
   // The vehicle time base is UTC (CLOCK_REALTIME): GPS week and milliseconds.
@@ -84,14 +84,9 @@ mavlink::GpsInput gps_input(const pose_t& pose, const GpsInputOptions& o) {
   const int64_t week_us = kSecondsPerWeek * 1000000;
   m.time_week = static_cast<uint16_t>(gps_us / week_us);
   m.time_week_ms = static_cast<uint32_t>((gps_us % week_us) / 1000);
-  // Radii of curvature on the ellipsoid surface at the origin (its altitude
-  // does not scale them); altitude = origin altitude - down.
-  const LocalTangentPlane plane({o.origin_latitude_deg, o.origin_longitude_deg, 0.0});
-  const GeodeticPoint geo =
-      plane.geodetic(Eigen::Vector3d(pose.position_ned[0], pose.position_ned[1], pose.position_ned[2]));
   m.lat = static_cast<int32_t>(std::llround(geo.latitude_deg * 1e7));
   m.lon = static_cast<int32_t>(std::llround(geo.longitude_deg * 1e7));
-  m.alt = static_cast<float>(o.origin_altitude_m + geo.height_m);
+  m.alt = static_cast<float>(geo.height_m);
   m.hdop = static_cast<float>(o.hdop);
   m.vdop = static_cast<float>(o.vdop);
   m.vn = static_cast<float>(pose.velocity_ned[0]);

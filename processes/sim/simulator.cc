@@ -77,7 +77,7 @@ Simulator::Simulator(const FlightProfile& profile, const SimCamera& camera, cons
                   r.gain = std::pow(10.0, sensors.camera.gain_db / 20.0);
                   return r;
                 }()),
-      local_plane_({profile.reference_latitude_deg, profile.reference_longitude_deg, profile.reference_height_m}),
+      ins_track_({profile.reference_latitude_deg, profile.reference_longitude_deg, profile.reference_height_m}),
       trigger_rng_(options.seed, 1),
       ins_rng_(options.seed, 2),
       altimeter_rng_(options.seed, 3),
@@ -341,8 +341,9 @@ void Simulator::make_ins(int64_t k, SimEvent* e) {
     msg.velocity_stddev[i] = 0.0;
     msg.position_stddev[i] = 0.0;
   }
-  // Local NED -> geodetic about the profile's reference point (WGS84 radii).
-  const GeodeticPoint geo = local_plane_.geodetic(s.position_ned);
+  // The flat world laid on the globe as a vehicle's dead-reckoned path from
+  // the profile's reference point (common/geodetic.h).
+  const GeodeticPoint geo = ins_track_.geodetic(s.position_ned);
   msg.latitude_deg = geo.latitude_deg;
   msg.longitude_deg = geo.longitude_deg;
   msg.height_m = geo.height_m;

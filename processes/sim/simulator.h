@@ -133,7 +133,7 @@ class Simulator {
   Terrain terrain_;
   Trajectory trajectory_;
   Renderer renderer_;
-  LocalTangentPlane local_plane_;  // INS latitude/longitude about the profile's reference point
+  GeodeticTrack ins_track_;  // INS latitude/longitude: the path from the profile's reference point
   double duration_s_ = 0.0;
   int64_t duration_us_ = 0;
   double sim_time_s_ = 0.0;

@@ -187,8 +187,10 @@ int main(int argc, char** argv) {
                  dir.c_str());
     return 2;
   }
-  const nadir::LocalTangentPlane plane({meta.front().sf_lat_deg, meta.front().sf_lon_deg, 0.0});
-  auto ned = [&](const nadir::import::PhotoMetadata& m) { return plane.north_east(m.sf_lat_deg, m.sf_lon_deg); };
+  // Every photo's north/east along the path from the first (common/geodetic.h).
+  std::vector<Eigen::Vector2d> photo_ne;
+  nadir::GeodeticTrack track({meta.front().sf_lat_deg, meta.front().sf_lon_deg, 0.0});
+  for (const auto& m : meta) photo_ne.push_back(track.ned({m.sf_lat_deg, m.sf_lon_deg, 0.0}).head<2>());
   std::vector<Pair> pairs;
   for (size_t i = 0; i + 1 < images.size(); ++i) {
     if (images[i].size() != images[i + 1].size()) continue;
@@ -198,7 +200,7 @@ int main(int argc, char** argv) {
     const auto& mb = meta[i + 1];
     p.a = std::filesystem::path(ma.path).filename().string();
     p.b = std::filesystem::path(mb.path).filename().string();
-    p.d_ned = ned(mb) - ned(ma);
+    p.d_ned = photo_ne[i + 1] - photo_ne[i];
     p.psi_a = ma.sf_heading_deg, p.psi_b = mb.sf_heading_deg;
     p.roll_a = ma.sf_roll_deg, p.roll_b = mb.sf_roll_deg;
     p.pitch_a = ma.sf_pitch_deg, p.pitch_b = mb.sf_pitch_deg;

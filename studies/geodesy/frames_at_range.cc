@@ -1,6 +1,7 @@
 // Where a local north/east/down position lands on the WGS84 ellipsoid, by
 // three conversions, at 1-100 km from the origin (45 N, 300 m): the linear
-// radii-of-curvature formula nadir uses (common/geodetic.cc), the exact tangent
+// radii-of-curvature formula nadir used before its path-following conversion
+// (common/geodetic.cc; written out below), the exact tangent
 // plane (GeographicLib::LocalCartesian, ECEF-based) and the constant-heading
 // path (GeographicLib::Rhumb) that dead reckoning with the local north
 // integrates for a straight leg. Prints the distances between them and the
@@ -24,7 +25,15 @@ int main(int argc, char** argv) {
     return 0;
   }
   const nadir::GeodeticPoint origin{45.0, 7.0, 300.0};
-  const nadir::LocalTangentPlane linear(origin);
+  // The linear formula: WGS84 radii at the origin latitude plus the origin height.
+  const nadir::CurvatureRadii radii = nadir::wgs84_radii(origin.latitude_deg);
+  auto linear_geodetic = [&](double n, double e) {
+    const double lat0 = origin.latitude_deg * M_PI / 180.0;
+    return nadir::GeodeticPoint{origin.latitude_deg + n / (radii.meridian_m + origin.height_m) * 180.0 / M_PI,
+                                origin.longitude_deg +
+                                    e / ((radii.normal_m + origin.height_m) * std::cos(lat0)) * 180.0 / M_PI,
+                                origin.height_m};
+  };
   const GeographicLib::LocalCartesian tangent(origin.latitude_deg, origin.longitude_deg, origin.height_m);
   const GeographicLib::Geodesic& geodesic = GeographicLib::Geodesic::WGS84();
   const GeographicLib::Rhumb& rhumb = GeographicLib::Rhumb::WGS84();
@@ -34,7 +43,7 @@ int main(int argc, char** argv) {
   for (double d : {1000.0, 10000.0, 50000.0, 100000.0}) {
     for (int east = 0; east < 2; ++east) {
       const double n = east ? 0 : d, e = east ? d : 0;
-      const nadir::GeodeticPoint lin = linear.geodetic({n, e, 0.0});
+      const nadir::GeodeticPoint lin = linear_geodetic(n, e);
       double tp_lat, tp_lon, tp_h;
       tangent.Reverse(e, n, 0.0, tp_lat, tp_lon, tp_h);
       double rh_lat, rh_lon;  // the leg flown at 300 m: its ground track is shorter by a / (a + h)

@@ -480,21 +480,21 @@ FlightData load_flight(const std::string& log_path, bool progress) {
   FlightData data;
   LogReader reader(log_path);
   ProgressBar bar("reading " + log_path, static_cast<double>(reader.size()), progress && stderr_is_terminal());
-  std::optional<LocalTangentPlane> plane;  // about the first INS fix (WGS84 radii at its height)
+  std::optional<GeodeticTrack> track;  // the INS fixes' path from the first one
   LogEvent e;
   while (reader.next(&e)) {
     bar.update(static_cast<double>(reader.position()));
     if (e.channel == channels::kIns) {
       ins_t m;
       if (!decode(e, &m)) continue;
-      if (!plane) {
-        plane.emplace(GeodeticPoint{m.latitude_deg, m.longitude_deg, m.height_m});
+      if (!track) {
+        track.emplace(GeodeticPoint{m.latitude_deg, m.longitude_deg, m.height_m});
         data.reference_height_m = m.height_m;
       }
       if (!data.ins.empty() && m.utime <= data.ins.back().utime) continue;  // keep time strictly increasing
       data.ins.push_back({m.utime, m.roll, m.pitch, m.yaw, m.has_rates != 0,
                           Eigen::Vector3d(m.angular_rate[0], m.angular_rate[1], m.angular_rate[2]),
-                          plane->ned({m.latitude_deg, m.longitude_deg, m.height_m})});
+                          track->ned({m.latitude_deg, m.longitude_deg, m.height_m})});
     } else if (e.channel == channels::kTracks) {
       tracks_t m;
       if (!decode(e, &m)) continue;

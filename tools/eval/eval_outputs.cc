@@ -19,15 +19,16 @@ std::ofstream open_out(const std::string& path) {
 }
 
 // Calls f(lon, lat, alt) for every sample of one track (at most ~2000 points).
-// Latitude/longitude about the reference fix with the WGS84 radii on the
-// ellipsoid surface; altitude relative to the first pose.
+// Latitude/longitude along the track's path from the reference fix, on the
+// ellipsoid surface (every sample moves the path; every step-th is written);
+// altitude relative to the first pose.
 void for_track(const EvalResult& r, bool estimate, const std::function<void(double, double, double)>& f) {
-  const LocalTangentPlane plane({r.reference_lat_deg, r.reference_lon_deg, 0.0});
+  GeodeticTrack track({r.reference_lat_deg, r.reference_lon_deg, 0.0});
   const size_t step = std::max<size_t>(1, r.samples.size() / 2000);
-  for (size_t i = 0; i < r.samples.size(); i += step) {
+  for (size_t i = 0; i < r.samples.size(); ++i) {
     const auto& ned = estimate ? r.samples[i].estimate : r.samples[i].truth;
-    const GeodeticPoint geo = plane.geodetic(Eigen::Vector3d(ned[0], ned[1], ned[2]));
-    f(geo.longitude_deg, geo.latitude_deg, -ned[2]);
+    const GeodeticPoint geo = track.geodetic(Eigen::Vector3d(ned[0], ned[1], 0.0));
+    if (i % step == 0) f(geo.longitude_deg, geo.latitude_deg, -ned[2]);
   }
 }
 

@@ -154,22 +154,23 @@ bool telemetry_sample(const TelemetryRecord& r, const std::array<double, 3>& mou
   return true;
 }
 
-// Local NED about the first sample (WGS84 radii on the ellipsoid surface at
-// its latitude). Down from the relative height when every sample has one kind
-// of altitude ... see README.
+// Local NED along the path from the origin sample (common/geodetic.h), every
+// sample converted once in order: forward from the origin, and backward for
+// the samples before it (skipped frames still give neighbours' velocity).
+// Down from the relative height when every sample has one kind of altitude
+// ... see README.
 struct LocalFrame {
-  LocalTangentPlane plane;
-  double up0 = 0;
   bool use_alt = false;
-  explicit LocalFrame(const Sample& first, bool use_alt_)
-      : plane({first.lat_deg, first.lon_deg, 0.0}), use_alt(use_alt_) {
-    up0 = up(first);
+  std::vector<Eigen::Vector3d> positions;
+  LocalFrame(const std::vector<Sample>& samples, size_t origin, bool use_alt_) : use_alt(use_alt_) {
+    const GeodeticPoint start = point(samples[origin]);
+    GeodeticTrack forward(start), backward(start);
+    positions.resize(samples.size());
+    for (size_t j = origin; j < samples.size(); ++j) positions[j] = forward.ned(point(samples[j]));
+    for (size_t j = origin; j-- > 0;) positions[j] = backward.ned(point(samples[j]));
   }
-  double up(const Sample& s) const { return use_alt ? s.alt_m : s.height_m; }
-  Eigen::Vector3d ned(const Sample& s) const {
-    const Eigen::Vector2d ne = plane.north_east(s.lat_deg, s.lon_deg);
-    return {ne.x(), ne.y(), -(up(s) - up0)};
-  }
+  GeodeticPoint point(const Sample& s) const { return {s.lat_deg, s.lon_deg, use_alt ? s.alt_m : s.height_m}; }
+  const Eigen::Vector3d& ned(size_t index) const { return positions[index]; }
 };
 
 template <class Msg>
@@ -473,6 +474,7 @@ ImportSummary run_import(const ImportOptions& o) {
   bool camera_known = !o.camera_file.empty();
   CameraIntrinsics source_camera = file_camera;  // at the size of the files
   std::vector<Sample> written;
+  std::vector<size_t> written_index;  // ... and where each is in `samples`
   {
     LogWriter body(body_path);
     ProgressBar progress("import", static_cast<double>(samples.size()), o.progress);
@@ -536,11 +538,11 @@ ImportSummary run_import(const ImportOptions& o) {
       }
       if (!frame.isContinuous()) frame = frame.clone();
 
-      if (!origin) origin.emplace(s, truth_from_alt);
+      if (!origin) origin.emplace(samples, i, truth_from_alt);
       const LocalFrame& local = *origin;
       const int64_t t = std::llround(s.time_s * 1e6);
       const Eigen::Vector3d rpy = rpy_from_rotation(s.world_from_body);
-      const Eigen::Vector3d p = local.ned(s);
+      const Eigen::Vector3d p = local.ned(i);
       ins_t ins{};
       ins.device_utime = t;
       ins.roll = rpy.x();
@@ -591,13 +593,14 @@ ImportSummary run_import(const ImportOptions& o) {
       // velocity: finite difference with the neighbours in the metadata list
       const size_t a = i > 0 ? i - 1 : i, b = i + 1 < samples.size() ? i + 1 : i;
       if (b > a) {
-        const Eigen::Vector3d v = (local.ned(samples[b]) - local.ned(samples[a])) / (samples[b].time_s - samples[a].time_s);
+        const Eigen::Vector3d v = (local.ned(b) - local.ned(a)) / (samples[b].time_s - samples[a].time_s);
         for (int k = 0; k < 3; ++k) gt.velocity_ned[k] = ins.velocity_ned[k] = v[k];
       }
       write_message(&body, t, channels::kGroundTruth, gt);
       ins.utime = t + 1000;
       write_message(&body, ins.utime, channels::kIns, ins);
       written.push_back(s);
+      written_index.push_back(i);
     }
     progress.finish();
     body.flush();
@@ -613,7 +616,7 @@ ImportSummary run_import(const ImportOptions& o) {
   for (size_t i = 1; i < written.size(); ++i) {
     intervals.push_back(written[i].time_s - written[i - 1].time_s);
     summary.max_gap_s = std::max(summary.max_gap_s, intervals.back());
-    summary.distance_m += (origin->ned(written[i]) - origin->ned(written[i - 1])).norm();
+    summary.distance_m += (origin->ned(written_index[i]) - origin->ned(written_index[i - 1])).norm();
   }
   summary.median_interval_s = intervals.empty() ? 0.0 : median(intervals, EvenMedian::kUpper);
   summary.mount_rpy_deg = mount;

@@ -57,7 +57,7 @@ class LogSource : public FlightSource {
 class GeneratedSource : public FlightSource {
  public:
   explicit GeneratedSource(const GeneratedFlightOptions& o)
-      : o_(o), plane_({o.latitude_deg, o.longitude_deg, 0.0}), rng_(o.seed) {}
+      : o_(o), track_({o.latitude_deg, o.longitude_deg, 0.0}), rng_(o.seed) {}
 
   bool next(Sample* sample) override {
     const int64_t ins_period = static_cast<int64_t>(1e6 / o_.ins_rate_hz);
@@ -109,7 +109,7 @@ class GeneratedSource : public FlightSource {
     return s;
   }
 
-  void fill_ins(int64_t t_us, ins_t* m) const {
+  void fill_ins(int64_t t_us, ins_t* m) {
     const State s = state(t_us);
     *m = ins_t{};
     m->utime = t_us;
@@ -119,7 +119,7 @@ class GeneratedSource : public FlightSource {
     m->velocity_ned[0] = s.vn;
     m->velocity_ned[1] = s.ve;
     m->velocity_ned[2] = s.vd;
-    const GeodeticPoint geo = plane_.geodetic(Eigen::Vector3d(s.north, s.east, 0.0));
+    const GeodeticPoint geo = track_.geodetic(Eigen::Vector3d(s.north, s.east, 0.0));
     m->latitude_deg = geo.latitude_deg;
     m->longitude_deg = geo.longitude_deg;
     m->height_m = s.height;
@@ -147,7 +147,7 @@ class GeneratedSource : public FlightSource {
   }
 
   GeneratedFlightOptions o_;
-  LocalTangentPlane plane_;  // WGS84 radii on the ellipsoid surface at the start
+  GeodeticTrack track_;  // the path on the ellipsoid from the start
   std::mt19937_64 rng_;
   int64_t ins_index_ = 0;
   int64_t alt_index_ = 0;

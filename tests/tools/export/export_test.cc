@@ -248,9 +248,10 @@ TEST_F(ExportTest, NoPhotoInTheTurnAndTheTurnPairOverlaps) {
   EXPECT_EQ(turn_pairs, 1);
 }
 
-// North, east (m) of `b` from `a` on the WGS84 ellipsoid (local radii at a, at its altitude).
+// North, east (m) of `b` from `a` on the WGS84 ellipsoid: one step at a's altitude.
 Eigen::Vector2d gps_offset(const PhotoMetadata& a, const PhotoMetadata& b) {
-  return LocalTangentPlane({a.latitude_deg, a.longitude_deg, a.altitude_m}).north_east(b.latitude_deg, b.longitude_deg);
+  GeodeticTrack track({a.latitude_deg, a.longitude_deg, a.altitude_m});
+  return track.ned({b.latitude_deg, b.longitude_deg, a.altitude_m}).head<2>();
 }
 
 // The photos alone (JPEG pixels, camera.yaml, GPS, gimbal angles, relative
