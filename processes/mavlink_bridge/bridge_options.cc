@@ -32,6 +32,10 @@ const OptionsSchema<BridgeOptions>& BridgeOptions::schema() {
                              "transport", &O::link, &L::kind)
         .text("link.local", "udp: bind address host:port (port 0: any)", &O::link, &L::local)
         .text("link.remote", "udp_client: send to host:port", &O::link, &L::remote)
+        .text("link.autopilot_address",
+              "udp_server: the autopilot's host:port, the only sender heard and answered (empty: learnt from its "
+              "valid frames)",
+              &O::link, &L::autopilot_address)
         .include("link.serial", SerialOptions::schema(), &O::link, &L::serial)
         .choice<std::string>("input.attitude",
                              {{"attitude", "attitude"}, {"attitude_quaternion", "attitude_quaternion"}, {"none", "none"}},
@@ -100,6 +104,10 @@ void BridgeOptions::Check() const {
   if (link.kind != "serial") {
     std::string why;
     require_option(parse_udp_endpoint(link.local, nullptr, &why), source, "mavlink_bridge.link.local", why);
+    if (link.kind == "udp_server" && !link.autopilot_address.empty()) {
+      require_option(parse_udp_endpoint(link.autopilot_address, nullptr, &why), source,
+                     "mavlink_bridge.link.autopilot_address", why);
+    }
     if (link.kind == "udp_client") {
       require_option(parse_udp_endpoint(link.remote, nullptr, &why), source, "mavlink_bridge.link.remote", why);
     }

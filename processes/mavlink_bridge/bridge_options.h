@@ -19,6 +19,10 @@ struct LinkOptions {
   // (port 0: any) and send to `remote`.
   std::string local = "127.0.0.1:14540";  // loopback unless configured: nothing listens outside by default
   std::string remote = "127.0.0.1:14580";
+  // udp_server: the autopilot's address ("a.b.c.d:port"): answer only there
+  // and drop datagrams from anyone else. Empty: the address the autopilot's
+  // valid frames come from.
+  std::string autopilot_address;
   SerialOptions serial = default_serial();  // kind serial: termios settings as the INS bridge's
   static SerialOptions default_serial();     // /dev/ttyACM0 at 921600, 5 s stall timeout
 };

@@ -23,7 +23,8 @@ BridgeRunner::BridgeRunner(const BridgeOptions& options, LcmBus& bus, std::strin
   if (options.link.kind == "serial") {
     serial_ = std::make_unique<SerialPort>(options.link.serial);
   } else {
-    udp_ = std::make_unique<UdpLink>(options.link.kind == "udp_server", options.link.local, options.link.remote);
+    udp_ = std::make_unique<UdpLink>(options.link.kind == "udp_server", options.link.local, options.link.remote,
+                                     options.link.autopilot_address);
     udp_->open();
   }
   bus_.subscribe<pose_t>(channels::kPose, [this](const pose_t& pose) { bridge_.on_pose(pose); });
@@ -148,7 +149,8 @@ StatusReport BridgeRunner::status() const {
     r.counters.emplace_back("udp_datagrams_in", static_cast<double>(udp_->datagrams_in()));
     r.counters.emplace_back("udp_datagrams_out", static_cast<double>(udp_->datagrams_out()));
     r.counters.emplace_back("udp_peer_changes", static_cast<double>(udp_->peer_changes()));
-    if (!udp_->has_peer()) {
+    if (udp_->pinned()) r.counters.emplace_back("udp_foreign_datagrams", static_cast<double>(udp_->foreign_datagrams()));
+    if (udp_->datagrams_in() == 0) {
       if (r.state == status_t::STATE_OK) r.state = status_t::STATE_WARN;
       r.detail += std::string(r.detail.empty() ? "" : "; ") + "UDP: nothing heard on " + options_.link.local;
     }

@@ -32,6 +32,7 @@ class BridgeRunner {
   const MavlinkBridge& bridge() const { return bridge_; }
   uint16_t udp_port() const { return udp_ ? udp_->local_port() : 0; }
   int64_t udp_peer_changes() const { return udp_ ? udp_->peer_changes() : 0; }
+  int64_t udp_foreign_datagrams() const { return udp_ ? udp_->foreign_datagrams() : 0; }
 
  private:
   void write(const std::vector<uint8_t>& frame);

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   std::string link_kind;
   std::string local;
   std::string remote;
+  std::string autopilot;
   std::string device;
   std::vector<std::string> overrides;
   double status_period_s = 1.0;
@@ -38,6 +39,9 @@ int main(int argc, char** argv) {
   app.add_option("--link", link_kind, "udp_server | udp_client | serial (overrides mavlink_bridge.link.kind)");
   app.add_option("--local", local, "UDP ADDRESS:PORT to bind (overrides mavlink_bridge.link.local)");
   app.add_option("--remote", remote, "UDP ADDRESS:PORT to send to, udp_client (mavlink_bridge.link.remote)");
+  app.add_option("--autopilot", autopilot,
+                 "udp_server: the autopilot's ADDRESS:PORT, the only sender heard and answered "
+                 "(mavlink_bridge.link.autopilot_address)");
   app.add_option("--device", device, "serial device (overrides mavlink_bridge.link.serial.device)");
   app.add_option("--set", overrides, "config override KEY=VALUE, e.g. mavlink_bridge.output.odometry_hz=30");
   app.add_option("--status-period", status_period_s, "seconds between STATUS messages")->check(CLI::Range(0.1, 60.0));
@@ -53,6 +57,7 @@ int main(int argc, char** argv) {
     if (!link_kind.empty()) config.apply_override("mavlink_bridge.link.kind=" + link_kind);
     if (!local.empty()) config.apply_override("mavlink_bridge.link.local=" + local);
     if (!remote.empty()) config.apply_override("mavlink_bridge.link.remote=" + remote);
+    if (!autopilot.empty()) config.apply_override("mavlink_bridge.link.autopilot_address=" + autopilot);
     if (!device.empty()) config.apply_override("mavlink_bridge.link.serial.device=" + device);
     const mavlink_bridge::BridgeOptions options = mavlink_bridge::BridgeOptions::from_config(config);
 

@@ -36,8 +36,8 @@ bool parse_udp_endpoint(const std::string& text, sockaddr_in* out, std::string* 
   return true;
 }
 
-UdpLink::UdpLink(bool server, std::string local, std::string remote)
-    : server_(server), local_(std::move(local)), remote_(std::move(remote)) {}
+UdpLink::UdpLink(bool server, std::string local, std::string remote, std::string pinned_peer)
+    : server_(server), local_(std::move(local)), remote_(std::move(remote)), pinned_peer_(std::move(pinned_peer)) {}
 
 UdpLink::~UdpLink() {
   if (fd_ >= 0) ::close(fd_);
@@ -49,6 +49,9 @@ void UdpLink::open() {
   if (!parse_udp_endpoint(local_, &local, &why)) throw std::runtime_error("UDP local address " + why);
   if (!server_) {
     if (!parse_udp_endpoint(remote_, &peer_, &why)) throw std::runtime_error("UDP remote address " + why);
+    have_peer_ = true;
+  } else if (pinned()) {
+    if (!parse_udp_endpoint(pinned_peer_, &peer_, &why)) throw std::runtime_error("UDP autopilot address " + why);
     have_peer_ = true;
   }
   fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
@@ -69,22 +72,29 @@ uint16_t UdpLink::local_port() const {
 }
 
 bool UdpLink::receive(std::vector<uint8_t>* datagram, sockaddr_in* sender) {
-  datagram->resize(65536);
-  sockaddr_in from{};
-  socklen_t len = sizeof from;
-  const ssize_t got = ::recvfrom(fd_, datagram->data(), datagram->size(), 0, reinterpret_cast<sockaddr*>(&from), &len);
-  if (got < 0) {
-    datagram->clear();
-    return false;
+  for (;;) {
+    datagram->resize(65536);
+    sockaddr_in from{};
+    socklen_t len = sizeof from;
+    const ssize_t got =
+        ::recvfrom(fd_, datagram->data(), datagram->size(), 0, reinterpret_cast<sockaddr*>(&from), &len);
+    if (got < 0) {
+      datagram->clear();
+      return false;
+    }
+    if (server_ && pinned() && (from.sin_addr.s_addr != peer_.sin_addr.s_addr || from.sin_port != peer_.sin_port)) {
+      ++foreign_datagrams_;
+      continue;
+    }
+    datagram->resize(static_cast<size_t>(got));
+    ++datagrams_in_;
+    if (sender) *sender = from;
+    return true;
   }
-  datagram->resize(static_cast<size_t>(got));
-  ++datagrams_in_;
-  if (sender) *sender = from;
-  return true;
 }
 
 void UdpLink::set_peer(const sockaddr_in& peer) {
-  if (!server_) return;
+  if (!server_ || pinned()) return;
   const bool same = have_peer_ && peer.sin_addr.s_addr == peer_.sin_addr.s_addr && peer.sin_port == peer_.sin_port;
   if (same) return;
   if (have_peer_) ++peer_changes_;

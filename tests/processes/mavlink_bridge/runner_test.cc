@@ -278,5 +278,59 @@ TEST(MavlinkBridgeRunner, UdpServerRepliesOnlyToTheAutopilotsValidFrames) {
   EXPECT_GE(runner.bridge().input().other_system, 1);
 }
 
+// With the autopilot's address pinned, a sender on any other port is not
+// even decoded: not a forged heartbeat and ATTITUDE under the autopilot's own
+// system id, which an unpinned server would have to accept as the autopilot's.
+TEST(MavlinkBridgeRunner, APinnedAutopilotAddressIsTheOnlyOneHeardAndAnswered) {
+  // The autopilot's port: a free one, taken from a socket opened and closed.
+  uint16_t autopilot_port = 0;
+  {
+    UdpLink probe(false, "127.0.0.1:0", "127.0.0.1:9");
+    probe.open();
+    autopilot_port = probe.local_port();
+  }
+  const std::string autopilot_address = "127.0.0.1:" + std::to_string(autopilot_port);
+  BridgeOptions options = UdpServerSetup::server_options();
+  options.link.autopilot_address = autopilot_address;
+  t::Collected got;
+  std::unique_ptr<LcmBus> bus = t::memq_bus(&got);
+  BridgeRunner runner(options, *bus, "mavlink_bridge", 0.5);
+  const std::string bridge_address = "127.0.0.1:" + std::to_string(runner.udp_port());
+  UdpLink socket(false, autopilot_address, bridge_address);
+  socket.open();
+  Autopilot autopilot([&](const std::vector<uint8_t>& f) { socket.send(f.data(), f.size()); });
+  auto serve = [&] {
+    std::vector<uint8_t> datagram;
+    while (socket.receive(&datagram)) autopilot.on_bytes(datagram.data(), datagram.size(), true);
+  };
+  UdpLink intruder(false, "127.0.0.1:0", bridge_address);
+  intruder.open();
+
+  // Before the autopilot speaks, the bridge already answers only its address.
+  mavlink::FrameEncoder forger(1, 1);  // the autopilot's system and component
+  const std::vector<uint8_t> forged_heartbeat = forger.encode(mavlink::Heartbeat{});
+  const std::vector<uint8_t> forged_attitude = forger.encode(mavlink::Attitude{});
+  intruder.send(forged_heartbeat.data(), forged_heartbeat.size());
+  intruder.send(forged_attitude.data(), forged_attitude.size());
+  run_for(1.2, runner, autopilot, serve);
+  EXPECT_EQ(runner.bridge().autopilot_system(), 1);
+  intruder.send(forged_attitude.data(), forged_attitude.size());
+  bus->publish(channels::kPose, a_pose());
+  run_for(0.3, runner, autopilot, serve);
+
+  std::vector<uint8_t> datagram;
+  int diverted = 0;
+  while (intruder.receive(&datagram)) ++diverted;
+  EXPECT_EQ(diverted, 0) << "the bridge sent to the intruder's port";
+  EXPECT_EQ(runner.udp_foreign_datagrams(), 3);
+  EXPECT_EQ(runner.udp_peer_changes(), 0);
+  EXPECT_EQ(autopilot.received(mavlink::VisionPositionEstimate::kId), 1);
+  // Every ATTITUDE the bridge read was one the autopilot sent (the forged ones
+  // would make it two more).
+  const InputCounters& in = runner.bridge().input();
+  EXPECT_LE(in.attitude + in.waiting_for_clock, autopilot.sent_attitude());
+  EXPECT_EQ(runner.bridge().rejected_frames(), 0);
+}
+
 }  // namespace
 }  // namespace nadir::mavlink_bridge
