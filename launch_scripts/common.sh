@@ -31,3 +31,9 @@ nadir_config_with_attitude_policy() {
   [ "$(grep -cE "^ +attitude_policy: $policy( |$)" "$out")" = 2 ] ||
     { echo "error: could not set both attitude_policy keys to '$policy' in $out" >&2; return 1; }
 }
+
+# nadir_valid_rt_priority P: true when P is a SCHED_FIFO priority nadir uses
+# (an integer in [1, 98]; 99 is left to the kernel's own threads).
+nadir_valid_rt_priority() {
+  [[ "$1" =~ ^[0-9]+$ ]] && (($1 >= 1 && $1 <= 98))
+}

@@ -9,7 +9,8 @@
 #   SET            default: vehicle
 #   --user         default: nadir (created as a system user in group dialout
 #                  for the serial devices)
-#   --rt-priority  SCHED_FIFO priority for the set (default 20; 0: none)
+#   --rt-priority  SCHED_FIFO priority for the set (1-98, or off; default: the
+#                  set's own `realtime` line, 20 for vehicle and hil)
 #   --dry-run      write the units into logs/systemd-SET/ and verify them;
 #                  change nothing on the system
 # Needs root (except --dry-run). Start now: systemctl start nadir-SET.target;
@@ -19,7 +20,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
 usage() { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; }
 die() { echo "install_systemd: error: $*" >&2; exit 2; }
-set_name=vehicle user=nadir rt_priority=20 dry_run=0
+set_name=vehicle user=nadir rt_priority= dry_run=0
 while (($#)); do
   case "$1" in
     -h|--help) usage; exit 0 ;;
@@ -31,7 +32,7 @@ while (($#)); do
   esac
 done
 rt_args=()
-[ "$rt_priority" = 0 ] || rt_args=(--rt-priority "$rt_priority")
+[ -z "$rt_priority" ] || rt_args=(--rt-priority "$rt_priority")
 
 if ((dry_run)); then
   out="$NADIR_ROOT/logs/systemd-$set_name"

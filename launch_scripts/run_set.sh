@@ -5,10 +5,11 @@
 # stops them all cleanly on Ctrl-C / SIGTERM. Optional lcm-logger capture.
 #
 # Usage: run_set.sh SET [--no-capture] [--duration S] [--max-restarts N] [--lcm-url URL]
-#                    [--rt-priority P] [--print-commands]
+#                    [--rt-priority P|off] [--print-commands]
 # --print-commands prints each process of the set as `KIND NAME COMMAND...`
-# (variables expanded, nothing started; `capture NAME` for the logger) and
-# exits: what launch_scripts/systemd_units.sh turns into systemd units.
+# (variables expanded, nothing started; `capture NAME` for the logger,
+# `realtime P` for the priority) and exits: what
+# launch_scripts/systemd_units.sh turns into systemd units.
 # --rt-priority P runs every `run` process (the vehicle's long-running nodes, not
 # the finite source) and the capture logger (the stand-in for the POSE
 # consumer, and the latency instrument: it must not be starved by the nodes)
@@ -16,10 +17,14 @@
 # aircraft's computer would run its navigation. It is also exported as
 # NADIR_RT_PRIORITY, for a set line to pass on (the simulator's publisher:
 # nadir_sim --publish-rt-priority, the stand-in for the vehicle's drivers).
+# A set with a `realtime P` line gets P where the machine grants SCHED_FIFO
+# and runs with ordinary scheduling, with a note, where it does not;
+# --rt-priority P insists (an error where refused), --rt-priority off declines.
 #
 # Set file lines (# starts a comment; ${VAR:-default} is expanded when started):
 #   require  BINARY  what it is     the set fails at once if BINARY is not built
 #   capture  NAME                   lcm-logger into logs/<UTC>-NAME/capture.lcmlog
+#   realtime P                      ask for SCHED_FIFO priority P (1-98) where granted
 #   run      NAME  [delay=S] COMMAND...  long-running process, restarted if it dies
 #   finite   NAME  [delay=S] COMMAND...  runs to completion; when it ends the set stops
 # delay=S starts that process S seconds after the set (e.g. a source after
@@ -30,7 +35,7 @@
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,34p' "$0" | sed 's/^# \{0,1\}//'; }
 set_arg=""
 capture_enabled=1
 duration=""
@@ -52,14 +57,6 @@ while (($#)); do
   esac
 done
 [ -n "$set_arg" ] || { usage >&2; exit 2; }
-unset NADIR_RT_PRIORITY   # set below from --rt-priority only
-if [ -n "$rt_priority" ]; then
-  [[ "$rt_priority" =~ ^[0-9]+$ ]] && ((rt_priority >= 1 && rt_priority <= 98)) ||
-    { echo "run_set: error: --rt-priority must be an integer in [1, 98], got '$rt_priority'" >&2; exit 2; }
-  chrt -f "$rt_priority" true 2>/dev/null ||
-    { echo "run_set: error: --rt-priority $rt_priority: SCHED_FIFO not permitted here (needs root or CAP_SYS_NICE; in nadir_in_netns export NADIR_NETNS_KEEP_CAPS=1)" >&2; exit 2; }
-  export NADIR_RT_PRIORITY="$rt_priority"
-fi
 set_file="$set_arg"
 [ -f "$set_file" ] || set_file="$NADIR_ROOT/launch_scripts/sets/$set_arg"
 [ -f "$set_file" ] || { echo "run_set: error: no set '$set_arg' (looked in launch_scripts/sets/)" >&2; exit 2; }
@@ -68,6 +65,7 @@ set_name="$(basename "$set_file")"
 declare -a names=()
 declare -A cmd=() kind=() pid=() restarts=() restart_at=() gave_up=() delay_s=()
 capture_name=""
+set_rt_priority=""
 line_no=0
 while IFS= read -r raw || [ -n "$raw" ]; do
   line_no=$((line_no + 1))
@@ -88,12 +86,40 @@ while IFS= read -r raw || [ -n "$raw" ]; do
         delay_s[$name]="${BASH_REMATCH[1]}"; rest="${BASH_REMATCH[2]}"
       fi
       cmd[$name]="$rest" ;;
-    *) echo "run_set: error: $set_file:$line_no: unknown word '$word' (require, capture, run, finite)" >&2; exit 2 ;;
+    realtime)
+      nadir_valid_rt_priority "$name" ||
+        { echo "run_set: error: $set_file:$line_no: 'realtime $name': a priority in [1, 98]" >&2; exit 2; }
+      set_rt_priority="$name" ;;
+    *) echo "run_set: error: $set_file:$line_no: unknown word '$word' (require, capture, realtime, run, finite)" >&2; exit 2 ;;
   esac
 done <"$set_file"
 ((${#names[@]})) || { echo "run_set: error: $set_file starts no process" >&2; exit 2; }
 
+# Real-time priority: --rt-priority P insists (an error where SCHED_FIFO is
+# refused), --rt-priority off declines, and otherwise the set's `realtime P`
+# is taken where the machine grants it, with a note where it does not.
+unset NADIR_RT_PRIORITY   # set below only
+if [ "$rt_priority" = off ]; then
+  rt_priority=""
+elif [ -n "$rt_priority" ]; then
+  nadir_valid_rt_priority "$rt_priority" ||
+    { echo "run_set: error: --rt-priority must be an integer in [1, 98] or off, got '$rt_priority'" >&2; exit 2; }
+  if ((!print_commands)) && ! chrt -f "$rt_priority" true 2>/dev/null; then
+    echo "run_set: error: --rt-priority $rt_priority: SCHED_FIFO not permitted here (needs root or CAP_SYS_NICE; in nadir_in_netns export NADIR_NETNS_KEEP_CAPS=1)" >&2
+    exit 2
+  fi
+elif [ -n "$set_rt_priority" ]; then
+  if ((print_commands)) || chrt -f "$set_rt_priority" true 2>/dev/null; then
+    rt_priority="$set_rt_priority"
+    ((print_commands)) || echo "[run_set] set '$set_name' runs its processes at real-time priority $rt_priority (SCHED_FIFO)"
+  else
+    echo "[run_set] note: set '$set_name' asks for real-time priority $set_rt_priority (SCHED_FIFO), which this machine refuses (needs root or CAP_SYS_NICE): running with ordinary scheduling, higher latency (--rt-priority off silences this)"
+  fi
+fi
+[ -n "$rt_priority" ] && export NADIR_RT_PRIORITY="$rt_priority"
+
 if ((print_commands)); then
+  [ -n "$rt_priority" ] && echo "realtime $rt_priority"
   [ -n "$capture_name" ] && echo "capture $capture_name"
   for n in "${names[@]}"; do
     expanded="$(bash -c "echo ${cmd[$n]}")" ||

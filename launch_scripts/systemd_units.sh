@@ -10,8 +10,9 @@
 #   OUT_DIR        where the units go (install_systemd.sh: /etc/systemd/system)
 #   --bin-dir      where the nadir_* programs are (default: this checkout's build/bin)
 #   --user         the unprivileged user every unit runs as (default: nadir)
-#   --rt-priority  SCHED_FIFO priority for the processes and the logger (1-98;
-#                  default: none). systemd sets it; the process keeps
+#   --rt-priority  SCHED_FIFO priority for the processes and the logger (1-98,
+#                  or off; default: the set's `realtime P` line, e.g. 20 for
+#                  vehicle and hil). systemd sets it; the process keeps
 #                  CAP_SYS_NICE and no other capability.
 #   --lcm-url      the vehicle bus (default: multicast on this host only, TTL 0)
 #   --bus-interface the interface the bus's multicast group is routed through
@@ -30,7 +31,7 @@
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-usage() { sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//'; }
 die() { echo "systemd_units: error: $*" >&2; exit 2; }
 set_arg="" out_dir="" bin_dir="$NADIR_BIN" user=nadir rt_priority="" lcm_url="$LCM_DEFAULT_URL"
 state_dir=/run/nadir log_dir=/var/log/nadir bus_interface=lo
@@ -52,9 +53,8 @@ done
 [ -n "$set_arg" ] && [ -n "$out_dir" ] || { usage >&2; exit 2; }
 [[ "$user" =~ ^[a-z_][a-z0-9_-]*$ ]] || die "--user '$user' is not a user name"
 [ "$user" != root ] || die "--user root: the units run unprivileged"
-if [ -n "$rt_priority" ]; then
-  [[ "$rt_priority" =~ ^[0-9]+$ ]] && ((rt_priority >= 1 && rt_priority <= 98)) ||
-    die "--rt-priority must be an integer in [1, 98], got '$rt_priority'"
+if [ -n "$rt_priority" ] && [ "$rt_priority" != off ]; then
+  nadir_valid_rt_priority "$rt_priority" || die "--rt-priority must be an integer in [1, 98] or off, got '$rt_priority'"
 fi
 [[ "$bin_dir" = /* ]] || die "--bin-dir '$bin_dir' must be an absolute path"
 [[ "$state_dir" =~ ^/run/[A-Za-z0-9._-]+$ ]] || die "--state-dir '$state_dir' must be a folder directly under /run"
@@ -66,7 +66,11 @@ ip_tool="$(command -v ip)" || die "ip is not installed (Debian iproute2)"
 [[ "$lcm_url" =~ ^udpm://([0-9.]+):([0-9]+) ]] || die "--lcm-url '$lcm_url' must be udpm://GROUP:PORT[?OPTIONS]"
 bus_group="${BASH_REMATCH[1]}"
 
-commands="$(PATH="$bin_dir:$PATH" NADIR_STATE_DIR="$state_dir" "$NADIR_ROOT/launch_scripts/run_set.sh" "$set_arg" --print-commands)"
+commands="$(PATH="$bin_dir:$PATH" NADIR_STATE_DIR="$state_dir" "$NADIR_ROOT/launch_scripts/run_set.sh" "$set_arg" \
+  ${rt_priority:+--rt-priority "$rt_priority"} --print-commands)"
+# The priority the set asks for (its `realtime` line, first), unless given here.
+rt_priority=""
+if [[ "$commands" =~ (^|$'\n')realtime\ ([0-9]+) ]]; then rt_priority="${BASH_REMATCH[2]}"; fi
 set_name="$(basename "$set_arg")"
 target="nadir-$set_name.target"
 mkdir -p "$out_dir"
@@ -126,6 +130,7 @@ exec_start() {
 units=()
 while read -r kind name rest; do
   case "$kind" in
+    realtime) ;;  # read above
     capture)
       unit="nadir-$set_name-capture.service"
       {

@@ -52,8 +52,16 @@ grep -qE "^ExecStart=.*ip route replace 239.255.76.67/32 dev lo$" "$units/nadir-
 grep -qxF "SupplementaryGroups=dialout" "$units/nadir-vehicle-ins_bridge.service" || fail "ins_bridge: not in dialout"
 ! grep -q "^SupplementaryGroups" "$units/nadir-vehicle-tracker.service" || fail "tracker: has extra groups"
 
+# The vehicle set asks for real-time priority 20 itself (its `realtime` line).
+"$root/launch_scripts/systemd_units.sh" vehicle "$work/asked" >/dev/null || fail "systemd_units.sh without --rt-priority"
+grep -qxF "CPUSchedulingPriority=20" "$work/asked/nadir-vehicle-tracker.service" ||
+  fail "the vehicle set's realtime 20 did not reach the units"
+grep -qxF "CapabilityBoundingSet=CAP_SYS_NICE" "$work/asked/nadir-vehicle-tracker.service" ||
+  fail "a real-time unit must keep CAP_SYS_NICE only"
+
 # Without real-time priority no capability at all, and no real-time scheduling.
-"$root/launch_scripts/systemd_units.sh" vehicle "$work/plain" >/dev/null || fail "systemd_units.sh without --rt-priority"
+"$root/launch_scripts/systemd_units.sh" vehicle "$work/plain" --rt-priority off >/dev/null ||
+  fail "systemd_units.sh --rt-priority off"
 grep -qxF "CapabilityBoundingSet=" "$work/plain/nadir-vehicle-tracker.service" || fail "plain unit keeps capabilities"
 grep -qxF "RestrictRealtime=yes" "$work/plain/nadir-vehicle-tracker.service" || fail "plain unit may take real-time"
 systemd-analyze verify --man=no "$work/plain"/*.service || fail "systemd-analyze verify (plain)"
