@@ -138,6 +138,58 @@ TEST(InsBridge, ClockEstimatorErrorAgainstTrueOffsetWithJitterAndDrift) {
   EXPECT_EQ(h.bridge.clock_state().jumps, 0);
 }
 
+// Serial bytes arriving 0-20 ms late (uniform), correctly stamped by the
+// device: 1,900 samples at 100 Hz (19 s) without a fault, then the host clock
+// steps by `step_us` against the device. No sample of the fault-free stretch
+// is flagged TIME_JUMP; the step is flagged within 20 ms of it.
+struct JitterRun {
+  int flagged_before_step = 0;
+  int64_t step_flagged_after_us = -1;  // first flagged sample after the step: device time since the step
+  double late_bound_us = 0;            // the clock estimate's late bound before the step
+};
+
+JitterRun fly_uniform_jitter(int64_t step_us) {
+  const BridgeOptions options = testing::test_options();
+  Harness h(options);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> jitter_us(0.0, 20000.0);
+  const double byte_us = options.ins.serial.byte_time_us();
+  const int64_t d0 = unix_us_of(2300, 345600);
+  constexpr int kFaultFree = 1900, kAfter = 300;
+  JitterRun run;
+  for (int i = 0; i < kFaultFree + kAfter; ++i) {
+    PvaFields p;
+    p.seconds = 345600 + i * 0.01;
+    const int64_t device_unix = unix_us_of(p.week, p.seconds);
+    const double host = static_cast<double>(device_unix) + 350000.0 + 20e-6 * static_cast<double>(device_unix - d0) +
+                        (i >= kFaultFree ? static_cast<double>(step_us) : 0.0);
+    const std::string text = testing::inspvaa(p);
+    h.ins(text, std::llround(host + jitter_us(rng) + static_cast<double>(text.size()) * byte_us));
+    EXPECT_EQ(h.got.ins.size(), static_cast<size_t>(i + 1));
+    const bool flagged = (h.got.ins.back().flags & ins_t::FLAG_TIME_JUMP) != 0;
+    if (i == kFaultFree - 1) run.late_bound_us = h.bridge.clock_state().late_bound_us;
+    if (i < kFaultFree) {
+      run.flagged_before_step += flagged ? 1 : 0;
+    } else if (flagged && run.step_flagged_after_us < 0) {
+      run.step_flagged_after_us = (i - kFaultFree) * 10000;
+    }
+  }
+  return run;
+}
+
+TEST(InsBridge, UniformSerialJitterIsNotAClockStep) {
+  for (const int64_t step_us : {30000, 100000, -100000, 1500000}) {
+    const JitterRun run = fly_uniform_jitter(step_us);
+    std::printf("[ FIGURE ] INS 0-20 ms uniform arrival jitter, 1900 samples at 100 Hz: %d flagged TIME_JUMP "
+                "(late bound %.1f ms); a %+.0f ms clock step flagged %.0f ms after it\n",
+                run.flagged_before_step, run.late_bound_us * 1e-3, static_cast<double>(step_us) * 1e-3,
+                static_cast<double>(run.step_flagged_after_us) * 1e-3);
+    EXPECT_EQ(run.flagged_before_step, 0) << "step " << step_us;
+    EXPECT_GE(run.step_flagged_after_us, 0) << "step " << step_us << " never flagged";
+    EXPECT_LE(run.step_flagged_after_us, 20000) << "step " << step_us;
+  }
+}
+
 TEST(InsBridge, WeekRolloverIsContinuousAndCounted) {
   Harness h;
   const double seconds[] = {604799.98, 604799.99};
