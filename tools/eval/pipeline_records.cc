@@ -41,7 +41,8 @@ bool PipelineRecords::is_solver_output(const vo_delta_t& delta) const {
   // With images in the log, the frames the tracker answered; without, every TRACKS.
   const std::set<int64_t>& frames = images_.empty() ? tracks_utimes_ : answered_utimes_;
   auto known = [&](int64_t utime) { return frames.count(utime) != 0; };
-  return known(delta.utime) && known(delta.prev_utime);
+  // prev_utime 0: the solver's answer to a first frame (no pair yet).
+  return known(delta.utime) && (delta.prev_utime == 0 || known(delta.prev_utime));
 }
 
 void PipelineRecords::add_undecodable(const std::string& channel) { ++undecodable_[channel]; }

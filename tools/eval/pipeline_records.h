@@ -6,7 +6,8 @@
 // - a frame is a CAMERA_IMAGE the tracker answered: it publishes one TRACKS
 //   per image it accepts, with that image's utime and frame_counter;
 // - a TRACKS is the tracker's when it answers a captured frame;
-// - a VO_DELTA is the solver's when it joins two frames the tracker answered.
+// - a VO_DELTA is the solver's when it joins two frames the tracker answered
+//   (or answers a first frame: prev_utime 0).
 // A stage is judged by the one before it only when the log holds that one (a
 // log without TRACKS counts every decodable image as a frame). Only these
 // records are counted and enter the stage and after-image latencies.
