@@ -15,6 +15,9 @@ inline constexpr const char* kPose = "POSE";                   // nadir.pose_t
 inline constexpr const char* kGroundTruth = "GROUND_TRUTH";    // nadir.ground_truth_t
 inline constexpr const char* kStatus = "STATUS";               // nadir.status_t
 inline constexpr const char* kConfig = "CONFIG";               // nadir.config_t
+// LCM's own: every udpm instance sends one to itself at start. It belongs to
+// the bus it was sent on and is never relayed onto another.
+inline constexpr const char* kLcmSelfTest = "LCM_SELF_TEST";
 
 // STATUS and CONFIG: a process's bookkeeping, stamped when sent. Neither has
 // a sensor-time latency nor counts as traffic of the pipeline.

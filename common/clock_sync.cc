@@ -1,10 +1,21 @@
 #include "common/clock_sync.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "common/config.h"
 
 namespace nadir {
+namespace {
+
+// A block's spread is the largest of ~100 arrivals: the link's worst delay
+// lies a little beyond it, and the fitted floor a fraction of a millisecond
+// off the true one. A quarter more covers both on uniform and exponential
+// jitter alike.
+constexpr double kLateBoundMargin = 1.25;
+
+}  // namespace
 
 const OptionsSchema<ClockSyncOptions>& ClockSyncOptions::schema() {
   using O = ClockSyncOptions;
@@ -33,7 +44,10 @@ ClockSyncOptions ClockSyncOptions::from_config(const Config& section, const Cloc
   return o;
 }
 
-ClockSync::ClockSync(const ClockSyncOptions& options) : options_(options) { options_.Check(); }
+ClockSync::ClockSync(const ClockSyncOptions& options) : options_(options) {
+  options_.Check();
+  state_.late_bound_us = options_.jump_threshold_us;
+}
 
 double ClockSync::predict(int64_t device_us) const {
   return intercept_ + slope_ * static_cast<double>(device_us - reference_us_);
@@ -63,7 +77,7 @@ bool ClockSync::check_against_model(int64_t device_us, double offset) {
             " us earlier than the clock model allows");
     return false;
   }
-  if (excess <= options_.jump_threshold_us) {
+  if (excess <= state_.late_bound_us) {
     late_run_ = false;
     return true;
   }
@@ -81,17 +95,33 @@ void ClockSync::add_to_blocks(int64_t device_us, double offset) {
   const int64_t block_us = static_cast<int64_t>(options_.block_s * 1e6);
   if (have_current_ && device_us - current_.start_us >= block_us) {
     blocks_.push_back(current_);
+    spreads_us_.push_back(current_.max_offset_us - current_.offset_us);
+    const size_t max_spreads = static_cast<size_t>(std::max(1.0, options_.window_s / options_.block_s));
+    while (spreads_us_.size() > max_spreads) spreads_us_.pop_front();
+    update_late_bound();
     have_current_ = false;
   }
   if (!have_current_) {
-    current_ = Block{device_us, offset, device_us};
+    current_ = Block{device_us, offset, device_us, offset};
     have_current_ = true;
-  } else if (offset < current_.offset_us) {
-    current_.offset_us = offset;
-    current_.device_us = device_us;
+  } else {
+    if (offset < current_.offset_us) {
+      current_.offset_us = offset;
+      current_.device_us = device_us;
+    }
+    current_.max_offset_us = std::max(current_.max_offset_us, offset);
   }
   const int64_t window_us = static_cast<int64_t>(options_.window_s * 1e6);
   while (!blocks_.empty() && device_us - blocks_.front().device_us > window_us) blocks_.pop_front();
+}
+
+void ClockSync::update_late_bound() {
+  std::vector<double> spreads(spreads_us_.begin(), spreads_us_.end());
+  // The lower median: a link that shows a spread in only half its blocks is
+  // not yet known to jitter that much.
+  const auto middle = spreads.begin() + static_cast<std::ptrdiff_t>((spreads.size() - 1) / 2);
+  std::nth_element(spreads.begin(), middle, spreads.end());
+  state_.late_bound_us = std::max(options_.jump_threshold_us, kLateBoundMargin * *middle);
 }
 
 bool ClockSync::settled(int64_t device_us, double offset) {

@@ -9,9 +9,18 @@
 // Every sample is checked against the model as it arrives (not per block):
 // - earlier than the model allows by more than the threshold, or device time
 //   going backwards: the estimate restarts at once;
-// - later by more than the threshold: a delayed read or an upward offset step,
-//   which one sample cannot tell apart, so the sample is not trusted; late
-//   samples for step_confirm_s in a row are a step and restart the estimate.
+// - later than the late bound: a delayed read or an upward offset step, which
+//   one sample cannot tell apart, so the sample is not trusted; late samples
+//   for step_confirm_s in a row are a step and restart the estimate.
+// The late bound is learned from the link: the lower median over the window
+// of each block's arrival spread (its largest minus its smallest arrival -
+// device time), times 1.25, and never below the threshold. A link whose
+// reads jitter by as much as the threshold (serial bytes arriving 0-20 ms
+// late) would otherwise see every sample in the jitter's top fraction of a
+// millisecond flagged, because the fitted floor sits that much off; an
+// offset step adds to every sample at once and so exceeds the bound from the
+// first sample after it. The median ignores a block that a step or a rare
+// held-up read widened.
 // After a restart (also one asked for with restart(), e.g. a device reopen)
 // samples are not trusted until the running minimum has held (not dropped by
 // more than half the threshold) for settle_s of device time: a backlog read
@@ -47,7 +56,8 @@ struct ClockSyncState {
   int blocks = 0;
   int64_t samples = 0;
   int64_t jumps = 0;         // restarts of the estimate
-  int64_t late = 0;          // samples later than the model by more than the threshold
+  int64_t late = 0;          // samples later than the model by more than late_bound_us
+  double late_bound_us = 0;  // the bound in force (>= jump_threshold_us), see above
   int64_t untrusted = 0;     // samples add() returned false for
   std::string last_jump;     // why the last restart happened
 };
@@ -74,6 +84,7 @@ class ClockSync {
     int64_t device_us;   // device time of the block's minimum
     double offset_us;    // minimum (arrival - device) in the block
     int64_t start_us;    // device time the block began
+    double max_offset_us;  // maximum (arrival - device) in the block
   };
   double predict(int64_t device_us) const;
   // Checks a sample against the current model; may restart. False: not trusted.
@@ -82,9 +93,14 @@ class ClockSync {
   // While settling: false until the minimum held for settle_s.
   bool settled(int64_t device_us, double offset);
   void refit();
+  // The late bound from the closed blocks' arrival spreads.
+  void update_late_bound();
 
   ClockSyncOptions options_;
   std::deque<Block> blocks_;
+  // Arrival spreads of the latest closed blocks (at most a window's worth):
+  // a property of the link, so kept across restarts of the clock estimate.
+  std::deque<double> spreads_us_;
   bool have_current_ = false;
   Block current_{};
   int64_t last_device_us_ = 0;

@@ -86,6 +86,12 @@ void LcmBus::add_transport_counters(status_t* msg) {
   msg->num_counters = static_cast<int32_t>(msg->counter_names.size());
 }
 
+void relabel_relayed_transport_counters(status_t* msg) {
+  for (std::string& name : msg->counter_names) {
+    if (name.rfind("tx.", 0) == 0 || name.rfind("rx.", 0) == 0) name = "origin_bus." + name;
+  }
+}
+
 void LcmBus::subscribe_raw(const std::string& channel, RawHandler handler) {
   subscriptions_.push_back(std::make_unique<Subscription>(Subscription{this, std::move(handler)}));
   lcm::Subscription* sub = lcm_.subscribeFunction(channel, &LcmBus::dispatch, subscriptions_.back().get());

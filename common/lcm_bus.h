@@ -44,6 +44,8 @@ class LcmBus : public Bus {
   // (datagrams the kernel dropped for a full receive buffer) to a STATUS.
   // A capture is checked against the tx counts (nadir_log info, nadir_eval),
   // so a message lost between a publisher and the logger is counted.
+  // The counts are this bus's: a STATUS relayed onto another bus carries
+  // them relabelled (relabel_relayed_transport_counters below).
   void add_transport_counters(status_t* msg);
   // A live process's STATUS: its report, this bus's malformed counts, this
   // process's pid, vehicle time now, the period's latency (then restarted)
@@ -64,5 +66,13 @@ class LcmBus : public Bus {
   std::map<std::string, int64_t> tx_counts_, rx_counts_;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
 };
+
+// A STATUS relayed from another bus onto this one (nadir_sim_mavlink relays
+// the simulator's, published on the simulator's own bus): its "tx." and "rx."
+// counts are that bus's messages, which a capture of this bus does not hold,
+// so they are renamed "origin_bus.tx.<CHANNEL>" / "origin_bus.rx.<CHANNEL>".
+// A capture is then checked only against the publishers on its own bus; the
+// relay counts what it put on it in its own STATUS.
+void relabel_relayed_transport_counters(status_t* msg);
 
 }  // namespace nadir

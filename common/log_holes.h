@@ -17,6 +17,8 @@
 namespace nadir {
 
 struct LogHole {
+  // The channel; STATUS per process: "STATUS from NAME" (each process's
+  // heartbeat is a regular 1 Hz stream, their union is not).
   std::string channel;
   int64_t from_timestamp = 0;  // log time of the last message before the hole
   int64_t to_timestamp = 0;    // and of the first one after it
@@ -39,7 +41,7 @@ class LogHoleFinder {
 
  private:
   LogHoleOptions options_;
-  std::map<std::string, std::vector<int64_t>> timestamps_;
+  std::map<std::string, std::vector<int64_t>> timestamps_;  // per stream: channel, or STATUS per process
 };
 
 // "CHANNEL: no messages for 3.000 s (log time A to B, ~N missing)" lines.

@@ -209,6 +209,7 @@ void InsBridge::report(StatusReport* r) const {
   add("clock_jumps", static_cast<double>(c.jumps));
   add("clock_settling", c.settling ? 1.0 : 0.0);
   add("clock_late_samples", static_cast<double>(c.late));
+  add("clock_late_bound_us", c.late_bound_us);
   add("clock_flagged_samples", static_cast<double>(c.untrusted));
   add("alt_bytes", static_cast<double>(alt_splitter_.bytes()));
   // Per line: accepted (published with a validity) + rejected_* = every line.

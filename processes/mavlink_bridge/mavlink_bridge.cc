@@ -372,6 +372,7 @@ void MavlinkBridge::report(StatusReport* r) const {
   add("clock_jumps", static_cast<double>(c.jumps));
   add("clock_settling", c.settling ? 1.0 : 0.0);
   add("clock_flagged_samples", static_cast<double>(c.untrusted));
+  add("clock_late_bound_us", c.late_bound_us);
   auto warn = [&](const std::string& why) {
     if (r->state == status_t::STATE_OK) r->state = status_t::STATE_WARN;
     if (!r->detail.empty()) r->detail += "; ";

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -31,8 +32,9 @@ class Feed {
       msg.counter_values.push_back(value);
     }
     msg.num_counters = static_cast<int32_t>(counters.size());
-    add(channels::kStatus, encode_message(msg));
+    status(msg);
   }
+  void status(const status_t& msg) { add(channels::kStatus, encode_message(msg)); }
 
  private:
   void add(const std::string& channel, std::vector<uint8_t> bytes) {
@@ -122,6 +124,53 @@ TEST(CaptureAccounting, LcmBusStatusCountsPublishedAndDeliveredMessagesPerChanne
   }
   EXPECT_EQ(tx, 7);
   EXPECT_EQ(rx, 7);
+}
+
+// The sim_mavlink set: the simulator publishes INS and images on a bus of its
+// own; a feeder turns its INS into MAVLink (the bridge publishes INS on the
+// captured bus) and relays its images and its STATUS onto the captured bus.
+// The simulator's counts are of its own bus: relayed relabelled, they are
+// not held against the capture, and nothing is missing.
+TEST(CaptureAccounting, AStatusRelayedFromAnotherBusIsNotCheckedAgainstTheCapture) {
+  LcmBusOptions options;
+  options.url = "memq://";
+  LcmBus sim_bus(options), feeder_bus(options), bridge_bus(options);
+  ins_t ins{};
+  for (int i = 0; i < 10; ++i) sim_bus.publish(channels::kIns, ins);
+  const uint8_t image_bytes[16] = {};
+  for (int i = 0; i < 4; ++i) {
+    sim_bus.publish_raw(channels::kCameraImage, image_bytes, sizeof image_bytes);
+    feeder_bus.publish_raw(channels::kCameraImage, image_bytes, sizeof image_bytes);
+  }
+  for (int i = 0; i < 10; ++i) bridge_bus.publish(channels::kIns, ins);
+  const status_t sim_status = sim_bus.status_message("sim", StatusReport{});
+  status_t relayed = sim_status;
+  relabel_relayed_transport_counters(&relayed);
+  for (const std::string& name : relayed.counter_names) {
+    EXPECT_TRUE(name.rfind("tx.", 0) != 0 && name.rfind("rx.", 0) != 0) << name;
+  }
+  EXPECT_NE(std::find(relayed.counter_names.begin(), relayed.counter_names.end(), "origin_bus.tx.INS"),
+            relayed.counter_names.end());
+
+  auto capture = [&](const status_t& sim) {
+    CaptureAccountant accountant;
+    Feed feed(&accountant);
+    feed.records(channels::kIns, 10);          // the bridge's
+    feed.records(channels::kCameraImage, 4);   // the feeder's relay
+    feed.status(sim);
+    feed.status(feeder_bus.status_message("sim_mavlink", StatusReport{}));
+    feed.status(bridge_bus.status_message("mavlink_bridge", StatusReport{}));
+    return accountant.result();
+  };
+  const CaptureAccounting as_relayed = capture(relayed);
+  EXPECT_EQ(as_relayed.missing_total(), 0) << format_capture_accounting(as_relayed);
+  const ChannelAccount* images = find(as_relayed, channels::kCameraImage);
+  ASSERT_NE(images, nullptr);
+  EXPECT_EQ(images->publishers, "sim_mavlink");
+  EXPECT_EQ(images->published, 4);
+  EXPECT_EQ(find(as_relayed, channels::kIns)->publishers, "mavlink_bridge");
+  // Relayed unchanged, the simulator's own-bus counts double every channel.
+  EXPECT_EQ(capture(sim_status).missing_total(), 10 + 4);
 }
 
 }  // namespace

@@ -8,7 +8,10 @@
 #include "common/log_file.h"
 #include "common/message_guard.h"
 #include "nadir/config_t.hpp"
+#include "nadir/image_t.hpp"
+#include "nadir/tracks_t.hpp"
 #include "nadir/vo_delta_t.hpp"
+#include "tools/eval/pipeline_records.h"
 
 namespace nadir {
 namespace {
@@ -48,42 +51,31 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
   const bool truth_here = truth_path.empty() || truth_path == log_path;
   LogHoleFinder hole_finder;
   CaptureAccountant accountant;
-  std::map<int64_t, int64_t> image_logged;  // frame utime -> log time, until its POSE
+  PipelineRecords pipeline;
   while (reader.next(&e)) {
     hole_finder.add(e);
     accountant.add(e);
-    if (e.channel == channels::kCameraImage || e.channel == channels::kTracks || e.channel == channels::kVoDelta ||
-        e.channel == channels::kPose) {
-      int64_t utime = 0;
-      if (encoded_utime(e.data, e.size, &utime)) {
-        data.stage_latency_ms[e.channel].push_back(static_cast<float>((e.timestamp - utime) * 1e-3));
-        if (e.channel == channels::kCameraImage) image_logged[utime] = e.timestamp;
-        const auto image = e.channel == channels::kPose ? image_logged.find(utime) : image_logged.end();
-        if (image != image_logged.end()) {
-          data.after_image_latency_ms.push_back(static_cast<float>((e.timestamp - image->second) * 1e-3));
-          image_logged.erase(image_logged.begin(), std::next(image));
-        }
-      }
-    }
     if (e.channel == channels::kPose) {
       pose_t p;
       if (decode(e, &p)) {
         data.poses.push_back(p);
         data.pose_log_timestamps.push_back(e.timestamp);
+        pipeline.add_pose(p.utime, e.timestamp);
       }
     } else if (e.channel == channels::kCameraImage) {
-      ++data.images;
+      image_t image;
+      if (decode(e, &image)) pipeline.add_image(image.utime, image.frame_counter, e.timestamp);
+      else pipeline.add_undecodable(e.channel);
     } else if (e.channel == channels::kCameraTrigger) {
       ++data.triggers;
     } else if (e.channel == channels::kTracks) {
-      ++data.tracks;
+      tracks_t tracks;
+      if (decode(e, &tracks)) pipeline.add_tracks(tracks.utime, tracks.frame_counter, e.timestamp);
+      else pipeline.add_undecodable(e.channel);
     } else if (e.channel == channels::kVoDelta) {
       vo_delta_t d;
-      if (decode(e, &d)) {
-        ++data.vo_deltas;
-        if (d.quality != 0) ++data.vo_deltas_flagged;
-        data.deltas.push_back(d);
-      }
+      if (decode(e, &d)) pipeline.add_vo_delta(d, e.timestamp);
+      else pipeline.add_undecodable(e.channel);
     } else if (e.channel == channels::kConfig) {
       config_t c;
       // The VO solver's camera is the one its pairs were solved with.
@@ -113,6 +105,10 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
   data.damage_report = reader.damage_report();
   data.holes = hole_finder.holes();
   data.accounting = accountant.result();
+  data.pipeline = pipeline.counts();
+  data.deltas = pipeline.vo_deltas();
+  data.stage_latency_ms = pipeline.stage_latency_ms();
+  data.after_image_latency_ms = pipeline.after_image_latency_ms();
   if (!truth_here) read_truth(truth_path, truth_shift_us, &data);
   if (data.poses.empty()) throw std::runtime_error(log_path + ": no POSE messages (run the estimator first)");
   if (data.truth.size() < 2) {

@@ -8,6 +8,7 @@
 
 #include "common/capture_accounting.h"
 #include "common/log_holes.h"
+#include "tools/eval/pipeline_records.h"
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/pose_t.hpp"
@@ -21,12 +22,11 @@ struct EvalData {
   std::vector<int64_t> pose_log_timestamps; // logger receive time of each pose
   std::vector<ground_truth_t> truth;        // sorted by utime, all kinds
   std::vector<ins_t> ins;                   // first few, for the geographic reference
-  int64_t images = 0;
   int64_t triggers = 0;
-  int64_t tracks = 0;
-  int64_t vo_deltas = 0;
-  int64_t vo_deltas_flagged = 0;
-  std::vector<vo_delta_t> deltas;           // in log order
+  // The pipeline's own frames, TRACKS and VO_DELTA, and the records on those
+  // channels that are not (tools/eval/pipeline_records.h).
+  PipelineCounts pipeline;
+  std::vector<vo_delta_t> deltas;           // the pipeline's, in log order
   int64_t corrupt_records = 0;
   bool truncated = false;
   std::string damage_report;        // "FILE: byte N: what" lines
@@ -36,7 +36,8 @@ struct EvalData {
   // Per process, the publish latency (sensor time -> publish, measured by the
   // process) of every 1 s STATUS period that published anything: p50s, p99s.
   std::map<std::string, std::vector<float>> publish_p50_ms, publish_p99_ms;
-  // Logger receive time - sensor time, ms, per pipeline stage (live captures).
+  // Logger receive time - sensor time, ms, per pipeline stage (live
+  // captures), over the pipeline's own records.
   std::map<std::string, std::vector<float>> stage_latency_ms;
   // Per POSE: logged time - its frame's CAMERA_IMAGE logged time (the
   // estimator and its hops, without the image source's own delay).

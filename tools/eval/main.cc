@@ -95,9 +95,11 @@ int main(int argc, char** argv) {
                   m.error_pct_h, m.error_pct_v);
       std::printf("velocity error      %10.3f m/s rms horizontal\n", m.rms_velocity_error_h);
       std::printf("yaw error           %10.3f deg rms\n", m.rms_yaw_error_deg);
-      std::printf("frames              %10lld images, %lld dropped, %lld poses (%lld flagged)\n",
+      std::printf("frames              %10lld images, %lld dropped, %lld poses (%lld flagged); %lld CAMERA_IMAGE, "
+                  "TRACKS and VO_DELTA record(s) not the pipeline's, left out\n",
                   static_cast<long long>(m.images), static_cast<long long>(m.frames_dropped),
-                  static_cast<long long>(m.poses), static_cast<long long>(m.poses_flagged));
+                  static_cast<long long>(m.poses), static_cast<long long>(m.poses_flagged),
+                  static_cast<long long>(m.records_not_pipeline));
       if (m.pairs > 0) {
         std::printf("frame pairs         %10lld VO_DELTA, %lld solved (%.1f %%), horizontal error per pair %.1f %% of "
                     "the step median, %.1f %% p90 (median step %.1f m)\n",

@@ -98,9 +98,11 @@ EvalResult evaluate(const EvalData& data) {
   m.rms_error_3d_m = std::sqrt((sum_e2_h + sum_e2_v) / n);
   if (m.distance_m > 0) m.rms_error_pct_3d = 100.0 * m.rms_error_3d_m / m.distance_m;
   m.rms_yaw_error_deg = std::sqrt(sum_yaw2 / n);
-  m.images = data.images;
+  m.images = data.pipeline.frames;
   m.triggers = data.triggers;
-  m.frames_dropped = std::max<int64_t>(0, data.triggers - data.images);
+  m.frames_dropped = std::max<int64_t>(0, data.triggers - m.images);
+  m.records_not_pipeline =
+      data.pipeline.other_images + data.pipeline.other_tracks + data.pipeline.other_vo_deltas;
   m.capture_corrupt_records = data.corrupt_records;
   m.capture_truncated = data.truncated;
   m.capture_holes = static_cast<int64_t>(data.holes.size());
@@ -119,9 +121,9 @@ EvalResult evaluate(const EvalData& data) {
   for (const auto& [name, s] : data.last_status) {
     m.process_counts[name] = {s.received, s.published, s.dropped, s.errors, s.malformed};
   }
-  m.tracks = data.tracks;
-  m.vo_deltas = data.vo_deltas;
-  m.vo_deltas_flagged = data.vo_deltas_flagged;
+  m.tracks = data.pipeline.tracks;
+  m.vo_deltas = data.pipeline.vo_deltas;
+  m.vo_deltas_flagged = data.pipeline.vo_deltas_flagged;
   std::unique_ptr<CameraModel> camera;
   if (data.estimator_config_yaml.empty()) {
     m.footprint_problem = "no CONFIG from vo_solver or tracker in the log";
@@ -194,6 +196,7 @@ std::string metrics_json(const EvalMetrics& m) {
   }
   j.end_object();
   j.field("vo_deltas", m.vo_deltas).field("vo_deltas_flagged", m.vo_deltas_flagged);
+  j.field("records_not_pipeline", m.records_not_pipeline);
   j.field("pairs", m.pairs).field("pairs_solved", m.pairs_solved).field("pairs_solved_pct", m.pairs_solved_pct);
   j.field("pair_error_pct_median", m.pair_error_pct_median).field("pair_error_pct_p90", m.pair_error_pct_p90);
   j.field("pair_step_median_m", m.pair_step_median_m);

@@ -50,9 +50,12 @@ struct EvalMetrics {
   double rms_yaw_error_deg = 0;
   int64_t poses = 0;
   int64_t poses_flagged = 0;
-  int64_t images = 0;
+  int64_t images = 0;          // frames: images the tracker answered (tools/eval/pipeline_records.h)
   int64_t triggers = 0;
-  int64_t frames_dropped = 0;  // triggers without an image
+  int64_t frames_dropped = 0;  // triggers without such a frame
+  // CAMERA_IMAGE, TRACKS and VO_DELTA records that are not the pipeline's: a
+  // second publisher's, undecodable ones, images the tracker dropped.
+  int64_t records_not_pipeline = 0;
   int64_t capture_corrupt_records = 0;
   bool capture_truncated = false;
   int64_t capture_holes = 0;         // stretches a regular channel has no messages for

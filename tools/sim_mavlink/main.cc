@@ -1,6 +1,8 @@
 // nadir_sim_mavlink: plays the simulator's attitude and altimeter as an
 // autopilot would over MAVLink UDP, and relays everything else it hears from
-// the simulator (camera, trigger, ground truth, ...) onto the live bus.
+// the simulator (camera, trigger, ground truth, ...) onto the live bus; the
+// simulator's STATUS with its transport counts marked as its own bus's, and
+// not LCM's self test.
 
 #include <poll.h>
 #include <unistd.h>
@@ -40,6 +42,13 @@ class SimRelay {
       altimeter_t alt;
       if (decode_message(data, size, &alt, &reason)) autopilot_.on_altimeter(alt);
       else ++malformed_;
+    } else if (channel == channels::kLcmSelfTest) {
+      return;  // the simulator's bus's own; the live bus has its own
+    } else if (channel == channels::kStatus && decode_message(data, size, &status_, &reason)) {
+      // The simulator's counts are of its own bus, not the live one.
+      relabel_relayed_transport_counters(&status_);
+      bus_.publish(channel, status_);
+      ++relayed_;
     } else {
       bus_.publish_raw(channel, data, size);
       ++relayed_;
@@ -51,6 +60,7 @@ class SimRelay {
  private:
   LcmBus& bus_;
   sim_mavlink::SimAutopilot& autopilot_;
+  status_t status_;
   int64_t relayed_ = 0;
   int64_t malformed_ = 0;
 };

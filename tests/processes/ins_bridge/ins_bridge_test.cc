@@ -5,9 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "common/config.h"
 #include "common/geometry.h"
@@ -136,6 +139,82 @@ TEST(InsBridge, ClockEstimatorErrorAgainstTrueOffsetWithJitterAndDrift) {
   EXPECT_LT(worst, 1000.0);
   EXPECT_NEAR(h.bridge.clock_state().drift_ppm, 50.0, 5.0);
   EXPECT_EQ(h.bridge.clock_state().jumps, 0);
+}
+
+// Serial reads delayed 0-20 ms (uniform) after a frame's last byte, in order:
+// a read returns every frame in by then, so a frame can wait for a later
+// one's delay and frames arrive bunched in one read (the bridge stamps each
+// from its place in the chunk). Device time is right throughout: 1,900
+// samples at 100 Hz (19 s) without a fault, then the host clock steps by
+// `step_us` against the device. A sample is flagged TIME_JUMP when the
+// bridge's clock estimate cannot vouch for its time.
+struct JitterRun {
+  int flagged_before_step = 0;
+  int64_t step_flagged_after_us = -1;  // first flagged sample after the step: device time since the step
+  double late_bound_us = 0;            // the clock estimate's late bound before the step
+};
+
+JitterRun fly_uniform_read_jitter(unsigned seed, int64_t step_us) {
+  const BridgeOptions options = testing::test_options();
+  Harness h(options);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter_us(0.0, 20000.0);
+  const double byte_us = options.ins.serial.byte_time_us();
+  const int64_t d0 = unix_us_of(2300, 345600);
+  constexpr int kFaultFree = 1900, kAfter = 300;
+  std::vector<std::string> texts;
+  std::vector<int64_t> read_at;
+  for (int i = 0; i < kFaultFree + kAfter; ++i) {
+    PvaFields p;
+    p.seconds = 345600 + i * 0.01;
+    const int64_t device_unix = unix_us_of(p.week, p.seconds);
+    const double host = static_cast<double>(device_unix) + 350000.0 + 20e-6 * static_cast<double>(device_unix - d0) +
+                        (i >= kFaultFree ? static_cast<double>(step_us) : 0.0);
+    texts.push_back(testing::inspvaa(p));
+    const int64_t in = std::llround(host + static_cast<double>(texts.back().size()) * byte_us + jitter_us(rng));
+    read_at.push_back(read_at.empty() ? in : std::max(in, read_at.back()));
+  }
+  JitterRun run;
+  for (size_t first = 0; first < texts.size();) {
+    size_t last = first;
+    std::string chunk = texts[first];
+    while (last + 1 < texts.size() && read_at[last + 1] == read_at[first]) chunk += texts[++last];
+    h.ins(chunk, read_at[first]);
+    EXPECT_EQ(h.got.ins.size(), last + 1);
+    // A read holding frames from both sides of the step belongs to the step:
+    // its first frames are stamped from a chunk the step made.
+    const bool step_chunk = last >= static_cast<size_t>(kFaultFree);
+    for (size_t i = first; i <= last && i < h.got.ins.size(); ++i) {
+      const bool flagged = (h.got.ins[i].flags & ins_t::FLAG_TIME_JUMP) != 0;
+      if (!step_chunk) {
+        run.flagged_before_step += flagged ? 1 : 0;
+      } else if (flagged && run.step_flagged_after_us < 0) {
+        run.step_flagged_after_us = std::max<int64_t>(0, (static_cast<int64_t>(i) - kFaultFree) * 10000);
+      }
+    }
+    if (!step_chunk) run.late_bound_us = h.bridge.clock_state().late_bound_us;
+    first = last + 1;
+  }
+  return run;
+}
+
+TEST(InsBridge, UniformSerialJitterIsNotAClockStep) {
+  int flagged = 0;
+  double bound_min = 1e12, bound_max = 0;
+  for (unsigned seed = 1; seed <= 20; ++seed) {
+    for (const int64_t step_us : {50000, 100000, -100000, 1500000}) {
+      const JitterRun run = fly_uniform_read_jitter(seed, step_us);
+      flagged += run.flagged_before_step;
+      bound_min = std::min(bound_min, run.late_bound_us);
+      bound_max = std::max(bound_max, run.late_bound_us);
+      EXPECT_EQ(run.flagged_before_step, 0) << "seed " << seed << ", step " << step_us;
+      EXPECT_GE(run.step_flagged_after_us, 0) << "seed " << seed << ", step " << step_us << " never flagged";
+      EXPECT_LE(run.step_flagged_after_us, 20000) << "seed " << seed << ", step " << step_us;
+    }
+  }
+  std::printf("[ FIGURE ] INS reads 0-20 ms late (uniform), 80 runs of 1900 samples at 100 Hz: %d flagged TIME_JUMP "
+              "(late bound %.1f-%.1f ms); steps of +50, +100, -100 and +1500 ms flagged within 20 ms\n",
+              flagged, bound_min * 1e-3, bound_max * 1e-3);
 }
 
 TEST(InsBridge, WeekRolloverIsContinuousAndCounted) {

@@ -3,11 +3,16 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <random>
 
 #include "common/channels.h"
 #include "common/log_file.h"
 #include "nadir/config_t.hpp"
+#include "nadir/image_t.hpp"
+#include "nadir/tracks_t.hpp"
 #include "tests/common/test_support.h"
+#include "tools/hostile/hostile_messages.h"
 #include "tools/eval/eval_outputs.h"
 #include "tools/eval/trajectory_metrics.h"
 
@@ -181,6 +186,104 @@ TEST(Eval, ACaptureHoleAndATruncatedLogAreReported) {
   const EvalData cut = load_eval_data(dir.file("cut.lcmlog"), "");
   EXPECT_TRUE(cut.truncated);
   EXPECT_NE(cut.damage_report.find("cut.lcmlog: byte"), std::string::npos) << cut.damage_report;
+}
+
+// 100 frames at 14 Hz through the whole pipeline (CAMERA_IMAGE, TRACKS,
+// VO_DELTA, POSE logged 5, 20, 30 and 40 ms after the frame's sensor time)
+// with nadir_hostile's messages among them at 20 Hz, every case in turn.
+// Returns how many hostile records went on CAMERA_IMAGE, TRACKS and VO_DELTA.
+int64_t write_flight_with_a_second_publisher(const std::string& path) {
+  LogWriter w(path);
+  auto put_at = [&](const std::string& channel, const auto& m, int64_t logged) {
+    std::vector<uint8_t> buf(static_cast<size_t>(m.getEncodedSize()));
+    m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    w.write(logged, channel, buf.data(), buf.size());
+  };
+  const int64_t t0 = 1767225600000000, period = 71429;
+  std::mt19937_64 rng(3);
+  int64_t hostile_on_frame_channels = 0;
+  size_t hostile_index = 0;
+  int64_t next_hostile = t0;
+  for (int k = 0; k < 100; ++k) {
+    const int64_t t = t0 + k * period;
+    ground_truth_t g{};
+    g.utime = t;
+    g.kind = ground_truth_t::KIND_INS;
+    g.position_ned[0] = 20.0 * k * period * 1e-6;
+    g.velocity_ned[0] = 20.0;
+    put_at(channels::kGroundTruth, g, t);
+    image_t image{};
+    image.utime = image.trigger_utime = t;
+    image.frame_counter = k;
+    image.width = 64;
+    image.height = 48;
+    image.stride = 64;
+    image.pixel_format = image_t::PIXEL_MONO8;
+    image.size = 64 * 48;
+    image.data.assign(64 * 48, 100);
+    put_at(channels::kCameraImage, image, t + 5000);
+    tracks_t tracks{};
+    tracks.utime = t;
+    tracks.prev_utime = k > 0 ? t - period : 0;
+    tracks.frame_counter = k;
+    put_at(channels::kTracks, tracks, t + 20000);
+    {
+      vo_delta_t d{};  // the solver's answer to the first frame has no previous one
+      d.utime = t;
+      d.prev_utime = k > 0 ? t - period : 0;
+      d.dx = 20.0 * period * 1e-6;
+      d.variant = "paper";
+      put_at(channels::kVoDelta, d, t + 30000);
+    }
+    pose_t p{};
+    p.utime = t;
+    p.position_ned[0] = g.position_ned[0];
+    p.velocity_ned[0] = 20.0;
+    put_at(channels::kPose, p, t + 40000);
+    for (; next_hostile < t + period; next_hostile += 50000) {
+      const HostileMessage m = hostile_message(hostile_index++, next_hostile, 64, 48, rng);
+      w.write(next_hostile, m.channel, m.bytes.data(), m.bytes.size());
+      if (m.channel == channels::kCameraImage || m.channel == channels::kTracks || m.channel == channels::kVoDelta) {
+        ++hostile_on_frame_channels;
+      }
+    }
+  }
+  w.flush();
+  return hostile_on_frame_channels;
+}
+
+// A second publisher's images, tracks and deltas are neither frames nor
+// latency: the figures are the pipeline's alone.
+TEST(Eval, RecordsTheTrackerDidNotAnswerAreNeitherFramesNorLatency) {
+  testing::TempDir dir("eval");
+  const int64_t hostile = write_flight_with_a_second_publisher(dir.file("hostile.lcmlog"));
+  ASSERT_GT(hostile, 50);
+  const EvalData data = load_eval_data(dir.file("hostile.lcmlog"), "");
+  EXPECT_EQ(data.pipeline.frames, 100);
+  EXPECT_EQ(data.pipeline.tracks, 100);
+  EXPECT_EQ(data.pipeline.vo_deltas, 100);
+  EXPECT_EQ(data.pipeline.other_images + data.pipeline.other_tracks + data.pipeline.other_vo_deltas, hostile);
+  EXPECT_GT(data.pipeline.other_images, 0);
+  EXPECT_GT(data.pipeline.other_tracks, 0);
+  EXPECT_GT(data.pipeline.other_vo_deltas, 0);
+  ASSERT_EQ(data.deltas.size(), 100u);
+  for (const vo_delta_t& d : data.deltas) EXPECT_NEAR(d.dx, 20.0 * 0.071429, 1e-9);
+  const std::map<std::string, float> logged_after = {
+      {channels::kCameraImage, 5.f}, {channels::kTracks, 20.f}, {channels::kVoDelta, 30.f}, {channels::kPose, 40.f}};
+  for (const auto& [channel, ms] : logged_after) {
+    const auto it = data.stage_latency_ms.find(channel);
+    ASSERT_NE(it, data.stage_latency_ms.end()) << channel;
+    EXPECT_EQ(it->second.size(), 100u) << channel;
+    for (float v : it->second) EXPECT_FLOAT_EQ(v, ms) << channel;
+  }
+  ASSERT_EQ(data.after_image_latency_ms.size(), 100u);
+  for (float v : data.after_image_latency_ms) EXPECT_FLOAT_EQ(v, 35.f);
+  const EvalMetrics m = evaluate(data).metrics;
+  EXPECT_EQ(m.images, 100);
+  EXPECT_EQ(m.records_not_pipeline, hostile);
+  EXPECT_EQ(m.pairs, 99);
+  EXPECT_FLOAT_EQ(static_cast<float>(m.latency_max_ms), 40.f);
+  EXPECT_FLOAT_EQ(static_cast<float>(m.after_image_latency_max_ms), 35.f);
 }
 
 TEST(Eval, LogWithoutTruthOrPoseGetsAClearError) {
