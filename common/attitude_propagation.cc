@@ -12,11 +12,17 @@ namespace nadir {
 AttitudePolicy attitude_policy_from_name(const std::string& name) {
   if (name == "propagate") return AttitudePolicy::kPropagate;
   if (name == "interpolate") return AttitudePolicy::kInterpolate;
-  throw std::invalid_argument("attitude policy '" + name + "' is not one of propagate, interpolate");
+  if (name == "auto") return AttitudePolicy::kAuto;
+  throw std::invalid_argument("attitude policy '" + name + "' is not one of auto, propagate, interpolate");
 }
 
 const char* attitude_policy_name(AttitudePolicy policy) {
-  return policy == AttitudePolicy::kPropagate ? "propagate" : "interpolate";
+  switch (policy) {
+    case AttitudePolicy::kPropagate: return "propagate";
+    case AttitudePolicy::kAuto: return "auto";
+    case AttitudePolicy::kInterpolate: break;
+  }
+  return "interpolate";
 }
 
 Eigen::Matrix3d propagate_attitude(const Eigen::Matrix3d& world_from_body, const Eigen::Vector3d& body_rate_rad_s,

@@ -4,6 +4,11 @@
 // to the trigger time with the body rates, so no node waits for the INS
 // sample after a frame. Rotations are world_from_body (common/geometry.h).
 // Only sample times and values decide, never arrival: live = lockstep replay.
+// `auto` propagates where the INS reports body rates and interpolates where it
+// does not: carried on with the rate between its two newest samples, a
+// rate-less INS's white attitude noise grows (up to 2.1x its sigma a sample
+// interval on), where interpolation averages it
+// (docs/research/2026-11-latency.md).
 
 #include <Eigen/Core>
 
@@ -13,9 +18,14 @@
 
 namespace nadir {
 
-enum class AttitudePolicy { kInterpolate, kPropagate };
+enum class AttitudePolicy { kInterpolate, kPropagate, kAuto };
 AttitudePolicy attitude_policy_from_name(const std::string& name);  // throws std::invalid_argument
 const char* attitude_policy_name(AttitudePolicy policy);
+// Whether `policy` propagates from a newest sample at or before the frame
+// that has (or lacks) body rates.
+inline bool propagates(AttitudePolicy policy, bool sample_has_rate) {
+  return policy == AttitudePolicy::kPropagate || (policy == AttitudePolicy::kAuto && sample_has_rate);
+}
 
 // R(t0 + dt) = R(t0) * exp([rate]x dt) for a body-frame rate held constant
 // over dt: exact for a constant body rate; with an angular acceleration a the

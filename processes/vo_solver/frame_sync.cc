@@ -86,7 +86,7 @@ bool FrameSync::ins_final(int64_t utime) const {
   // Propagate: the newest sample is at or before the frame and the next one
   // cannot be, so the samples at or before it are all here. Not when the
   // channel may reorder itself (settle_us): then only a later sample tells.
-  return options_.attitude_policy == AttitudePolicy::kPropagate && options_.settle_us == 0 &&
+  return propagates(options_.attitude_policy, ins_.rbegin()->second.has_rate) && options_.settle_us == 0 &&
          ins_complete_.complete_at(utime, newest);
 }
 
@@ -134,7 +134,11 @@ void set_attitude(FrameState* state, double roll, double pitch, double yaw) {
 }  // namespace
 
 void FrameSync::attitude_at(int64_t utime, FrameState* state) const {
-  if (options_.attitude_policy == AttitudePolicy::kPropagate) {
+  // `auto` decides by the newest sample at or before the frame: the one
+  // ins_final() saw when it let the frame go without a later sample.
+  const auto after = ins_.upper_bound(utime);
+  const bool base_has_rate = after != ins_.begin() && std::prev(after)->second.has_rate;
+  if (propagates(options_.attitude_policy, base_has_rate)) {
     propagate_attitude_to(utime, state);
   } else {
     interpolate_attitude(utime, state);

@@ -26,7 +26,7 @@
 namespace nadir::vo {
 
 struct SyncOptions {
-  AttitudePolicy attitude_policy = AttitudePolicy::kInterpolate;
+  AttitudePolicy attitude_policy = AttitudePolicy::kAuto;
   // propagate: INS samples are never closer together than this, so a frame
   // less than this after the newest sample has all its samples (no wait). A
   // closer pair, once seen, lowers the bound (counted as ins_interval_short).

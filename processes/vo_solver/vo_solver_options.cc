@@ -112,8 +112,10 @@ const OptionsSchema<VoSolverOptions>& VoSolverOptions::schema() {
                       &S::dyaw_start_from_ins)
         .include("uncertainty", DeltaUncertaintyOptions::schema(), &O::uncertainty)
         .choice<AttitudePolicy>("sync.attitude_policy",
-                                {{"interpolate", AttitudePolicy::kInterpolate}, {"propagate", AttitudePolicy::kPropagate}},
-                                "attitude at the trigger time: interpolated between INS samples or propagated",
+                                {{"auto", AttitudePolicy::kAuto},
+                                 {"interpolate", AttitudePolicy::kInterpolate},
+                                 {"propagate", AttitudePolicy::kPropagate}},
+                                "attitude at the trigger time: propagated where the INS reports body rates (auto), always, or interpolated between INS samples",
                                 &O::sync, &Y::attitude_policy)
         .scaled("sync.ins_min_interval_ms", 1e3, 0.0, 1000.0, "ms", "propagate: INS samples are never closer",
                 &O::sync, &Y::ins_min_interval_us)

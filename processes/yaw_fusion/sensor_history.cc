@@ -60,7 +60,7 @@ std::optional<AttitudeSample> InsHistory::at(int64_t utime, int64_t max_bracket_
   const AttitudeSample* before = upper > 0 ? &samples_[upper - 1] : nullptr;
   const AttitudeSample* after = upper < samples_.size() ? &samples_[upper] : nullptr;
   if (before != nullptr && before->utime == utime) return *before;
-  if (policy == AttitudePolicy::kPropagate && before != nullptr) {
+  if (before != nullptr && propagates(policy, before->has_rate)) {
     // Never the later sample: the answer must not depend on whether it has arrived.
     if (utime - before->utime > max_bracket_us) return std::nullopt;
     const AttitudeSample* earlier = upper > 1 ? &samples_[upper - 2] : nullptr;

@@ -61,6 +61,7 @@ class InsHistory {
                                    AttitudePolicy policy = AttitudePolicy::kInterpolate) const;
   // propagate: every sample at or before `utime` is in (no sample after it needed).
   bool complete_at(int64_t utime) const { return complete_.complete_at(utime, newest_utime()); }
+  bool newest_has_rate() const { return !samples_.empty() && samples_.back().has_rate; }
   int64_t short_intervals() const { return complete_.short_intervals(); }
   // Forgets samples no query at or after `utime` can need.
   void forget_before(int64_t utime);

@@ -171,8 +171,8 @@ bool YawFusionEstimator::delta_ready(const vo_delta_t& delta) const {
   const int64_t t = options_.calibration.exposure_utime(delta.utime);  // when the sensors are read
   if (sensor_now_ >= t + options_.ins_wait_us()) return true;
   if (static_cast<int>(pending_.size()) > options_.max_pending_deltas) return true;
-  const bool ins_complete = options_.attitude_policy == AttitudePolicy::kPropagate ? ins_.complete_at(t)
-                                                                                    : ins_.newest_utime() >= t;
+  const bool ins_complete = propagates(options_.attitude_policy, ins_.newest_has_rate()) ? ins_.complete_at(t)
+                                                                                        : ins_.newest_utime() >= t;
   if (!ins_complete) return false;
   if (!options_.altimeter_interpolate) return true;
   return altimeter_.newest_utime() >= t || sensor_now_ >= t + options_.altimeter_wait_us();

@@ -25,8 +25,10 @@ const OptionsSchema<YawFusionOptions>& YawFusionOptions::schema() {
         .number("max_ins_bracket_s", 0.001, 10.0, "s", "INS samples further apart are not interpolated between",
                 &O::max_ins_bracket_s)
         .choice<AttitudePolicy>("attitude_policy",
-                                {{"interpolate", AttitudePolicy::kInterpolate}, {"propagate", AttitudePolicy::kPropagate}},
-                                "INS at a frame: interpolated between samples or propagated", &O::attitude_policy)
+                                {{"auto", AttitudePolicy::kAuto},
+                                 {"interpolate", AttitudePolicy::kInterpolate},
+                                 {"propagate", AttitudePolicy::kPropagate}},
+                                "INS at a frame: as vo_solver.sync.attitude_policy (auto: propagated where the INS reports rates)", &O::attitude_policy)
         .scaled("ins_min_interval_ms", 1e-3, 0.0, 1000.0, "ms", "propagate: INS samples are never closer",
                 &O::ins_min_interval_s)
         .number("min_translation_stddev_m", 0.0, 100.0, "m", "floor on the dx/dy/dz stddev",

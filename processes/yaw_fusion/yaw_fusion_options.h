@@ -29,8 +29,9 @@ struct YawFusionOptions {
   int max_consecutive_yaw_rejections = 20;  // then re-initialise yaw from the INS
   double max_ins_bracket_s = 0.5;        // INS samples further apart are not interpolated between
   // Attitude at frame time: interpolate (wait for the INS sample after the
-  // frame) or propagate (samples at or before it, rotated on with the rates).
-  AttitudePolicy attitude_policy = AttitudePolicy::kInterpolate;
+  // frame), propagate (samples at or before it, rotated on with the rates) or
+  // auto (propagate where the INS reports rates, interpolate where not).
+  AttitudePolicy attitude_policy = AttitudePolicy::kAuto;
   double ins_min_interval_s = 0.009;     // propagate: INS samples are never closer
 
   // VO delta use.
