@@ -30,6 +30,7 @@
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/image_t.hpp"
 #include "nadir/ins_t.hpp"
+#include "tools/import/photo_camera.h"
 
 namespace nadir::import {
 namespace {
@@ -50,7 +51,7 @@ struct Sample {
   double alt_m = 0;
   double height_m = 0;          // altimeter value (vertical)
   std::string height_kind;      // rangefinder | barometric_relative
-  double focal_mm = 0, focal_35mm = 0;
+  PhotoMetadata photo;          // photo mode: what the file says (its camera when none is given)
 };
 
 void skip_or_throw(bool skip_bad, const std::string& where, const std::string& reason,
@@ -70,8 +71,7 @@ bool photo_sample(const PhotoMetadata& m, const ImportOptions& o, const std::arr
                   std::string* attitude_source, std::string* why) {
   s->where = m.path;
   s->image_path = m.path;
-  s->focal_mm = m.focal_mm;
-  s->focal_35mm = m.focal_35mm;
+  s->photo = m;
   if (o.interval_s <= 0.0) {
     if (m.has_time) {
       s->time_s = m.time_s;
@@ -125,6 +125,26 @@ bool photo_sample(const PhotoMetadata& m, const ImportOptions& o, const std::arr
     return false;
   }
   s->height_kind = "barometric_relative";
+  return true;
+}
+
+// One camera per flight: a photo whose EXIF Model or size differs from the
+// first photo's is named with both (a folder of mixed cameras or sizes).
+bool same_camera(const PhotoMetadata& first, const PhotoMetadata& m, std::string* why) {
+  if (first.path.empty()) return true;
+  const auto name = [](const PhotoMetadata& p) { return p.model.empty() ? std::string("(no EXIF Model)") : "'" + p.model + "'"; };
+  if (m.model != first.model) {
+    *why = "camera model " + name(m) + " differs from the flight's " + name(first) + " (" + first.path +
+           "): one camera per import, mixed cameras in the folder";
+    return false;
+  }
+  if (m.image_width > 0 && first.image_width > 0 &&
+      (m.image_width != first.image_width || m.image_height != first.image_height)) {
+    *why = "photo is " + std::to_string(m.image_width) + "x" + std::to_string(m.image_height) + " but " + first.path +
+           " is " + std::to_string(first.image_width) + "x" + std::to_string(first.image_height) +
+           ": one image size per import, mixed sizes in the folder";
+    return false;
+  }
   return true;
 }
 
@@ -231,6 +251,10 @@ std::string config_message_yaml(const ImportOptions& o, const ImportSummary& s) 
   if (!o.srt.empty()) n["srt"] = o.srt;
   if (!o.csv.empty()) n["csv"] = o.csv;
   n["camera_source"] = s.camera.source;
+  if (!s.focal_rule.empty()) {
+    n["camera_model"] = s.camera_model;
+    n["focal_rule"] = s.focal_rule;
+  }
   n["scale"] = o.scale;
   n["interval_s"] = o.interval_s;
   n["skip_bad"] = o.skip_bad;
@@ -399,6 +423,7 @@ ImportSummary run_import(const ImportOptions& o) {
     std::sort(files.begin(), files.end());
     if (files.empty()) throw std::runtime_error(o.photos_dir + ": no JPEG/PNG/TIFF files");
     int64_t index = 0;
+    PhotoMetadata first_photo;  // the first photo taken: the others must come from its camera at its size
     for (const fs::path& f : files) {
       Sample s;
       std::string att, why;
@@ -417,6 +442,11 @@ ImportSummary run_import(const ImportOptions& o) {
         skip_or_throw(o.skip_bad, f.string(), why, &summary.skipped);
         continue;
       }
+      if (!same_camera(first_photo, m, &why)) {
+        skip_or_throw(o.skip_bad, f.string(), why, &summary.skipped);
+        continue;
+      }
+      if (first_photo.path.empty()) first_photo = m;
       if (o.interval_s > 0.0) s.time_s = kDefaultEpochS + o.interval_s * static_cast<double>(index);
       ++index;
       accept(std::move(s), att);
@@ -506,13 +536,15 @@ ImportSummary run_import(const ImportOptions& o) {
       if (!camera_known) {
         if (o.focal_px > 0.0) {
           source_camera = camera_from_focal(o.focal_px, frame.cols, frame.rows, "--focal-px");
-        } else if (s.focal_35mm > 0.0) {
-          const double f = s.focal_35mm / std::hypot(36.0, 24.0) * std::hypot(frame.cols, frame.rows);
-          source_camera = camera_from_focal(f, frame.cols, frame.rows, "EXIF FocalLengthIn35mmFilm");
-          summary.warnings.push_back("camera from EXIF 35 mm equivalent focal length (" + std::to_string(f) +
-                                     " px), no distortion: give --camera FILE for a calibrated camera");
+        } else if (!o.photos_dir.empty()) {
+          const PhotoFocal f = focal_from_photo(s.photo, frame.cols, frame.rows);
+          source_camera = camera_from_focal(f.focal_px, frame.cols, frame.rows, f.source);
+          if (f.has_center) source_camera.cx = f.cx, source_camera.cy = f.cy;
+          summary.camera_model = s.photo.model;
+          summary.focal_rule = f.rule;
+          summary.warnings.push_back(f.warning);
         } else {
-          throw std::runtime_error(s.where + ": no camera: give --camera FILE or --focal-px (EXIF has no 35 mm equivalent focal length)");
+          throw std::runtime_error(s.where + ": no camera: give --camera FILE or --focal-px (a video has no focal length)");
         }
         camera_known = true;
       }
@@ -664,6 +696,8 @@ std::string summary_json(const ImportSummary& s) {
   j.key("camera")
       .begin_object()
       .field("source", s.camera.source)
+      .field("model", s.camera_model)
+      .field("focal_rule", s.focal_rule)
       .field("width", s.camera.width)
       .field("height", s.camera.height)
       .field("fx", s.camera.fx)
@@ -689,6 +723,7 @@ std::string summary_text(const ImportSummary& s) {
                 s.camera.fx, s.camera.fy, s.camera.source.c_str(), s.attitude_source.c_str(),
                 s.altimeter_source.c_str());
   std::string out = text;
+  if (!s.focal_rule.empty()) out += "  focal length: " + s.focal_rule + "\n";
   for (const SkippedInput& k : s.skipped) out += "  skipped " + k.where + ": " + k.reason + "\n";
   for (const std::string& w : s.warnings) out += "  warning: " + w + "\n";
   return out;

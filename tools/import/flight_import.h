@@ -71,6 +71,8 @@ struct ImportSummary {
   double max_gap_s = 0, median_interval_s = 0;
   double distance_m = 0;              // along the GPS track (3D)
   CameraIntrinsics camera;            // as written (after scaling)
+  std::string camera_model;           // EXIF Model of the photos when the camera came from them
+  std::string focal_rule;             // ... and how their focal length was made (photo_camera.h)
   std::array<double, 3> mount_rpy_deg{0, 0, 0};
   std::string altimeter_source;       // rangefinder | barometric_relative
   std::string attitude_source;        // dji_gimbal | dji_flight | sensefly | srt_gimbal | srt_flight | csv_body

@@ -312,7 +312,8 @@ TEST(PhotoImport, BadPhotosNamedOrSkipped) {
   for (const SkippedInput& k : s.skipped) why[std::filesystem::path(k.where).filename().string()] = k.reason;
   EXPECT_NE(why["b.jpg"].find("no attitude"), std::string::npos);
   EXPECT_NE(why["c.jpg"].find("not after"), std::string::npos);
-  EXPECT_NE(why["d.jpg"].find("frame is 400x300 but the camera"), std::string::npos) << why["d.jpg"];
+  EXPECT_NE(why["d.jpg"].find("photo is 400x300 but"), std::string::npos) << why["d.jpg"];
+  EXPECT_NE(why["d.jpg"].find("a.jpg is 320x240: one image size per import"), std::string::npos) << why["d.jpg"];
   EXPECT_NE(why["e.jpg"].find("cannot read metadata"), std::string::npos) << why["e.jpg"];
   const LogContents log = read_log(s.log_path);
   EXPECT_EQ(log.images.size(), 2u);
@@ -321,7 +322,7 @@ TEST(PhotoImport, BadPhotosNamedOrSkipped) {
   o.skip_bad = false;
   for (const char* f : {"b.jpg", "c.jpg", "e.jpg"}) std::filesystem::remove(dir.file(std::string("photos/") + f));
   e = import_error(o);
-  EXPECT_NE(e.find("d.jpg: frame is 400x300"), std::string::npos) << e;
+  EXPECT_NE(e.find("d.jpg: photo is 400x300"), std::string::npos) << e;
 }
 
 // A malformed XMP value is an error naming file and key; EXIF 35 mm focal length gives a camera with a warning.
