@@ -52,7 +52,7 @@ struct ImportOptions {
   std::string srt;               // ... with a DJI-style .SRT
   std::string csv;               // ... or a generic CSV
   std::string out;               // OUT -> OUT.lcmlog, OUT.yaml
-  std::string camera_file;       // OpenCV calibration (empty: EXIF focal length, with a warning)
+  std::string camera_file;       // OpenCV calibration (empty: from the photos' metadata, photo_camera.h, with a warning)
   double focal_px = 0.0;         // > 0: focal length in pixels of the source images (overrides EXIF)
   double scale = 1.0;            // downscale factor for the images (0, 1]
   double interval_s = 0.0;       // > 0: photo times from file order at this interval (EXIF times ignored)

@@ -53,7 +53,8 @@ PhotoFocal focal_from_photo(const PhotoMetadata& m, int width, int height) {
     f.cy = (m.dji_optical_center_y + 0.5) * s - 0.5;
     f.source = "XMP drone-dji:CalibratedFocalLength";
     f.rule = format("calibrated focal %.2f px", m.dji_calibrated_focal_px) +
-             (s != 1.0 ? format(" at %.0f px width, scaled by %.6g", written_long, s) : std::string()) +
+             (s != 1.0 ? format(" for the %.0fx%.0f image the camera wrote, scaled by %.6g", m.exif_width, m.exif_height, s)
+                       : std::string()) +
              (f.has_center ? " and optical centre from drone-dji:CalibratedOpticalCenterX/Y" : ", image centre");
     f.warning = "camera " + model_name(m) + format(": focal %.2f px", f.focal_px) + " from the " + f.rule +
                 "; no distortion: give --camera FILE for a full calibration";
@@ -68,8 +69,7 @@ PhotoFocal focal_from_photo(const PhotoMetadata& m, int width, int height) {
       const bool crop = std::fabs(diagonal / std::hypot(width, height) - 1.0) > 1e-9;
       assumed = "native " + std::to_string(known->native_width) + "x" + std::to_string(known->native_height) +
                 " frame of the camera table's " + known->name +
-                (crop ? format(", of which the %.0fx%.0f photo is a crop (native diagonal %.1f px at this scale)",
-                               width, height, diagonal)
+                (crop ? format(", of which the %.0fx%.0f photo is a crop", width, height)
                       : std::string(", the photo is the full frame"));
     } else {
       assumed = "model not in the camera table: the " + std::to_string(width) + "x" + std::to_string(height) +
