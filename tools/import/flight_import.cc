@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <opencv2/core.hpp>
@@ -15,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <stdexcept>
+#include <tuple>
 
 #include "common/channels.h"
 #include "common/geodetic.h"
@@ -128,21 +130,51 @@ bool photo_sample(const PhotoMetadata& m, const ImportOptions& o, const std::arr
   return true;
 }
 
-// One camera per flight: a photo whose EXIF Model or size differs from the
-// first photo's is named with both (a folder of mixed cameras or sizes).
-bool same_camera(const PhotoMetadata& first, const PhotoMetadata& m, std::string* why) {
-  if (first.path.empty()) return true;
+// One camera per flight: the model and size most of the folder's photos have.
+struct FlightCamera {
+  const PhotoMetadata* first = nullptr;  // the first photo of it
+  int count = 0, of = 0;                 // photos of it, of all read
+};
+
+FlightCamera most_common_camera(const std::vector<PhotoMetadata>& metadata, const std::vector<std::string>& read_error) {
+  std::map<std::tuple<std::string, int, int>, std::pair<int, size_t>> seen;  // -> count, first index
+  FlightCamera best;
+  for (size_t i = 0; i < metadata.size(); ++i) {
+    if (!read_error[i].empty()) continue;
+    ++best.of;
+    const PhotoMetadata& m = metadata[i];
+    auto& entry = seen.try_emplace({m.model, m.image_width, m.image_height}, 0, i).first->second;
+    ++entry.first;
+  }
+  size_t best_index = 0;
+  for (const auto& [key, entry] : seen) {
+    if (entry.first > best.count || (entry.first == best.count && entry.second < best_index)) {
+      best.count = entry.first;
+      best_index = entry.second;
+    }
+  }
+  if (best.count > 0) best.first = &metadata[best_index];
+  return best;
+}
+
+// A photo whose EXIF Model or size differs from the flight camera's is named
+// with both (a folder of mixed cameras or sizes).
+bool same_camera(const FlightCamera& flight, const PhotoMetadata& m, std::string* why) {
+  if (!flight.first) return true;
+  const PhotoMetadata& first = *flight.first;
+  const std::string others = " (" + std::to_string(flight.count) + " of the " + std::to_string(flight.of) +
+                             " photos, the first " + first.path + ")";
   const auto name = [](const PhotoMetadata& p) { return p.model.empty() ? std::string("(no EXIF Model)") : "'" + p.model + "'"; };
   if (m.model != first.model) {
-    *why = "camera model " + name(m) + " differs from the flight's " + name(first) + " (" + first.path +
-           "): one camera per import, mixed cameras in the folder";
+    *why = "camera model " + name(m) + " differs from the flight's " + name(first) + others +
+           ": one camera per import, mixed cameras in the folder";
     return false;
   }
   if (m.image_width > 0 && first.image_width > 0 &&
       (m.image_width != first.image_width || m.image_height != first.image_height)) {
-    *why = "photo is " + std::to_string(m.image_width) + "x" + std::to_string(m.image_height) + " but " + first.path +
-           " is " + std::to_string(first.image_width) + "x" + std::to_string(first.image_height) +
-           ": one image size per import, mixed sizes in the folder";
+    *why = "photo is " + std::to_string(m.image_width) + "x" + std::to_string(m.image_height) +
+           " but the flight's are " + std::to_string(first.image_width) + "x" + std::to_string(first.image_height) +
+           others + ": one image size per import, mixed sizes in the folder";
     return false;
   }
   return true;
@@ -423,18 +455,29 @@ ImportSummary run_import(const ImportOptions& o) {
     std::sort(files.begin(), files.end());
     if (files.empty()) throw std::runtime_error(o.photos_dir + ": no JPEG/PNG/TIFF files");
     int64_t index = 0;
-    PhotoMetadata first_photo;  // the first photo taken: the others must come from its camera at its size
-    for (const fs::path& f : files) {
+    // Every file's metadata first: the flight's camera is the one most photos
+    // were taken with (model and size; on a tie the earliest), so one odd
+    // photo (even the first) is what differs. Errors stay in file order.
+    std::vector<PhotoMetadata> metadata(files.size());
+    std::vector<std::string> read_error(files.size());
+    for (size_t i = 0; i < files.size(); ++i) {
+      try {
+        metadata[i] = read_photo_metadata(files[i].string());
+      } catch (const std::runtime_error& e) {
+        read_error[i] = e.what();
+      }
+    }
+    const FlightCamera flight_camera = most_common_camera(metadata, read_error);
+    for (size_t i = 0; i < files.size(); ++i) {
+      const fs::path& f = files[i];
       Sample s;
       std::string att, why;
-      PhotoMetadata m;
-      try {
-        m = read_photo_metadata(f.string());
-      } catch (const std::runtime_error& e) {
-        if (!o.skip_bad) throw;
-        summary.skipped.push_back({f.string(), e.what()});
+      if (!read_error[i].empty()) {
+        if (!o.skip_bad) throw std::runtime_error(read_error[i]);
+        summary.skipped.push_back({f.string(), read_error[i]});
         continue;
       }
+      const PhotoMetadata& m = metadata[i];
       if (samples.empty() && !file_camera.has_mount && m.has_sensefly_attitude && !m.has_dji_gimbal && !m.has_dji_flight) {
         mount = kSenseflyMount;
       }
@@ -442,11 +485,10 @@ ImportSummary run_import(const ImportOptions& o) {
         skip_or_throw(o.skip_bad, f.string(), why, &summary.skipped);
         continue;
       }
-      if (!same_camera(first_photo, m, &why)) {
+      if (!same_camera(flight_camera, m, &why)) {
         skip_or_throw(o.skip_bad, f.string(), why, &summary.skipped);
         continue;
       }
-      if (first_photo.path.empty()) first_photo = m;
       if (o.interval_s > 0.0) s.time_s = kDefaultEpochS + o.interval_s * static_cast<double>(index);
       ++index;
       accept(std::move(s), att);

@@ -315,7 +315,9 @@ TEST(PhotoImport, BadPhotosNamedOrSkipped) {
   EXPECT_NE(why["b.jpg"].find("no attitude"), std::string::npos);
   EXPECT_NE(why["c.jpg"].find("not after"), std::string::npos);
   EXPECT_NE(why["d.jpg"].find("photo is 400x300 but"), std::string::npos) << why["d.jpg"];
-  EXPECT_NE(why["d.jpg"].find("a.jpg is 320x240: one image size per import"), std::string::npos) << why["d.jpg"];
+  EXPECT_NE(why["d.jpg"].find("the flight's are 320x240 (4 of the 5 photos, the first "), std::string::npos)
+      << why["d.jpg"];
+  EXPECT_NE(why["d.jpg"].find("a.jpg): one image size per import"), std::string::npos) << why["d.jpg"];
   EXPECT_NE(why["e.jpg"].find("cannot read metadata"), std::string::npos) << why["e.jpg"];
   const LogContents log = read_log(s.log_path);
   EXPECT_EQ(log.images.size(), 2u);
@@ -557,6 +559,7 @@ TEST(PhotoCamera, MixedCamerasNamedOrSkipped) {
   ImportOptions o = photo_options(dir);
   const std::string e = import_error(o);
   EXPECT_NE(e.find("p2.jpg: camera model 'FC330' differs from the flight's 'FC6310'"), std::string::npos) << e;
+  EXPECT_NE(e.find("(2 of the 3 photos, the first "), std::string::npos) << e;
   EXPECT_NE(e.find("p0.jpg): one camera per import"), std::string::npos) << e;
   o.skip_bad = true;
   const ImportSummary s = run_import(o);
@@ -564,6 +567,20 @@ TEST(PhotoCamera, MixedCamerasNamedOrSkipped) {
   ASSERT_EQ(s.skipped.size(), 1u);
   EXPECT_NE(s.skipped[0].where.find("p2.jpg"), std::string::npos);
   EXPECT_NE(s.skipped[0].reason.find("mixed cameras"), std::string::npos) << s.skipped[0].reason;
+  // The odd photo first (a.jpg sorts first): the camera most photos have is still the flight's.
+  std::filesystem::rename(dir.file("photos/p2.jpg"), dir.file("photos/a.jpg"));
+  PhotoTags t0;
+  t0.time = "2024:05:01 09:59:55";
+  write_photo(dir.file("photos/a.jpg"), t0, 360, 240, 3);
+  tag_camera(dir.file("photos/a.jpg"), c);
+  o.skip_bad = false;
+  const std::string first = import_error(o);
+  EXPECT_NE(first.find("a.jpg: camera model 'FC330' differs from the flight's 'FC6310'"), std::string::npos) << first;
+  o.skip_bad = true;
+  const ImportSummary k = run_import(o);
+  EXPECT_EQ(k.frames_written, 2);
+  ASSERT_EQ(k.skipped.size(), 1u);
+  EXPECT_NE(k.skipped[0].where.find("a.jpg"), std::string::npos);
 }
 
 // Every row of the camera table has a model, a geometry and a source; lookups ignore case and pick
