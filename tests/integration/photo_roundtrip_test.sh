@@ -6,6 +6,8 @@
 # truth (the photos' GPS):
 #   final horizontal error <= 2 % of the distance flown, and the pair across
 #   the turn solved (its VO_DELTA unflagged, with inliers).
+# The camera from the photos alone (no calibration file): a 16:9 crop of a 4:3
+# sensor and DJI's XMP calibration, imported, give the true focal length.
 # Then the same flight as video + SRT when nadir_import has a video mode.
 # Needs nadir_sim, nadir_export, nadir_import, nadir_replay, nadir_eval on
 # PATH or in $NADIR_BUILD/bin. Exit 77 (skip) when nadir_import is absent.
@@ -105,6 +107,43 @@ roundtrip photos --photos "$work/photos/survey" --camera "$work/photos/survey/ca
 read -r quality inliers dyaw < <(vo_delta_of_pair "$work/photos/replay.lcmlog" "$work/photos/import.lcmlog" "$turn_index")
 echo "(photos) VO_DELTA across the turn: quality $quality, $inliers inliers, dyaw $dyaw deg"
 [ "$quality" = 0 ] && [ "$inliers" -gt 0 ] || bad "(photos) the pair across the turn is not solved"
+
+# The camera from what the photos say (import only, no --camera): the exporter's true focal length
+# (its camera.yaml) recovered from a 16:9 crop of a 4:3 sensor with only the 35 mm equivalent in EXIF
+# (to 0.5 %, and not the 16:9 frame's diagonal answer, 8.2 % short), and from DJI's XMP calibration
+# (as written).
+camera_kind() {
+  local name="$1"; shift
+  local dir="$work/$name"
+  mkdir -p "$dir"
+  nadir_export photos --in "$work/sim.lcmlog" --out "$dir/survey" --interval 20 "$@" >/dev/null 2>"$dir/export.txt" ||
+    { cat "$dir/export.txt"; fail "($name) nadir_export photos $* failed"; }
+  nadir_import --photos "$dir/survey" --out "$dir/import" --json >"$dir/import.json" 2>"$dir/import.txt" ||
+    { cat "$dir/import.txt"; fail "($name) nadir_import failed"; }
+  python3 - "$dir/survey/camera.yaml" "$dir/import.json" "$name" <<'PY' || bad "($name) focal length not recovered"
+import json, math, re, sys
+text = open(sys.argv[1]).read()
+k = [float(v) for v in re.search(r"camera_matrix:.*?data:\s*\[([^\]]*)\]", text, re.S).group(1).split(",")]
+fx, cx, cy = k[0], k[2], k[5]
+c = json.load(open(sys.argv[2]))["camera"]
+name = sys.argv[3]
+err = c["fx"] / fx - 1.0
+print(f"({name}) focal {c['fx']:.3f} px from {c['source']} vs true {fx:.3f} px ({100 * err:+.3f} %); "
+      f"principal point {c['cx']:.3f}, {c['cy']:.3f} vs {cx:.3f}, {cy:.3f}")
+ok = c["fy"] == c["fx"]
+if name == "crop169":
+    w, h = c["width"], c["height"]
+    own = c["fx"] * math.hypot(w, h) / math.hypot(w, 0.75 * w)  # what the 16:9 frame's diagonal would give
+    print(f"({name}) {w}x{h}: the 16:9 diagonal would give {own:.3f} px ({100 * (own / fx - 1):+.2f} %)")
+    ok = ok and c["source"] == "EXIF FocalLengthIn35mmFilm" and abs(err) < 0.005 and own / fx - 1 < -0.07
+else:
+    ok = ok and c["source"] == "XMP drone-dji:CalibratedFocalLength" and abs(c["fx"] - fx) < 1e-6
+    ok = ok and abs(c["cx"] - cx) < 1e-6 and abs(c["cy"] - cy) < 1e-6
+sys.exit(0 if ok else 1)
+PY
+}
+camera_kind crop169 --crop-16-9 --model FC300X
+camera_kind calibrated --dji-calibration
 
 # Video + SRT (every 7th frame: 2 Hz), when the importer has a video mode.
 if nadir_import --help 2>&1 | grep -q -- '--srt'; then

@@ -46,25 +46,37 @@ FrameAttitude frame_attitude(const SimLog& log, const CameraModel& turned, const
   return a;
 }
 
-// Metadata of the frame stamped `image_utime` (truth at its true exposure).
-PhotoMetadata frame_metadata(const SimLog& log, const CameraModel& turned, int64_t image_utime,
-                             AttitudeSource source, double pixel_pitch_um) {
+// Metadata of the frame stamped `image_utime` (truth at its true exposure),
+// for a photo of camera `written` whose sensor's full frame has a diagonal of
+// `sensor_diagonal_px` pixels (the photo's own diagonal unless it is a crop).
+PhotoMetadata frame_metadata(const SimLog& log, const CameraModel& written, int64_t image_utime,
+                             AttitudeSource source, double pixel_pitch_um, double sensor_diagonal_px) {
   const ground_truth_t& truth = log.truth_for_frame(image_utime);
   PhotoMetadata m;
   m.utime = image_utime;
-  m.width = turned.width;
-  m.height = turned.height;
+  m.width = written.width;
+  m.height = written.height;
   m.pixel_pitch_um = pixel_pitch_um;
-  m.focal_length_mm = turned.fx * pixel_pitch_um * 1e-3;
-  // 35 mm equivalent by the diagonal (43.27 mm), as cameras write it.
-  m.focal_length_35mm = turned.fx * 43.27 / std::hypot(turned.width, turned.height);
+  m.focal_length_mm = written.fx * pixel_pitch_um * 1e-3;
+  // 35 mm equivalent by the full frame's diagonal (43.27 mm), as cameras write it.
+  m.focal_length_35mm = written.fx * 43.27 / sensor_diagonal_px;
   log.ins_position_at(truth.utime, &m.latitude_deg, &m.longitude_deg, &m.altitude_m);
-  const FrameAttitude a = frame_attitude(log, turned, truth, source);
+  const FrameAttitude a = frame_attitude(log, written, truth, source);
   m.flight = a.flight;
   m.gimbal = a.gimbal;
   m.relative_altitude_m = -truth.position_ned[2];  // the take-off point is the NED origin's ground
   m.absolute_altitude_m = m.altitude_m;
   return m;
+}
+
+// The rows of a 16:9 crop (full width, centre rows) of an image `width` x `height`.
+cv::Rect crop_16_9_rows(int width, int height) {
+  const int rows = static_cast<int>(std::lround(width * 9.0 / 16.0));
+  if (rows > height) {
+    throw std::invalid_argument("--crop-16-9: the " + std::to_string(width) + "x" + std::to_string(height) +
+                                " image is not tall enough for a 16:9 crop of its width");
+  }
+  return cv::Rect(0, (height - rows) / 2, width, rows);
 }
 
 cv::Mat sim_frame(const SimLog& log, const SimImageRef& ref) {
@@ -89,6 +101,7 @@ void PhotoExportOptions::Check() const {
   require(max_yaw_rate_dps > 0.0 && max_yaw_rate_dps <= 360.0, "--max-yaw-rate-dps", "must be in (0, 360]");
   require(quality >= 1 && quality <= 100, "--quality", "must be in [1, 100]");
   require(pixel_pitch_um >= 0.5 && pixel_pitch_um <= 50.0, "--pixel-pitch-um", "must be in [0.5, 50]");
+  require(model.find_first_of("\r\n") == std::string::npos, "--model", "must be one line");
 }
 
 void VideoExportOptions::Check() const {
@@ -119,7 +132,19 @@ PhotoExportResult export_photos(const SimLog& log, const std::string& out_dir, c
   PhotoExportResult result;
   result.attitude_source = attitude_name(options.attitude);
   result.camera_file = (fs::path(out_dir) / "camera.yaml").string();
-  write_calibration(turned, result.camera_file);
+  // The written photo: the turned image, or its 16:9 crop; the sensor's full
+  // frame: the turned image, or the 4:3 frame of the crop's width.
+  CameraModel written = turned;
+  cv::Rect crop(0, 0, turned.width, turned.height);
+  double sensor_diagonal_px = std::hypot(turned.width, turned.height);
+  if (options.crop_16_9) {
+    crop = crop_16_9_rows(turned.width, turned.height);
+    written.height = crop.height;
+    written.cy -= crop.y;
+    sensor_diagonal_px = std::hypot(turned.width, turned.width * 3.0 / 4.0);
+  }
+  result.camera = written;
+  write_calibration(written, result.camera_file);
 
   const std::vector<SimImageRef>& images = log.images();
   const int64_t t0 = images.front().utime, t_end = images.back().utime;
@@ -150,9 +175,17 @@ PhotoExportResult export_photos(const SimLog& log, const std::string& out_dir, c
     std::snprintf(name, sizeof(name), "DJI_%04d.JPG", static_cast<int>(result.photos.size()) + 1);
     record.file = name;
     record.utime = ref.utime;
-    record.metadata = frame_metadata(log, turned, ref.utime, options.attitude, options.pixel_pitch_um);
+    record.metadata =
+        frame_metadata(log, written, ref.utime, options.attitude, options.pixel_pitch_um, sensor_diagonal_px);
+    if (!options.model.empty()) record.metadata.model = options.model;
+    if (options.dji_calibration) {
+      record.metadata.has_dji_calibration = true;
+      record.metadata.calibrated_focal_px = written.fx;
+      record.metadata.calibrated_center_x = written.cx;
+      record.metadata.calibrated_center_y = written.cy;
+    }
     const std::string path = (fs::path(out_dir) / name).string();
-    const cv::Mat photo = turn_to_dji(sim_frame(log, ref));
+    const cv::Mat photo = turn_to_dji(sim_frame(log, ref))(crop);
     if (!cv::imwrite(path, photo, {cv::IMWRITE_JPEG_QUALITY, options.quality})) {
       throw std::runtime_error(path + ": cannot write the JPEG");
     }
@@ -206,7 +239,7 @@ VideoExportResult export_video(const SimLog& log, const std::string& video_path,
     cv::Mat frame;
     cv::cvtColor(turn_to_dji(sim_frame(log, ref)), frame, cv::COLOR_GRAY2BGR);
     video.write(frame);
-    const PhotoMetadata m = frame_metadata(log, turned, ref.utime, options.attitude, 0.0);
+    const PhotoMetadata m = frame_metadata(log, turned, ref.utime, options.attitude, 0.0, std::hypot(turned.width, turned.height));
     if (result.frames == 0) result.first_utime = ref.utime;
     const int64_t from_ms = (ref.utime - result.first_utime + 500) / 1000;
     const int64_t diff_ms = result.frames == 0 ? std::llround(1000.0 / result.fps) : (ref.utime - previous + 500) / 1000;

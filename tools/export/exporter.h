@@ -28,6 +28,12 @@ struct PhotoExportOptions {
   int quality = 95;                // JPEG quality
   double pixel_pitch_um = 5.86;    // nominal sensor pixel pitch: EXIF focal length in mm
   AttitudeSource attitude = AttitudeSource::kTruth;
+  std::string model;               // EXIF Model to write (empty: "nadir_sim downward camera")
+  // A 16:9 crop (full width, centre rows) of a 4:3 sensor of the photo's
+  // width: EXIF gives the 35 mm equivalent of the 4:3 frame, as a camera
+  // shooting 16:9 on a 4:3 sensor does.
+  bool crop_16_9 = false;
+  bool dji_calibration = false;    // write XMP drone-dji:CalibratedFocalLength / CalibratedOpticalCenterX/Y
   bool progress = false;
   void Check() const;              // throws std::invalid_argument naming the option and range
 };
@@ -55,6 +61,7 @@ struct PhotoExportResult {
   int64_t skipped_in_turns = 0;    // ticks with the heading rate above the limit
   int64_t ticks_without_image = 0; // ticks whose frame was dropped
   std::string camera_file;         // <dir>/camera.yaml
+  CameraModel camera;              // the written photos' camera (what camera.yaml says)
   std::string attitude_source;
 };
 

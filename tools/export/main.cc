@@ -144,6 +144,13 @@ int main(int argc, char** argv) {
   photos->add_option("--pixel-pitch-um", photo.pixel_pitch_um,
                      "nominal pixel pitch for the EXIF focal length in mm (default 5.86)");
   photos->add_option("--attitude", attitude, "truth (default) or ins: the attitude written into the photos");
+  photos->add_option("--model", photo.model, "EXIF Model to write (default: nadir_sim downward camera)");
+  photos->add_flag("--crop-16-9", photo.crop_16_9,
+                   "write 16:9 crops (full width, centre rows) of a 4:3 sensor of the photo's width: EXIF gives the "
+                   "35 mm equivalent of the 4:3 frame; camera.yaml describes the crop");
+  photos->add_flag("--dji-calibration", photo.dji_calibration,
+                   "write the true focal length and principal point as XMP drone-dji:CalibratedFocalLength / "
+                   "CalibratedOpticalCenterX/Y");
   photos->add_flag("--json", json, "print a machine-readable summary on stdout");
 
   nadir::exporter::VideoExportOptions video;

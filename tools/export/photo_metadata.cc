@@ -64,6 +64,13 @@ std::string signed_text(double value, int decimals) {
   return text;
 }
 
+// DJI writes its calibration as plain decimals.
+std::string decimal_text(double value) {
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.6f", value);
+  return text;
+}
+
 const Exiv2::Exifdatum& exif(const Exiv2::ExifData& data, const std::string& key, const std::string& path) {
   const auto it = data.findKey(Exiv2::ExifKey(key));
   if (it == data.end()) throw std::runtime_error(path + ": EXIF " + key + " is missing");
@@ -159,6 +166,11 @@ void write_photo_metadata(const std::string& path, const PhotoMetadata& m) {
     xmp["Xmp.drone-dji.FlightYawDegree"] = signed_text(m.flight.yaw_deg, 6);
     xmp["Xmp.drone-dji.RelativeAltitude"] = signed_text(m.relative_altitude_m, 3);
     xmp["Xmp.drone-dji.AbsoluteAltitude"] = signed_text(m.absolute_altitude_m, 3);
+    if (m.has_dji_calibration) {
+      xmp["Xmp.drone-dji.CalibratedFocalLength"] = decimal_text(m.calibrated_focal_px);
+      xmp["Xmp.drone-dji.CalibratedOpticalCenterX"] = decimal_text(m.calibrated_center_x);
+      xmp["Xmp.drone-dji.CalibratedOpticalCenterY"] = decimal_text(m.calibrated_center_y);
+    }
     image->writeMetadata();
   } catch (const Exiv2::AnyError& e) {
     throw std::runtime_error(path + ": cannot write EXIF/XMP: " + e.what());
@@ -201,6 +213,12 @@ PhotoMetadata read_photo_metadata(const std::string& path) {
                 xmp_number(x, "FlightYawDegree", path)};
     m.relative_altitude_m = xmp_number(x, "RelativeAltitude", path);
     m.absolute_altitude_m = xmp_number(x, "AbsoluteAltitude", path);
+    m.has_dji_calibration = x.findKey(Exiv2::XmpKey("Xmp.drone-dji.CalibratedFocalLength")) != x.end();
+    if (m.has_dji_calibration) {
+      m.calibrated_focal_px = xmp_number(x, "CalibratedFocalLength", path);
+      m.calibrated_center_x = xmp_number(x, "CalibratedOpticalCenterX", path);
+      m.calibrated_center_y = xmp_number(x, "CalibratedOpticalCenterY", path);
+    }
   } catch (const Exiv2::AnyError& e) {
     throw std::runtime_error(path + ": cannot read EXIF/XMP: " + e.what());
   }

@@ -17,7 +17,9 @@ struct PhotoMetadata {
   std::string model = "nadir_sim downward camera";
   int width = 0, height = 0;
   double focal_length_mm = 0.0;
-  double focal_length_35mm = 0.0;  // 35 mm equivalent (diagonal), rounded on write
+  double focal_length_35mm = 0.0;  // 35 mm equivalent (diagonal of the sensor's full frame), rounded on write
+  bool has_dji_calibration = false;  // XMP drone-dji:CalibratedFocalLength / CalibratedOpticalCenterX/Y
+  double calibrated_focal_px = 0.0, calibrated_center_x = 0.0, calibrated_center_y = 0.0;
   double pixel_pitch_um = 0.0;     // -> FocalPlaneX/YResolution (pixels per cm)
   double latitude_deg = 0.0, longitude_deg = 0.0, altitude_m = 0.0;  // GPS; altitude ellipsoidal
   DjiAngles gimbal;                // camera attitude (contract section 3)

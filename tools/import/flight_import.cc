@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <opencv2/core.hpp>
@@ -15,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <stdexcept>
+#include <tuple>
 
 #include "common/channels.h"
 #include "common/geodetic.h"
@@ -30,6 +32,7 @@
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/image_t.hpp"
 #include "nadir/ins_t.hpp"
+#include "tools/import/photo_camera.h"
 
 namespace nadir::import {
 namespace {
@@ -50,7 +53,7 @@ struct Sample {
   double alt_m = 0;
   double height_m = 0;          // altimeter value (vertical)
   std::string height_kind;      // rangefinder | barometric_relative
-  double focal_mm = 0, focal_35mm = 0;
+  PhotoMetadata photo;          // photo mode: what the file says (its camera when none is given)
 };
 
 void skip_or_throw(bool skip_bad, const std::string& where, const std::string& reason,
@@ -70,8 +73,7 @@ bool photo_sample(const PhotoMetadata& m, const ImportOptions& o, const std::arr
                   std::string* attitude_source, std::string* why) {
   s->where = m.path;
   s->image_path = m.path;
-  s->focal_mm = m.focal_mm;
-  s->focal_35mm = m.focal_35mm;
+  s->photo = m;
   if (o.interval_s <= 0.0) {
     if (m.has_time) {
       s->time_s = m.time_s;
@@ -125,6 +127,56 @@ bool photo_sample(const PhotoMetadata& m, const ImportOptions& o, const std::arr
     return false;
   }
   s->height_kind = "barometric_relative";
+  return true;
+}
+
+// One camera per flight: the model and size most of the folder's photos have.
+struct FlightCamera {
+  const PhotoMetadata* first = nullptr;  // the first photo of it
+  int count = 0, of = 0;                 // photos of it, of all read
+};
+
+FlightCamera most_common_camera(const std::vector<PhotoMetadata>& metadata, const std::vector<std::string>& read_error) {
+  std::map<std::tuple<std::string, int, int>, std::pair<int, size_t>> seen;  // -> count, first index
+  FlightCamera best;
+  for (size_t i = 0; i < metadata.size(); ++i) {
+    if (!read_error[i].empty()) continue;
+    ++best.of;
+    const PhotoMetadata& m = metadata[i];
+    auto& entry = seen.try_emplace({m.model, m.image_width, m.image_height}, 0, i).first->second;
+    ++entry.first;
+  }
+  size_t best_index = 0;
+  for (const auto& [key, entry] : seen) {
+    if (entry.first > best.count || (entry.first == best.count && entry.second < best_index)) {
+      best.count = entry.first;
+      best_index = entry.second;
+    }
+  }
+  if (best.count > 0) best.first = &metadata[best_index];
+  return best;
+}
+
+// A photo whose EXIF Model or size differs from the flight camera's is named
+// with both (a folder of mixed cameras or sizes).
+bool same_camera(const FlightCamera& flight, const PhotoMetadata& m, std::string* why) {
+  if (!flight.first) return true;
+  const PhotoMetadata& first = *flight.first;
+  const std::string others = " (" + std::to_string(flight.count) + " of the " + std::to_string(flight.of) +
+                             " photos, the first " + first.path + ")";
+  const auto name = [](const PhotoMetadata& p) { return p.model.empty() ? std::string("(no EXIF Model)") : "'" + p.model + "'"; };
+  if (m.model != first.model) {
+    *why = "camera model " + name(m) + " differs from the flight's " + name(first) + others +
+           ": one camera per import, mixed cameras in the folder";
+    return false;
+  }
+  if (m.image_width > 0 && first.image_width > 0 &&
+      (m.image_width != first.image_width || m.image_height != first.image_height)) {
+    *why = "photo is " + std::to_string(m.image_width) + "x" + std::to_string(m.image_height) +
+           " but the flight's are " + std::to_string(first.image_width) + "x" + std::to_string(first.image_height) +
+           others + ": one image size per import, mixed sizes in the folder";
+    return false;
+  }
   return true;
 }
 
@@ -231,6 +283,10 @@ std::string config_message_yaml(const ImportOptions& o, const ImportSummary& s) 
   if (!o.srt.empty()) n["srt"] = o.srt;
   if (!o.csv.empty()) n["csv"] = o.csv;
   n["camera_source"] = s.camera.source;
+  if (!s.focal_rule.empty()) {
+    n["camera_model"] = s.camera_model;
+    n["focal_rule"] = s.focal_rule;
+  }
   n["scale"] = o.scale;
   n["interval_s"] = o.interval_s;
   n["skip_bad"] = o.skip_bad;
@@ -399,21 +455,37 @@ ImportSummary run_import(const ImportOptions& o) {
     std::sort(files.begin(), files.end());
     if (files.empty()) throw std::runtime_error(o.photos_dir + ": no JPEG/PNG/TIFF files");
     int64_t index = 0;
-    for (const fs::path& f : files) {
+    // Every file's metadata first: the flight's camera is the one most photos
+    // were taken with (model and size; on a tie the earliest), so one odd
+    // photo (even the first) is what differs. Errors stay in file order.
+    std::vector<PhotoMetadata> metadata(files.size());
+    std::vector<std::string> read_error(files.size());
+    for (size_t i = 0; i < files.size(); ++i) {
+      try {
+        metadata[i] = read_photo_metadata(files[i].string());
+      } catch (const std::runtime_error& e) {
+        read_error[i] = e.what();
+      }
+    }
+    const FlightCamera flight_camera = most_common_camera(metadata, read_error);
+    for (size_t i = 0; i < files.size(); ++i) {
+      const fs::path& f = files[i];
       Sample s;
       std::string att, why;
-      PhotoMetadata m;
-      try {
-        m = read_photo_metadata(f.string());
-      } catch (const std::runtime_error& e) {
-        if (!o.skip_bad) throw;
-        summary.skipped.push_back({f.string(), e.what()});
+      if (!read_error[i].empty()) {
+        if (!o.skip_bad) throw std::runtime_error(read_error[i]);
+        summary.skipped.push_back({f.string(), read_error[i]});
         continue;
       }
+      const PhotoMetadata& m = metadata[i];
       if (samples.empty() && !file_camera.has_mount && m.has_sensefly_attitude && !m.has_dji_gimbal && !m.has_dji_flight) {
         mount = kSenseflyMount;
       }
       if (!photo_sample(m, o, mount, &s, &att, &why)) {
+        skip_or_throw(o.skip_bad, f.string(), why, &summary.skipped);
+        continue;
+      }
+      if (!same_camera(flight_camera, m, &why)) {
         skip_or_throw(o.skip_bad, f.string(), why, &summary.skipped);
         continue;
       }
@@ -506,13 +578,15 @@ ImportSummary run_import(const ImportOptions& o) {
       if (!camera_known) {
         if (o.focal_px > 0.0) {
           source_camera = camera_from_focal(o.focal_px, frame.cols, frame.rows, "--focal-px");
-        } else if (s.focal_35mm > 0.0) {
-          const double f = s.focal_35mm / std::hypot(36.0, 24.0) * std::hypot(frame.cols, frame.rows);
-          source_camera = camera_from_focal(f, frame.cols, frame.rows, "EXIF FocalLengthIn35mmFilm");
-          summary.warnings.push_back("camera from EXIF 35 mm equivalent focal length (" + std::to_string(f) +
-                                     " px), no distortion: give --camera FILE for a calibrated camera");
+        } else if (!o.photos_dir.empty()) {
+          const PhotoFocal f = focal_from_photo(s.photo, frame.cols, frame.rows);
+          source_camera = camera_from_focal(f.focal_px, frame.cols, frame.rows, f.source);
+          if (f.has_center) source_camera.cx = f.cx, source_camera.cy = f.cy;
+          summary.camera_model = s.photo.model;
+          summary.focal_rule = f.rule;
+          summary.warnings.push_back(f.warning);
         } else {
-          throw std::runtime_error(s.where + ": no camera: give --camera FILE or --focal-px (EXIF has no 35 mm equivalent focal length)");
+          throw std::runtime_error(s.where + ": no camera: give --camera FILE or --focal-px (a video has no focal length)");
         }
         camera_known = true;
       }
@@ -664,6 +738,8 @@ std::string summary_json(const ImportSummary& s) {
   j.key("camera")
       .begin_object()
       .field("source", s.camera.source)
+      .field("model", s.camera_model)
+      .field("focal_rule", s.focal_rule)
       .field("width", s.camera.width)
       .field("height", s.camera.height)
       .field("fx", s.camera.fx)
@@ -689,6 +765,7 @@ std::string summary_text(const ImportSummary& s) {
                 s.camera.fx, s.camera.fy, s.camera.source.c_str(), s.attitude_source.c_str(),
                 s.altimeter_source.c_str());
   std::string out = text;
+  if (!s.focal_rule.empty()) out += "  focal length: " + s.focal_rule + "\n";
   for (const SkippedInput& k : s.skipped) out += "  skipped " + k.where + ": " + k.reason + "\n";
   for (const std::string& w : s.warnings) out += "  warning: " + w + "\n";
   return out;

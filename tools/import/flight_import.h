@@ -52,7 +52,7 @@ struct ImportOptions {
   std::string srt;               // ... with a DJI-style .SRT
   std::string csv;               // ... or a generic CSV
   std::string out;               // OUT -> OUT.lcmlog, OUT.yaml
-  std::string camera_file;       // OpenCV calibration (empty: EXIF focal length, with a warning)
+  std::string camera_file;       // OpenCV calibration (empty: from the photos' metadata, photo_camera.h, with a warning)
   double focal_px = 0.0;         // > 0: focal length in pixels of the source images (overrides EXIF)
   double scale = 1.0;            // downscale factor for the images (0, 1]
   double interval_s = 0.0;       // > 0: photo times from file order at this interval (EXIF times ignored)
@@ -71,6 +71,8 @@ struct ImportSummary {
   double max_gap_s = 0, median_interval_s = 0;
   double distance_m = 0;              // along the GPS track (3D)
   CameraIntrinsics camera;            // as written (after scaling)
+  std::string camera_model;           // EXIF Model of the photos when the camera came from them
+  std::string focal_rule;             // ... and how their focal length was made (photo_camera.h)
   std::array<double, 3> mount_rpy_deg{0, 0, 0};
   std::string altimeter_source;       // rangefinder | barometric_relative
   std::string attitude_source;        // dji_gimbal | dji_flight | sensefly | srt_gimbal | srt_flight | csv_body

@@ -27,7 +27,10 @@ int main(int argc, char** argv) {
   app.add_option("--camera", o.camera_file,
                  "OpenCV calibration file (camera_matrix, distortion_coefficients, image_width, image_height, "
                  "optional mount_rpy_deg) at the files' size or at the --scale size");
-  app.add_option("--focal-px", o.focal_px, "focal length in pixels of the files (no calibration file; no distortion)");
+  app.add_option("--focal-px", o.focal_px,
+                 "focal length in pixels of the files (no calibration file; no distortion). Without --camera or "
+                 "--focal-px, photos give it: DJI XMP CalibratedFocalLength, else the EXIF 35 mm equivalent on the "
+                 "sensor's native frame (docs/own-flight.md, 'The camera from the photos')");
   app.add_option("--scale", o.scale, "downscale the images by this factor, intrinsics scaled with them (0, 1]")
       ->capture_default_str();
   app.add_option("--interval", o.interval_s, "photo times from file order, this many seconds apart (EXIF time ignored)");

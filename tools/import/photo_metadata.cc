@@ -115,6 +115,21 @@ PhotoMetadata read_photo_metadata(const std::string& path) {
     }
     r.exif_number("Exif.Photo.FocalLength", &p.focal_mm);
     r.exif_number("Exif.Photo.FocalLengthIn35mmFilm", &p.focal_35mm);
+    r.exif_text("Exif.Image.Make", &p.make);
+    r.exif_text("Exif.Image.Model", &p.model);
+    double dimension = 0;
+    if (r.exif_number("Exif.Photo.PixelXDimension", &dimension)) p.exif_width = static_cast<int>(dimension);
+    if (r.exif_number("Exif.Photo.PixelYDimension", &dimension)) p.exif_height = static_cast<int>(dimension);
+    p.image_width = image->pixelWidth();
+    p.image_height = image->pixelHeight();
+    p.has_dji_calibrated_focal = r.xmp_number("Xmp.drone-dji.CalibratedFocalLength", &p.dji_calibrated_focal_px);
+    if (p.has_dji_calibrated_focal && !(p.dji_calibrated_focal_px > 0)) {
+      throw std::runtime_error(path + ": Xmp.drone-dji.CalibratedFocalLength is not positive");
+    }
+    const int centres = r.xmp_number("Xmp.drone-dji.CalibratedOpticalCenterX", &p.dji_optical_center_x) +
+                        r.xmp_number("Xmp.drone-dji.CalibratedOpticalCenterY", &p.dji_optical_center_y);
+    if (centres == 1) throw std::runtime_error(path + ": Xmp.drone-dji.CalibratedOpticalCenter{X,Y} incomplete");
+    p.has_dji_optical_center = centres == 2;
     p.has_dji_gimbal = r.xmp_triple("Xmp.drone-dji.", "GimbalRollDegree", "GimbalPitchDegree", "GimbalYawDegree",
                                     &p.gimbal_roll_deg, &p.gimbal_pitch_deg, &p.gimbal_yaw_deg);
     p.has_dji_flight = r.xmp_triple("Xmp.drone-dji.", "FlightRollDegree", "FlightPitchDegree", "FlightYawDegree",

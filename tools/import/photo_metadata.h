@@ -19,6 +19,14 @@ struct PhotoMetadata {
   double gps_alt_m = 0;
   double focal_mm = 0;           // Exif.Photo.FocalLength, 0 if absent
   double focal_35mm = 0;         // Exif.Photo.FocalLengthIn35mmFilm, 0 if absent
+  std::string make, model;       // Exif.Image.Make / Model, empty if absent
+  int exif_width = 0, exif_height = 0;    // Exif.Photo.PixelX/YDimension: the size the camera wrote, 0 if absent
+  int image_width = 0, image_height = 0;  // the file's own size (its JPEG/PNG/TIFF header), 0 if unknown
+  // DJI drone-dji: calibration, in pixels of the image as the camera wrote it
+  bool has_dji_calibrated_focal = false;
+  double dji_calibrated_focal_px = 0;    // CalibratedFocalLength
+  bool has_dji_optical_center = false;
+  double dji_optical_center_x = 0, dji_optical_center_y = 0;  // CalibratedOpticalCenterX/Y
   // DJI drone-dji:
   bool has_dji_gimbal = false;
   double gimbal_roll_deg = 0, gimbal_pitch_deg = 0, gimbal_yaw_deg = 0;

@@ -149,6 +149,62 @@ TEST_F(ExportTest, InsAttitudeSourceWritesTheMeasuredAttitude) {
   }
 }
 
+// A 16:9 crop of a 4:3 sensor: the centre rows of the turned image, the 35 mm equivalent of the 4:3
+// frame of its width in EXIF, camera.yaml for the crop; DJI's XMP calibration is the written camera.
+TEST_F(ExportTest, SixteenByNineCropAndDjiCalibration) {
+  PhotoExportOptions options;
+  options.interval_s = 4.0;
+  options.crop_16_9 = true;
+  options.dji_calibration = true;
+  options.model = "FC300X";
+  const std::string out = dir_->file("photos_crop");
+  const PhotoExportResult result = export_photos(*log_, out, options);
+  const CameraModel turned = turned_camera(log_->camera());
+  ASSERT_EQ(turned.width, 512);
+  const int rows = 288, top = (612 - rows) / 2;  // 512 * 9 / 16
+  EXPECT_EQ(result.camera.width, 512);
+  EXPECT_EQ(result.camera.height, rows);
+  EXPECT_DOUBLE_EQ(result.camera.fx, turned.fx);
+  EXPECT_DOUBLE_EQ(result.camera.cy, turned.cy - top);
+  cv::FileStorage file(result.camera_file, cv::FileStorage::READ);
+  ASSERT_TRUE(file.isOpened());
+  EXPECT_EQ(static_cast<int>(file["image_height"]), rows);
+  cv::Mat k;
+  file["camera_matrix"] >> k;
+  EXPECT_NEAR(k.at<double>(1, 2), turned.cy - top, 1e-9);
+  ASSERT_FALSE(result.photos.empty());
+  for (const PhotoRecord& record : result.photos) {
+    SCOPED_TRACE(record.file);
+    const PhotoMetadata m = read_photo_metadata(out + "/" + record.file);
+    EXPECT_EQ(m.model, "FC300X");
+    EXPECT_EQ(m.width, 512);
+    EXPECT_EQ(m.height, rows);
+    // 398.79 px * 43.27 mm / 640 px (the 512x384 frame's diagonal) = 26.96 -> 27
+    EXPECT_EQ(m.focal_length_35mm, 27.0);
+    ASSERT_TRUE(m.has_dji_calibration);
+    EXPECT_NEAR(m.calibrated_focal_px, turned.fx, 1e-6);
+    EXPECT_NEAR(m.calibrated_center_x, turned.cx, 1e-6);
+    EXPECT_NEAR(m.calibrated_center_y, turned.cy - top, 1e-6);
+    // The pixels: the centre rows of the turned frame (up to JPEG).
+    const cv::Mat photo = cv::imread(out + "/" + record.file, cv::IMREAD_GRAYSCALE);
+    ASSERT_EQ(photo.cols, 512);
+    ASSERT_EQ(photo.rows, rows);
+    int compared = 0;
+    for (const SimImageRef& ref : log_->images()) {
+      if (ref.utime != record.utime) continue;
+      ++compared;
+      const image_t image = log_->decode_image(ref);
+      const cv::Mat sim(image.height, image.width, CV_8UC1, const_cast<uint8_t*>(image.data.data()),
+                        static_cast<size_t>(image.stride));
+      cv::Mat diff;
+      cv::absdiff(photo, turn_to_dji(sim)(cv::Rect(0, top, 512, rows)), diff);
+      EXPECT_LT(cv::mean(diff)[0], 3.0);
+    }
+    EXPECT_EQ(compared, 1);
+  }
+  EXPECT_GE(result.photos.size(), 2u);
+}
+
 TEST_F(ExportTest, TurnedImageAndIntrinsicsProjectWhereTheSimulatorDoes) {
   PhotoExportOptions options;
   options.interval_s = 4.0;

@@ -26,7 +26,9 @@
 #include "nadir/image_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "tests/common/test_support.h"
+#include "tools/import/camera_table.h"
 #include "tools/import/flight_import.h"
+#include "tools/import/photo_camera.h"
 
 namespace nadir::import {
 namespace {
@@ -312,7 +314,10 @@ TEST(PhotoImport, BadPhotosNamedOrSkipped) {
   for (const SkippedInput& k : s.skipped) why[std::filesystem::path(k.where).filename().string()] = k.reason;
   EXPECT_NE(why["b.jpg"].find("no attitude"), std::string::npos);
   EXPECT_NE(why["c.jpg"].find("not after"), std::string::npos);
-  EXPECT_NE(why["d.jpg"].find("frame is 400x300 but the camera"), std::string::npos) << why["d.jpg"];
+  EXPECT_NE(why["d.jpg"].find("photo is 400x300 but"), std::string::npos) << why["d.jpg"];
+  EXPECT_NE(why["d.jpg"].find("the flight's are 320x240 (4 of the 5 photos, the first "), std::string::npos)
+      << why["d.jpg"];
+  EXPECT_NE(why["d.jpg"].find("a.jpg): one image size per import"), std::string::npos) << why["d.jpg"];
   EXPECT_NE(why["e.jpg"].find("cannot read metadata"), std::string::npos) << why["e.jpg"];
   const LogContents log = read_log(s.log_path);
   EXPECT_EQ(log.images.size(), 2u);
@@ -321,7 +326,7 @@ TEST(PhotoImport, BadPhotosNamedOrSkipped) {
   o.skip_bad = false;
   for (const char* f : {"b.jpg", "c.jpg", "e.jpg"}) std::filesystem::remove(dir.file(std::string("photos/") + f));
   e = import_error(o);
-  EXPECT_NE(e.find("d.jpg: frame is 400x300"), std::string::npos) << e;
+  EXPECT_NE(e.find("d.jpg: photo is 400x300"), std::string::npos) << e;
 }
 
 // A malformed XMP value is an error naming file and key; EXIF 35 mm focal length gives a camera with a warning.
@@ -373,6 +378,232 @@ TEST(PhotoImport, ToolExitsTwoOnBadInput) {
   const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(err.find("x.jpg: no attitude"), std::string::npos) << err;
   EXPECT_FALSE(std::filesystem::exists(dir.file("o.lcmlog")));
+}
+
+// What a camera writes about itself: EXIF Model, 35 mm equivalent, the size
+// it wrote, DJI's XMP calibration (each only when given).
+struct CameraTags {
+  std::string model;
+  int focal_35mm = 0;
+  int written_width = 0, written_height = 0;  // Exif.Photo.PixelX/YDimension
+  double calibrated_focal = 0, center_x = -1, center_y = -1;
+};
+
+void tag_camera(const std::string& path, const CameraTags& c) {
+  auto image = Exiv2::ImageFactory::open(path);
+  image->readMetadata();
+  Exiv2::ExifData& exif = image->exifData();
+  if (!c.model.empty()) {
+    exif["Exif.Image.Make"] = "DJI";
+    exif["Exif.Image.Model"] = c.model;
+  }
+  if (c.focal_35mm > 0) exif["Exif.Photo.FocalLengthIn35mmFilm"] = static_cast<uint16_t>(c.focal_35mm);
+  if (c.written_width > 0) {
+    exif["Exif.Photo.PixelXDimension"] = static_cast<uint32_t>(c.written_width);
+    exif["Exif.Photo.PixelYDimension"] = static_cast<uint32_t>(c.written_height);
+  }
+  Exiv2::XmpData& xmp = image->xmpData();
+  char text[32];
+  if (c.calibrated_focal > 0) {
+    std::snprintf(text, sizeof(text), "%.4f", c.calibrated_focal);
+    xmp["Xmp.drone-dji.CalibratedFocalLength"] = std::string(text);
+  }
+  if (c.center_x >= 0) {
+    std::snprintf(text, sizeof(text), "%.4f", c.center_x);
+    xmp["Xmp.drone-dji.CalibratedOpticalCenterX"] = std::string(text);
+    std::snprintf(text, sizeof(text), "%.4f", c.center_y);
+    xmp["Xmp.drone-dji.CalibratedOpticalCenterY"] = std::string(text);
+  }
+  image->writeMetadata();
+}
+
+// Two photos 5 s apart of one camera, `w` x `h`, in DIR/photos.
+void write_camera_photos(const TempDir& dir, const CameraTags& c, int w, int h) {
+  std::filesystem::create_directories(dir.file("photos"));
+  PhotoTags t;
+  for (int i = 0; i < 2; ++i) {
+    const std::string path = dir.file("photos/p" + std::to_string(i) + ".jpg");
+    t.time = "2024:05:01 10:00:0" + std::to_string(5 * i);
+    write_photo(path, t, w, h, i + 1);
+    tag_camera(path, c);
+  }
+}
+
+// The 35 mm equivalent is on the diagonal of the sensor's full frame: a 16:9
+// photo from a 4:3 sensor (DJI FC300X) takes the 4:3 frame's diagonal at the
+// photo's width, not its own (8.2 % shorter).
+TEST(PhotoCamera, SixteenByNineCropOfAFourByThreeSensor) {
+  // The worked example of docs/own-flight.md: FC300X, 20 mm equivalent, 4000x2250.
+  EXPECT_NEAR(native_frame_diagonal_px(4000, 2250, 4000, 3000), 5000.0, 1e-9);
+  EXPECT_NEAR(20.0 / kFullFrameDiagonalMm * 5000.0, 2311.25, 0.01);
+  EXPECT_NEAR(20.0 / kFullFrameDiagonalMm * std::hypot(4000.0, 2250.0), 2121.45, 0.01);
+  // Portrait photos and squarer crops keep the side the sensor keeps.
+  EXPECT_NEAR(native_frame_diagonal_px(2250, 4000, 4000, 3000), 5000.0, 1e-9);
+  EXPECT_NEAR(native_frame_diagonal_px(3000, 3000, 4000, 3000), 5000.0, 1e-9);
+  EXPECT_NEAR(native_frame_diagonal_px(4000, 3000, 4000, 3000), 5000.0, 1e-9);
+
+  TempDir dir("import_crop");
+  CameraTags c;
+  c.model = "FC300X";
+  c.focal_35mm = 20;
+  write_camera_photos(dir, c, 400, 225);  // a 16:9 photo, resized
+  const ImportSummary s = run_import(photo_options(dir));
+  const double native = 20.0 / kFullFrameDiagonalMm * 500.0;                       // 231.1 px
+  const double own_diagonal = 20.0 / kFullFrameDiagonalMm * std::hypot(400.0, 225.0);  // 212.1 px
+  EXPECT_NEAR(s.camera.fx, native, 1e-9);
+  EXPECT_NEAR(s.camera.fy, native, 1e-9);
+  EXPECT_NEAR(s.camera.fx / own_diagonal - 1.0, 0.0897, 0.001);  // the 16:9 diagonal's answer is 8.2 % short
+  EXPECT_EQ(s.camera.source, "EXIF FocalLengthIn35mmFilm");
+  EXPECT_EQ(s.camera_model, "FC300X");
+  EXPECT_NE(s.focal_rule.find("native 4000x3000 frame"), std::string::npos) << s.focal_rule;
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("camera 'FC300X' (DJI): focal 231.1 px"), std::string::npos) << s.warnings[0];
+  EXPECT_NE(s.warnings[0].find("the 400x225 photo is a crop"), std::string::npos) << s.warnings[0];
+  const LogContents log = read_log(s.log_path);
+  EXPECT_NE(log.config.at(0).yaml.find("camera_model: FC300X"), std::string::npos) << log.config.at(0).yaml;
+  // A model the table does not know: the photo is taken as the full frame, and the warning says so.
+  TempDir other("import_unknown_model");
+  c.model = "XYZ-1";
+  write_camera_photos(other, c, 400, 225);
+  const ImportSummary u = run_import(photo_options(other));
+  EXPECT_NEAR(u.camera.fx, own_diagonal, 1e-9);
+  ASSERT_EQ(u.warnings.size(), 1u);
+  EXPECT_NE(u.warnings[0].find("camera 'XYZ-1' (DJI)"), std::string::npos) << u.warnings[0];
+  EXPECT_NE(u.warnings[0].find("model not in the camera table: the 400x225 photo taken as the sensor's full frame"),
+            std::string::npos)
+      << u.warnings[0];
+}
+
+// DJI's XMP calibration comes first and is used as written; a resized file scales it.
+TEST(PhotoCamera, DjiXmpCalibrationUsedAsWritten) {
+  TempDir dir("import_xmp_calibration");
+  CameraTags c;
+  c.model = "FC6360";
+  c.focal_35mm = 20;  // ignored: the calibration comes first
+  c.written_width = 320, c.written_height = 240;
+  c.calibrated_focal = 287.3125, c.center_x = 161.25, c.center_y = 117.5;
+  write_camera_photos(dir, c, 320, 240);
+  const ImportSummary s = run_import(photo_options(dir));
+  EXPECT_EQ(s.camera.source, "XMP drone-dji:CalibratedFocalLength");
+  EXPECT_DOUBLE_EQ(s.camera.fx, 287.3125);
+  EXPECT_DOUBLE_EQ(s.camera.fy, 287.3125);
+  EXPECT_DOUBLE_EQ(s.camera.cx, 161.25);
+  EXPECT_DOUBLE_EQ(s.camera.cy, 117.5);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("camera 'FC6360' (DJI): focal 287.31 px from the calibrated focal"), std::string::npos)
+      << s.warnings[0];
+  // The camera wrote 640x480; the file was halved since.
+  TempDir half("import_xmp_resized");
+  c.written_width = 640, c.written_height = 480;
+  c.calibrated_focal = 574.625, c.center_x = 322.75, c.center_y = 235.5;
+  write_camera_photos(half, c, 320, 240);
+  const ImportSummary h = run_import(photo_options(half));
+  EXPECT_DOUBLE_EQ(h.camera.fx, 287.3125);
+  EXPECT_DOUBLE_EQ(h.camera.cx, 161.125);  // pixel centres kept: (322.75 + 0.5) / 2 - 0.5
+  EXPECT_DOUBLE_EQ(h.camera.cy, 117.5);
+  EXPECT_NE(h.focal_rule.find("scaled by 0.5"), std::string::npos) << h.focal_rule;
+}
+
+// No focal length in the file: the error names the file and the model, says how to give one, and
+// what the camera table knows of the model.
+TEST(PhotoCamera, NoFocalLengthNamesFileModelAndTheWayOut) {
+  TempDir dir("import_no_focal");
+  CameraTags c;
+  c.model = "XYZ-1";
+  write_camera_photos(dir, c, 320, 256);
+  std::string e = import_error(photo_options(dir));
+  EXPECT_NE(e.find("p0.jpg: no focal length in the file"), std::string::npos) << e;
+  EXPECT_NE(e.find("camera 'XYZ-1' (DJI)"), std::string::npos) << e;
+  EXPECT_NE(e.find("give --camera FILE (an OpenCV calibration) or --focal-px F"), std::string::npos) << e;
+  EXPECT_EQ(e.find("camera table"), std::string::npos) << e;
+  // A thermal camera the table knows (640x512, 12 um, 9 mm): nominally 750 px, 375 at half size.
+  TempDir thermal("import_no_focal_thermal");
+  c.model = "MAVIC2-ENTERPRISE-ADVANCED";
+  write_camera_photos(thermal, c, 320, 256);
+  e = import_error(photo_options(thermal));
+  EXPECT_NE(e.find("p0.jpg: no focal length in the file"), std::string::npos) << e;
+  EXPECT_NE(e.find("the camera table's DJI Mavic 2 Enterprise Advanced, thermal camera has a 9 mm lens"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("nominally --focal-px 375 for this 320x256 photo"), std::string::npos) << e;
+  // The binary: exit 2, the message on stderr.
+  const char* bin = std::getenv("NADIR_BIN_DIR");
+  ASSERT_NE(bin, nullptr);
+  const std::string cmd = std::string(bin) + "/nadir_import --photos " + thermal.file("photos") + " --out " +
+                          thermal.file("o") + " 2> " + thermal.file("err.txt");
+  const int rc = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(rc));
+  EXPECT_EQ(WEXITSTATUS(rc), 2);
+  std::ifstream in(thermal.file("err.txt"));
+  const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(err.find("p0.jpg: no focal length in the file"), std::string::npos) << err;
+  // ... and the focal length given on the command line imports.
+  ImportOptions o = photo_options(thermal);
+  o.focal_px = 375.0;
+  EXPECT_EQ(run_import(o).frames_written, 2);
+}
+
+// A folder of two cameras: the first photo of the other camera is named with both models; --skip-bad
+// skips and counts them.
+TEST(PhotoCamera, MixedCamerasNamedOrSkipped) {
+  TempDir dir("import_mixed");
+  CameraTags c;
+  c.model = "FC6310";
+  c.focal_35mm = 24;
+  write_camera_photos(dir, c, 360, 240);
+  PhotoTags t;
+  t.time = "2024:05:01 10:00:10";
+  write_photo(dir.file("photos/p2.jpg"), t, 360, 240, 3);
+  c.model = "FC330";
+  tag_camera(dir.file("photos/p2.jpg"), c);
+  ImportOptions o = photo_options(dir);
+  const std::string e = import_error(o);
+  EXPECT_NE(e.find("p2.jpg: camera model 'FC330' differs from the flight's 'FC6310'"), std::string::npos) << e;
+  EXPECT_NE(e.find("(2 of the 3 photos, the first "), std::string::npos) << e;
+  EXPECT_NE(e.find("p0.jpg): one camera per import"), std::string::npos) << e;
+  o.skip_bad = true;
+  const ImportSummary s = run_import(o);
+  EXPECT_EQ(s.frames_written, 2);
+  ASSERT_EQ(s.skipped.size(), 1u);
+  EXPECT_NE(s.skipped[0].where.find("p2.jpg"), std::string::npos);
+  EXPECT_NE(s.skipped[0].reason.find("mixed cameras"), std::string::npos) << s.skipped[0].reason;
+  // The odd photo first (a.jpg sorts first): the camera most photos have is still the flight's.
+  std::filesystem::rename(dir.file("photos/p2.jpg"), dir.file("photos/a.jpg"));
+  PhotoTags t0;
+  t0.time = "2024:05:01 09:59:55";
+  write_photo(dir.file("photos/a.jpg"), t0, 360, 240, 3);
+  tag_camera(dir.file("photos/a.jpg"), c);
+  o.skip_bad = false;
+  const std::string first = import_error(o);
+  EXPECT_NE(first.find("a.jpg: camera model 'FC330' differs from the flight's 'FC6310'"), std::string::npos) << first;
+  o.skip_bad = true;
+  const ImportSummary k = run_import(o);
+  EXPECT_EQ(k.frames_written, 2);
+  ASSERT_EQ(k.skipped.size(), 1u);
+  EXPECT_NE(k.skipped[0].where.find("a.jpg"), std::string::npos);
+}
+
+// Every row of the camera table has a model, a geometry and a source; lookups ignore case and pick
+// the camera of the photo's size when one Model names two.
+TEST(CameraTable, RowsAndLookup) {
+  for (const KnownCamera& k : known_cameras()) {
+    SCOPED_TRACE(k.name);
+    EXPECT_FALSE(k.models.empty());
+    EXPECT_GT(k.sensor_width_mm, k.sensor_height_mm * 0.99);
+    EXPECT_GT(k.native_width, 0);
+    EXPECT_GT(k.native_height, 0);
+    EXPECT_GT(k.focal_mm, 0);
+    EXPECT_FALSE(k.source.empty());
+    // the sensor's millimetres and its pixels have one aspect (within the rounding of nominal sizes)
+    EXPECT_NEAR(k.sensor_width_mm / k.sensor_height_mm, static_cast<double>(k.native_width) / k.native_height, 0.1);
+  }
+  ASSERT_NE(find_known_camera(" fc300x ", 4000, 2250), nullptr);
+  EXPECT_EQ(find_known_camera("FC300X", 4000, 2250)->native_height, 3000);
+  EXPECT_EQ(find_known_camera("M3T", 640, 512)->native_width, 640);
+  EXPECT_EQ(find_known_camera("M3T", 8000, 6000)->native_width, 8000);
+  EXPECT_EQ(find_known_camera("M3T", 4000, 3000)->native_width, 8000);
+  EXPECT_EQ(find_known_camera("nadir_sim downward camera", 512, 612), nullptr);
+  EXPECT_EQ(find_known_camera("", 512, 612), nullptr);
 }
 
 // Video + SRT and video + CSV: one frame per telemetry record.
