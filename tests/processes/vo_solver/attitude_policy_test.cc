@@ -106,7 +106,11 @@ double worst_error(const Trajectory& truth, AttitudePolicy policy, bool with_rat
 TEST(AttitudePolicy, PolicyNamesRoundTrip) {
   EXPECT_EQ(attitude_policy_from_name("propagate"), AttitudePolicy::kPropagate);
   EXPECT_EQ(attitude_policy_from_name("interpolate"), AttitudePolicy::kInterpolate);
+  EXPECT_EQ(attitude_policy_from_name("auto"), AttitudePolicy::kAuto);
   EXPECT_STREQ(attitude_policy_name(AttitudePolicy::kPropagate), "propagate");
+  EXPECT_STREQ(attitude_policy_name(AttitudePolicy::kInterpolate), "interpolate");
+  EXPECT_STREQ(attitude_policy_name(AttitudePolicy::kAuto), "auto");
+  EXPECT_EQ(SyncOptions{}.attitude_policy, AttitudePolicy::kAuto);  // the default
   EXPECT_THROW(attitude_policy_from_name("latest"), std::invalid_argument);
 }
 
@@ -210,6 +214,82 @@ TEST(AttitudePolicy, SettleTimeMeansWaitingForALaterSample) {
   EXPECT_FALSE(sync.ready(kStart + 1000)) << "a reordering channel may still deliver an earlier sample";
   sync.add_ins(sample(manoeuvre, kStart + 401000, true));
   EXPECT_TRUE(sync.ready(kStart + 1000));
+}
+
+// auto: the same bits as propagate where the INS reports body rates (and no
+// wait for the next sample), the same bits as interpolate where it does not
+// (and a wait for the sample after the frame).
+TEST(AttitudePolicy, AutoPropagatesWithRatesAndInterpolatesWithout) {
+  for (const bool with_rates : {true, false}) {
+    SCOPED_TRACE(with_rates ? "INS rates" : "no rates");
+    const AttitudePolicy same_as = with_rates ? AttitudePolicy::kPropagate : AttitudePolicy::kInterpolate;
+    FrameSync automatic(with_policy(AttitudePolicy::kAuto), Eigen::Vector3d::UnitZ());
+    FrameSync reference(with_policy(same_as), Eigen::Vector3d::UnitZ());
+    int64_t next_ins = kStart;
+    for (int k = 1; k < 200; ++k) {
+      const int64_t frame = kStart + k * 71429 + (k * 37 % 41) * 113;
+      while (next_ins <= frame) {
+        automatic.add_ins(sample(manoeuvre, next_ins, with_rates));
+        reference.add_ins(sample(manoeuvre, next_ins, with_rates));
+        next_ins += kInsPeriod;
+      }
+      // Only the samples at or before the frame are in: with rates, the frame
+      // goes as soon as the next sample cannot be at or before it (9 ms).
+      const int64_t newest = next_ins - kInsPeriod;
+      ASSERT_EQ(automatic.ready(frame), with_rates && frame - newest < 9000) << frame;
+      automatic.add_ins(sample(manoeuvre, next_ins, with_rates));
+      reference.add_ins(sample(manoeuvre, next_ins, with_rates));
+      next_ins += kInsPeriod;
+      ASSERT_TRUE(automatic.ready(frame));
+      const FrameState& a = automatic.frame_state(frame);
+      const FrameState& r = reference.frame_state(frame);
+      ASSERT_TRUE(a.has_attitude);
+      EXPECT_EQ(a.roll, r.roll) << frame;
+      EXPECT_EQ(a.pitch, r.pitch) << frame;
+      EXPECT_EQ(a.yaw, r.yaw) << frame;
+    }
+  }
+}
+
+// Why auto does not propagate a rate-less INS: carried on with the rate
+// between its two newest samples, white attitude noise sigma grows to
+// sigma sqrt((1 + r)^2 + r^2) at r = dt / T past the newest sample
+// (sqrt(8/3) = 1.63 sigma rms over the phases), where interpolation averages
+// it (0.816 sigma).
+TEST(AttitudePolicy, WithoutRatesPropagationAmplifiesTheInsNoiseAndAutoDoesNot) {
+  const double sigma = deg_to_rad(0.05);
+  const AttitudePolicy policies[3] = {AttitudePolicy::kPropagate, AttitudePolicy::kInterpolate, AttitudePolicy::kAuto};
+  FrameSync sync[3] = {FrameSync(with_policy(policies[0]), Eigen::Vector3d::UnitZ()),
+                       FrameSync(with_policy(policies[1]), Eigen::Vector3d::UnitZ()),
+                       FrameSync(with_policy(policies[2]), Eigen::Vector3d::UnitZ())};
+  double sum_sq[3] = {0, 0, 0};
+  int frames = 0;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, sigma);
+  int64_t next_ins = kStart;
+  for (int k = 1; k < 4000; ++k) {
+    const int64_t frame = kStart + k * 71429 + (k * 37 % 41) * 113;
+    while (next_ins <= frame + kInsPeriod) {
+      ins_t m = sample(constant_rate, next_ins, false);
+      m.roll += noise(rng);
+      for (FrameSync& s : sync) s.add_ins(m);
+      next_ins += kInsPeriod;
+    }
+    const double truth = rpy_from_rotation(constant_rate(static_cast<double>(frame - kStart) * 1e-6).world_from_body).x();
+    for (int p = 0; p < 3; ++p) {
+      const double e = angle_difference(sync[p].frame_state(frame).roll, truth);
+      sum_sq[p] += e * e;
+    }
+    ++frames;
+  }
+  const double propagate = std::sqrt(sum_sq[0] / frames) / sigma;
+  const double interpolate = std::sqrt(sum_sq[1] / frames) / sigma;
+  const double automatic = std::sqrt(sum_sq[2] / frames) / sigma;
+  std::printf("rate-less INS, roll error rms / sigma: propagate %.3f (expected 1.633), interpolate %.3f (0.816), "
+              "auto %.3f\n", propagate, interpolate, automatic);
+  EXPECT_NEAR(propagate, std::sqrt(8.0 / 3.0), 0.08);
+  EXPECT_NEAR(interpolate, std::sqrt(2.0 / 3.0), 0.05);
+  EXPECT_EQ(automatic, interpolate);
 }
 
 }  // namespace
