@@ -4,7 +4,7 @@
 # the estimator nodes in one process) RUNS times inside the private network
 # namespace, evaluates each capture and prints per run the latency by stage
 # (p50/p99/worst) with the load average, then the medians over the runs.
-# Usage: latency.sh [--set sim|sim_composed] [--runs N] [--attitude-policy propagate|interpolate]
+# Usage: latency.sh [--set sim|sim_composed] [--runs N] [--attitude-policy auto|propagate|interpolate]
 #        [--nice N] [--rt-priority P] [--keep-captures]   (reports in logs/latency/<UTC>-SET-POLICY/; captures deleted
 #        unless kept; --nice runs the whole set at that niceness, e.g. -10 on a machine others load;
 #        --rt-priority runs the estimator nodes, the logger and the simulator's publisher under
