@@ -126,26 +126,25 @@ int main(int argc, char** argv) {
       }
       if (!m.latency_measured) {
         std::printf("latency             not measured: %s\n",
-                    m.imported ? "an imported flight, replayed in lockstep (its log times are the photos' or frames' "
-                                 "sensor times)"
+                    m.imported ? "an imported flight (its log times are the photos' or frames' sensor times)"
                                : "a lockstep replay (its log times are the input log's, not when anything ran)");
       } else {
-      std::printf("latency             %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - frame sensor time; "
-                  "live runs only)\n",
-                  m.latency_p50_ms, m.latency_p99_ms, m.latency_max_ms);
-      std::printf("latency by stage   ");
-      for (const char* stage : {"CAMERA_IMAGE", "TRACKS", "VO_DELTA", "POSE"}) {
-        const auto it = data.stage_latency_ms.find(stage);
-        if (it == data.stage_latency_ms.end()) continue;
-        std::printf("  %s %.1f/%.1f/%.1f", stage, nadir::percentile(it->second, 50),
-                    nadir::percentile(it->second, 99), nadir::percentile(it->second, 100));
-      }
-      std::printf("  (p50/p99/worst ms)\n");
-      if (!data.after_image_latency_ms.empty()) {
-        std::printf("latency after image %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - CAMERA_IMAGE logged: "
-                    "the estimator without the image source)\n",
-                    m.after_image_latency_p50_ms, m.after_image_latency_p99_ms, m.after_image_latency_max_ms);
-      }
+        std::printf("latency             %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - frame sensor time; "
+                    "live runs only)\n",
+                    m.latency_p50_ms, m.latency_p99_ms, m.latency_max_ms);
+        std::printf("latency by stage   ");
+        for (const char* stage : {"CAMERA_IMAGE", "TRACKS", "VO_DELTA", "POSE"}) {
+          const auto it = data.stage_latency_ms.find(stage);
+          if (it == data.stage_latency_ms.end()) continue;
+          std::printf("  %s %.1f/%.1f/%.1f", stage, nadir::percentile(it->second, 50),
+                      nadir::percentile(it->second, 99), nadir::percentile(it->second, 100));
+        }
+        std::printf("  (p50/p99/worst ms)\n");
+        if (!data.after_image_latency_ms.empty()) {
+          std::printf("latency after image %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - CAMERA_IMAGE "
+                      "logged: the estimator without the image source)\n",
+                      m.after_image_latency_p50_ms, m.after_image_latency_p99_ms, m.after_image_latency_max_ms);
+        }
       }
       // Counters from each process's last STATUS; its publish latency over
       // the whole run (the last period may have published nothing).

@@ -108,7 +108,7 @@ for (const [label, value, note] of [
   ["NEES within 95 %", fmt(M.nees_h_within_95_pct, 1) + " %"],
   ["protection level exceeded", fmt(M.pl_exceeded_pct, 2) + " %"],
   M.latency_measured === false
-    ? ["latency", "not measured", M.imported ? "an imported flight, replayed in lockstep" : "a lockstep replay"]
+    ? ["latency", "not measured", M.imported ? "an imported flight" : "a lockstep replay"]
     : ["latency p50 / p99", fmt(M.latency_p50_ms, 1) + " / " + fmt(M.latency_p99_ms, 1) + " ms"],
   ["poses (flagged)", M.poses + " (" + M.poses_flagged + ")"]]) {
   const d = document.createElement("div");
