@@ -158,9 +158,12 @@ EvalResult evaluate(const EvalData& data) {
   m.pairs = result.pairs.pairs;
   m.pairs_solved = result.pairs.solved;
   m.pairs_solved_pct = result.pairs.solved_pct;
-  m.pairs_not_solved_flagged = 0;
-  for (const PairSample& s : result.pairs.samples) m.pairs_not_solved_flagged += s.solved ? 0 : 1;
-  m.pairs_heading_contradicts = result.pairs.not_solved_by_bit[kVoQualityBits - 1];
+  m.pairs_not_solved_flagged = result.pairs.pairs - result.pairs.solved;
+  for (int bit = 0; bit < kVoQualityBits; ++bit) {
+    if ((1 << bit) == vo_delta_t::QUALITY_HEADING_CONTRADICTS) {
+      m.pairs_heading_contradicts = result.pairs.not_solved_by_bit[bit];
+    }
+  }
   m.pairs_not_solved_why = format_not_solved(result.pairs);
   m.pair_error_pct_median = result.pairs.error_pct_median;
   m.pair_error_pct_p90 = result.pairs.error_pct_p90;
