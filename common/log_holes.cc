@@ -5,12 +5,26 @@
 
 #include "common/channels.h"
 #include "common/message_guard.h"
+#include "nadir/config_t.hpp"
 #include "nadir/status_t.hpp"
-
 
 namespace nadir {
 
+namespace {
+
+// The CONFIG nadir_import writes for a photo folder (tools/import: name
+// "import", its YAML's `mode: photos`).
+bool is_photo_import_config(const LogEvent& event) {
+  config_t config;
+  std::string reason;
+  return decode_message(event.data, event.size, &config, &reason) && config.name == "import" &&
+         config.yaml.find("mode: photos") != std::string::npos;
+}
+
+}  // namespace
+
 void LogHoleFinder::add(const LogEvent& event) {
+  if (event.channel == channels::kConfig && is_photo_import_config(event)) photo_intervals_ = true;
   if (event.channel != channels::kStatus) {
     timestamps_[event.channel].push_back(event.timestamp);
     return;
@@ -25,8 +39,8 @@ void LogHoleFinder::add(const LogEvent& event) {
   }
 }
 
-std::vector<LogHole> LogHoleFinder::holes() const {
-  std::vector<LogHole> out;
+template <class Visit>
+void LogHoleFinder::for_each_judged(Visit visit) const {
   for (const auto& [channel, recorded] : timestamps_) {
     // CONFIG comes once per process start: never a regular stream.
     if (channel == channels::kConfig || static_cast<int>(recorded.size()) < options_.min_messages) continue;
@@ -38,7 +52,14 @@ std::vector<LogHole> LogHoleFinder::holes() const {
     std::sort(times.begin(), times.end());
     const double mean = static_cast<double>(times.back() - times.front()) / static_cast<double>(times.size() - 1);
     if (!(mean > 0.0)) continue;
-    const double limit = std::max(options_.interval_factor * mean, options_.min_hole_s * 1e6);
+    visit(channel, times, std::max(options_.interval_factor * mean, options_.min_hole_s * 1e6), mean);
+  }
+}
+
+std::vector<LogHole> LogHoleFinder::holes() const {
+  std::vector<LogHole> out;
+  if (photo_intervals_) return out;
+  for_each_judged([&](const std::string& channel, const std::vector<int64_t>& times, double limit, double mean) {
     for (size_t i = 1; i < times.size(); ++i) {
       const int64_t step = times[i] - times[i - 1];
       if (static_cast<double>(step) <= limit) continue;
@@ -49,7 +70,26 @@ std::vector<LogHole> LogHoleFinder::holes() const {
       hole.expected_messages = static_cast<int64_t>(static_cast<double>(step) / mean) - 1;
       out.push_back(hole);
     }
-  }
+  });
+  return out;
+}
+
+std::vector<ChannelIntervals> LogHoleFinder::irregular_channels() const {
+  std::vector<ChannelIntervals> out;
+  if (!photo_intervals_) return out;
+  for_each_judged([&](const std::string& channel, const std::vector<int64_t>& times, double, double) {
+    std::vector<int64_t> steps;
+    for (size_t i = 1; i < times.size(); ++i) steps.push_back(times[i] - times[i - 1]);
+    std::sort(steps.begin(), steps.end());
+    ChannelIntervals c;
+    c.channel = channel;
+    c.intervals = static_cast<int64_t>(steps.size());
+    c.median_s = static_cast<double>(steps[steps.size() / 2]) * 1e-6;
+    c.max_s = static_cast<double>(steps.back()) * 1e-6;
+    c.gap_limit_s = std::max(2.0 * c.median_s, options_.min_hole_s);
+    for (int64_t step : steps) c.gaps += static_cast<double>(step) * 1e-6 > c.gap_limit_s ? 1 : 0;
+    out.push_back(c);
+  });
   return out;
 }
 
@@ -62,6 +102,20 @@ std::string format_log_holes(const std::vector<LogHole>& holes) {
                   static_cast<long long>(h.to_timestamp), static_cast<long long>(h.expected_messages));
     text += line;
   }
+  return text;
+}
+
+std::string format_channel_interval(const ChannelIntervals& c) {
+  char line[256];
+  std::snprintf(line, sizeof(line), "%s: %lld intervals, median %.1f s, max %.1f s, %lld gap%s over %.1f s",
+                c.channel.c_str(), static_cast<long long>(c.intervals), c.median_s, c.max_s,
+                static_cast<long long>(c.gaps), c.gaps == 1 ? "" : "s", c.gap_limit_s);
+  return line;
+}
+
+std::string format_channel_intervals(const std::vector<ChannelIntervals>& channels) {
+  std::string text;
+  for (const ChannelIntervals& c : channels) text += format_channel_interval(c) + "\n";
   return text;
 }
 

@@ -126,7 +126,8 @@ json named_schema(const std::string& name) {
                   "sigma_dx", "sigma_dy", "sigma_dz", "sigma_dyaw_deg", "altitude_m", "inliers", "outliers",
                   "residual_rms_px", "iterations", "quality", "quality_too_few_features", "quality_no_altimeter",
                   "quality_stale_altimeter", "quality_not_converged", "quality_no_attitude", "quality_frame_gap",
-                  "quality_high_residual", "quality_depth_layers"},
+                  "quality_high_residual", "quality_depth_layers",
+                  "quality_heading_contradicts"},
                  {"variant"});
   if (name == "nadir.Ins")
     return plain(name, {"utime", "device_utime", "roll_deg", "pitch_deg", "yaw_deg", "latitude_deg", "longitude_deg",

@@ -297,6 +297,7 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
                   {"quality_frame_gap", bit(m.quality, vo_delta_t::QUALITY_FRAME_GAP)},
                   {"quality_high_residual", bit(m.quality, vo_delta_t::QUALITY_HIGH_RESIDUAL)},
                   {"quality_depth_layers", bit(m.quality, vo_delta_t::QUALITY_DEPTH_LAYERS)},
+                  {"quality_heading_contradicts", bit(m.quality, vo_delta_t::QUALITY_HEADING_CONTRADICTS)},
                   {"variant", m.variant}};
     });
   } else if (channel == ch::kStatus) {

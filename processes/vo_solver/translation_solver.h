@@ -113,6 +113,7 @@ enum Quality : int {
   kFrameGap = 32,
   kHighResidual = 64,
   kDepthLayers = 128,
+  kHeadingContradicts = 256,
 };
 // An estimate with any of these has no motion to build on (own depths, velocity).
 constexpr int kEstimateFailed = kTooFewFeatures | kNoAltimeter | kNotConverged | kNoAttitude;

@@ -4,16 +4,12 @@
 #include <string>
 
 #include "common/channels.h"
+#include "common/vo_quality.h"
 #include "processes/vo_solver/delta_uncertainty.h"
+#include "processes/vo_solver/heading_check.h"
 #include "processes/vo_solver/lever_arm.h"
 
 namespace nadir {
-
-namespace {
-const char* const kQualityNames[VoSolverNode::kQualityBits] = {
-    "too_few_features", "no_altimeter", "stale_altimeter", "not_converged",
-    "no_attitude",      "frame_gap",    "high_residual",   "depth_layers"};
-}  // namespace
 
 VoSolverNode::VoSolverNode(const VoSolverOptions& options, Bus& bus, const InputCheckOptions& checks)
     : options_(options),
@@ -178,6 +174,10 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
       velocity_.add(tracks.prev_utime, tracks.utime, est.translation, est.dyaw);
     }
   }
+  if (!(est.quality & vo::kEstimateFailed) &&
+      vo::heading_contradicts_ins(est.dyaw, pair.prev_yaw, pair.curr_yaw, options_.heading)) {
+    est.quality |= vo::kHeadingContradicts;
+  }
   vo::add_sensor_uncertainty(pair, options_.solver, options_.uncertainty, &est);  // INS and altimeter errors
   vo::move_to_ins_reference(pair, options_.sync.calibration.camera_lever_arm_m, &est);
   out.dx = est.translation.x();
@@ -219,11 +219,7 @@ StatusReport VoSolverNode::status() const {
   r.errors = errors_;
   if (last_quality_ != 0) {
     r.state = status_t::STATE_WARN;
-    std::string why;
-    for (int bit = 0; bit < kQualityBits; ++bit) {
-      if (last_quality_ & (1 << bit)) why += std::string(why.empty() ? "" : ", ") + kQualityNames[bit];
-    }
-    r.detail = "last VO_DELTA flagged: " + why;
+    r.detail = "last VO_DELTA flagged: " + vo_quality_names(last_quality_);
   }
   r.counters = {{"pending_frames", static_cast<double>(pending_.size())},
                 {"history_evicted", static_cast<double>(sync_.dropped_samples())},
@@ -245,7 +241,7 @@ StatusReport VoSolverNode::status() const {
                                          {"pairs_scale_carried", static_cast<double>(carried_scale_pairs_)}});
   }
   for (int bit = 0; bit < kQualityBits; ++bit) {
-    r.counters.emplace_back(std::string("quality_") + kQualityNames[bit], static_cast<double>(quality_counts_[bit]));
+    r.counters.emplace_back(std::string("quality_") + vo_quality_name(bit), static_cast<double>(quality_counts_[bit]));
   }
   gate_.add_counters(&r);
   gate_.warn_if_rejecting(&r);

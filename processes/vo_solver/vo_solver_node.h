@@ -11,6 +11,7 @@
 #include "common/config.h"
 #include "common/input_checks.h"
 #include "common/node.h"
+#include "common/vo_quality.h"
 #include "nadir/tracks_t.hpp"
 #include "nadir/vo_delta_t.hpp"
 #include "processes/vo_solver/feature_depth_map.h"
@@ -22,7 +23,7 @@ namespace nadir {
 
 class VoSolverNode : public Node {
  public:
-  static constexpr int kQualityBits = 8;  // vo_delta_t::QUALITY_* bits, counted in status
+  static constexpr int kQualityBits = kVoQualityBits;  // vo_delta_t::QUALITY_* bits, counted in status
   // `checks`: the plausibility limits applied to every input before it
   // reaches the frame synchronisation (common/input_checks.h).
   VoSolverNode(const VoSolverOptions& options, Bus& bus, const InputCheckOptions& checks = InputCheckOptions());

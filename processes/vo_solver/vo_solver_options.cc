@@ -1,5 +1,6 @@
 #include "processes/vo_solver/vo_solver_options.h"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -55,6 +56,10 @@ const OptionsSchema<VoSolverOptions>& VoSolverOptions::schema() {
                 &S::max_residual_rms_px)
         .number("min_inlier_fraction", 0.0, 1.0, "", "inlier share below: QUALITY_HIGH_RESIDUAL", &O::solver,
                 &S::min_inlier_fraction)
+        .scaled("max_dyaw_vs_ins_deg", M_PI / 180.0, 0.0, 180.0, "deg",
+                "solved heading change farther from the INS heading change between the two frames: "
+                "QUALITY_HEADING_CONTRADICTS (0: off)",
+                &O::heading, &vo::HeadingCheckOptions::max_dyaw_vs_ins_rad)
         .number("homography_ransac_px", 0.01, 100.0, "px", "homography variant: RANSAC threshold", &O::solver,
                 &S::homography_ransac_px)
         .number("feature_depth.max_relative_sigma", 1e-6, 1.0, "",

@@ -8,6 +8,7 @@
 #include "common/options_schema.h"
 #include "processes/vo_solver/delta_uncertainty.h"
 #include "processes/vo_solver/frame_sync.h"
+#include "processes/vo_solver/heading_check.h"
 #include "processes/vo_solver/translation_solver.h"
 
 namespace nadir {
@@ -15,6 +16,7 @@ namespace nadir {
 struct VoSolverOptions {
   vo::SolverOptions solver;
   vo::SyncOptions sync;
+  vo::HeadingCheckOptions heading;      // QUALITY_HEADING_CONTRADICTS
   vo::UncertaintyOptions uncertainty;  // `vo_solver.uncertainty:`: INS/altimeter errors in VO_DELTA's covariance
   Eigen::Matrix3d body_from_camera = Eigen::Matrix3d::Identity();
   Eigen::Vector3d default_beam_body = Eigen::Vector3d::UnitZ();

@@ -39,8 +39,9 @@ struct YawFusionOptions {
   // covariance carries the image, INS, altimeter and model errors (vo_solver.uncertainty).
   double min_translation_stddev_m = 0.001;  // floor on dx/dy/dz stddev
   double min_dyaw_stddev_deg = 0.0001;      // floor on dyaw stddev
-  // TOO_FEW_FEATURES | NO_ALTIMETER | NOT_CONVERGED | NO_ATTITUDE: no translation in those.
-  int32_t reject_quality_mask = 1 | 2 | 8 | 16;
+  // TOO_FEW_FEATURES | NO_ALTIMETER | NOT_CONVERGED | NO_ATTITUDE: no translation in those;
+  // HEADING_CONTRADICTS: a motion whose rotation the INS contradicts is not a good solve.
+  int32_t reject_quality_mask = 1 | 2 | 8 | 16 | 256;
   double max_delta_interval_s = 5.0;     // longer deltas are invalid
   double frame_time_tolerance_s = 0.001; // prev_utime this close to the last frame is continuous
 

@@ -52,6 +52,7 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
   LogHoleFinder hole_finder;
   CaptureAccountant accountant;
   PipelineRecords pipeline;
+  int64_t status_messages = 0, replay_status_messages = 0;
   while (reader.next(&e)) {
     hole_finder.add(e);
     accountant.add(e);
@@ -79,13 +80,17 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
     } else if (e.channel == channels::kConfig) {
       config_t c;
       // The VO solver's camera is the one its pairs were solved with.
-      if (decode(e, &c) && (c.name == "vo_solver" || (c.name == "tracker" && data.estimator_config_name.empty()))) {
+      if (!decode(e, &c)) continue;
+      if (c.name == "import") data.imported = true;  // tools/import writes it first
+      if (c.name == "vo_solver" || (c.name == "tracker" && data.estimator_config_name.empty())) {
         data.estimator_config_yaml = c.yaml;
         data.estimator_config_name = c.name;
       }
     } else if (e.channel == channels::kStatus) {
       status_t s;
       if (decode(e, &s)) {
+        ++status_messages;
+        if (s.pid == 0) ++replay_status_messages;  // common/replay.cc: pid 0, no latency
         data.last_status[s.name] = s;
         if (s.latency_max_ms > 0.f) {
           data.publish_p50_ms[s.name].push_back(s.latency_p50_ms);
@@ -104,6 +109,8 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
   data.truncated = reader.truncated();
   data.damage_report = reader.damage_report();
   data.holes = hole_finder.holes();
+  data.photo_intervals = hole_finder.irregular_channels();
+  data.lockstep_replay = status_messages > 0 && replay_status_messages == status_messages;
   data.accounting = accountant.result();
   data.pipeline = pipeline.counts();
   data.deltas = pipeline.vo_deltas();

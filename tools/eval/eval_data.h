@@ -31,6 +31,15 @@ struct EvalData {
   bool truncated = false;
   std::string damage_report;        // "FILE: byte N: what" lines
   std::vector<LogHole> holes;       // capture holes (lcm-logger stopped, buffers overflowed)
+  // A photo flight's channels: their intervals, one summary each, instead of
+  // holes (common/log_holes.h).
+  std::vector<ChannelIntervals> photo_intervals;
+  // The log holds the CONFIG nadir_import writes: an imported flight, whose
+  // truth is the flight's own record (GPS, the photos' recorded attitude).
+  bool imported = false;
+  // Every STATUS in the log comes from nadir_replay (pid 0): a lockstep
+  // replay, whose log times are the input's, not when anything was computed.
+  bool lockstep_replay = false;
   CaptureAccounting accounting;     // the capture against its publishers' STATUS counts
   std::map<std::string, status_t> last_status;  // per process name
   // Per process, the publish latency (sensor time -> publish, measured by the

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/channels.h"
 #include "common/paths.h"
 #include "common/status.h"
 #include "tools/eval/eval_outputs.h"
@@ -46,6 +47,7 @@ int main(int argc, char** argv) {
                    log_path.c_str(), static_cast<long long>(data.corrupt_records),
                    data.truncated ? ", truncated" : "", data.damage_report.c_str());
     }
+    // A photo flight's intervals are summarised in the report, not warned about.
     if (!data.holes.empty()) {
       std::fprintf(stderr, "nadir_eval: warning: %s: %zu hole(s) in the capture\n%s", log_path.c_str(),
                    data.holes.size(), nadir::format_log_holes(data.holes).c_str());
@@ -94,17 +96,22 @@ int main(int argc, char** argv) {
       std::printf("error / distance    %10.3f %% (horizontal %.3f %%, vertical %.3f %%)\n", m.error_pct_3d,
                   m.error_pct_h, m.error_pct_v);
       std::printf("velocity error      %10.3f m/s rms horizontal\n", m.rms_velocity_error_h);
-      std::printf("yaw error           %10.3f deg rms\n", m.rms_yaw_error_deg);
+      std::printf("yaw error           %10.3f deg rms (fused yaw vs truth yaw at each pose%s)\n", m.rms_yaw_error_deg,
+                  m.imported ? "; imported: the truth is the recorded yaw, the estimator's INS input" : "");
       std::printf("frames              %10lld images, %lld dropped, %lld poses (%lld flagged); %lld CAMERA_IMAGE, "
                   "TRACKS and VO_DELTA record(s) not the pipeline's, left out\n",
                   static_cast<long long>(m.images), static_cast<long long>(m.frames_dropped),
                   static_cast<long long>(m.poses), static_cast<long long>(m.poses_flagged),
                   static_cast<long long>(m.records_not_pipeline));
       if (m.pairs > 0) {
-        std::printf("frame pairs         %10lld VO_DELTA, %lld solved (%.1f %%), horizontal error per pair %.1f %% of "
-                    "the step median, %.1f %% p90 (median step %.1f m)\n",
+        const std::string not_solved =
+            m.pairs_not_solved_flagged > 0 ? ", " + std::to_string(m.pairs_not_solved_flagged) +
+                                                 " not solved (flagged: " + m.pairs_not_solved_why + ")"
+                                           : "";
+        std::printf("frame pairs         %10lld VO_DELTA, %lld solved (%.1f %%)%s, horizontal error per pair %.1f %% "
+                    "of the step median, %.1f %% p90 (median step %.1f m)\n",
                     static_cast<long long>(m.pairs), static_cast<long long>(m.pairs_solved), m.pairs_solved_pct,
-                    m.pair_error_pct_median, m.pair_error_pct_p90, m.pair_step_median_m);
+                    not_solved.c_str(), m.pair_error_pct_median, m.pair_error_pct_p90, m.pair_step_median_m);
         if (m.pairs_overlapping_solved_pct >= 0) {
           std::printf("pair footprints     %10lld pairs share no ground (truth poses, level ground); %.1f %% of the "
                       "%lld that do solved\n",
@@ -112,28 +119,39 @@ int main(int argc, char** argv) {
                       static_cast<long long>(m.pairs - m.pairs_apart));
         }
       }
-      std::printf("latency             %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - frame sensor time; "
-                  "live runs only)\n",
-                  m.latency_p50_ms, m.latency_p99_ms, m.latency_max_ms);
-      std::printf("latency by stage   ");
-      for (const char* stage : {"CAMERA_IMAGE", "TRACKS", "VO_DELTA", "POSE"}) {
-        const auto it = data.stage_latency_ms.find(stage);
-        if (it == data.stage_latency_ms.end()) continue;
-        std::printf("  %s %.1f/%.1f/%.1f", stage, nadir::percentile(it->second, 50),
-                    nadir::percentile(it->second, 99), nadir::percentile(it->second, 100));
+      for (const nadir::ChannelIntervals& c : data.photo_intervals) {
+        if (c.channel != nadir::channels::kCameraImage) continue;
+        std::printf("photo intervals     %s (a photo flight: irregular by nature, not capture holes)\n",
+                    nadir::format_channel_interval(c).c_str());
       }
-      std::printf("  (p50/p99/worst ms)\n");
-      if (!data.after_image_latency_ms.empty()) {
-        std::printf("latency after image %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - CAMERA_IMAGE logged: "
-                    "the estimator without the image source)\n",
-                    m.after_image_latency_p50_ms, m.after_image_latency_p99_ms, m.after_image_latency_max_ms);
+      if (!m.latency_measured) {
+        std::printf("latency             not measured: %s\n",
+                    m.imported ? "an imported flight (its log times are the photos' or frames' sensor times)"
+                               : "a lockstep replay (its log times are the input log's, not when anything ran)");
+      } else {
+        std::printf("latency             %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - frame sensor time; "
+                    "live runs only)\n",
+                    m.latency_p50_ms, m.latency_p99_ms, m.latency_max_ms);
+        std::printf("latency by stage   ");
+        for (const char* stage : {"CAMERA_IMAGE", "TRACKS", "VO_DELTA", "POSE"}) {
+          const auto it = data.stage_latency_ms.find(stage);
+          if (it == data.stage_latency_ms.end()) continue;
+          std::printf("  %s %.1f/%.1f/%.1f", stage, nadir::percentile(it->second, 50),
+                      nadir::percentile(it->second, 99), nadir::percentile(it->second, 100));
+        }
+        std::printf("  (p50/p99/worst ms)\n");
+        if (!data.after_image_latency_ms.empty()) {
+          std::printf("latency after image %10.1f ms p50, %.1f ms p99, %.1f ms worst (POSE logged - CAMERA_IMAGE "
+                      "logged: the estimator without the image source)\n",
+                      m.after_image_latency_p50_ms, m.after_image_latency_p99_ms, m.after_image_latency_max_ms);
+        }
       }
       // Counters from each process's last STATUS; its publish latency over
       // the whole run (the last period may have published nothing).
       for (const auto& [name, s] : data.last_status) {
-        std::string latency = "latency -";
+        std::string latency = m.latency_measured ? "latency -" : "";
         const auto p50 = data.publish_p50_ms.find(name);
-        if (p50 != data.publish_p50_ms.end()) {
+        if (m.latency_measured && p50 != data.publish_p50_ms.end()) {
           const std::vector<float>& p99 = data.publish_p99_ms.at(name);
           char text[128];
           std::snprintf(text, sizeof text,
@@ -142,10 +160,11 @@ int main(int argc, char** argv) {
                         *std::max_element(p99.begin(), p99.end()));
           latency = text;
         }
-        std::printf("process %-12s rx %lld tx %lld dropped %lld errors %lld malformed %lld %s%s%s\n", name.c_str(),
+        std::printf("process %-12s rx %lld tx %lld dropped %lld errors %lld malformed %lld%s%s%s%s\n", name.c_str(),
                     static_cast<long long>(s.received), static_cast<long long>(s.published),
                     static_cast<long long>(s.dropped), static_cast<long long>(s.errors),
-                    static_cast<long long>(s.malformed), latency.c_str(), s.detail.empty() ? "" : " -- ",
+                    static_cast<long long>(s.malformed), latency.empty() ? "" : " ", latency.c_str(),
+                    s.detail.empty() ? "" : " -- ",
                     s.detail.c_str());
       }
       std::printf("capture             %10lld corrupt record(s)%s, %zu hole(s), %lld missing, %lld unaccounted, "

@@ -1,7 +1,9 @@
 #include "tools/eval/pair_metrics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <utility>
 #include <stdexcept>
 
 #include "common/geometry.h"
@@ -25,8 +27,9 @@ double overlap_pct(const CameraModel& camera, const TruthAt& a, const TruthAt& b
 }  // namespace
 
 PairMetrics evaluate_pairs(const std::vector<vo_delta_t>& deltas, const std::vector<ground_truth_t>& truth,
-                           const CameraModel* camera, double min_step_m) {
+                           const CameraModel* camera, int32_t reject_quality_mask, double min_step_m) {
   PairMetrics m;
+  m.reject_quality_mask = reject_quality_mask;
   m.footprints = camera != nullptr;
   int64_t overlapping = 0;
   std::vector<float> errors, steps;
@@ -38,7 +41,7 @@ PairMetrics evaluate_pairs(const std::vector<vo_delta_t>& deltas, const std::vec
     s.prev_utime = d.prev_utime;
     s.quality = d.quality;
     s.inliers = d.inliers;
-    s.solved = (d.quality & kUnsolvedQualityMask) == 0;
+    s.solved = (d.quality & reject_quality_mask) == 0;
     // Truth step in the level frame of the previous frame (x along its heading).
     const double dn = b.position[0] - a.position[0], de = b.position[1] - a.position[1];
     const double c = std::cos(a.yaw), sn = std::sin(a.yaw);
@@ -62,6 +65,9 @@ PairMetrics evaluate_pairs(const std::vector<vo_delta_t>& deltas, const std::vec
       }
     }
     ++m.pairs;
+    for (int bit = 0; bit < kVoQualityBits; ++bit) {
+      if (d.quality & reject_quality_mask & (1 << bit)) ++m.not_solved_by_bit[bit];
+    }
     if (s.solved) {
       ++m.solved;
       if (s.step_m >= min_step_m) {
@@ -80,6 +86,19 @@ PairMetrics evaluate_pairs(const std::vector<vo_delta_t>& deltas, const std::vec
   m.error_pct_p90 = percentile(errors, 90);
   m.step_median_m = percentile(steps, 50);
   return m;
+}
+
+std::string format_not_solved(const PairMetrics& metrics) {
+  std::vector<std::pair<int64_t, int>> counts;
+  for (int bit = 0; bit < kVoQualityBits; ++bit) {
+    if (metrics.not_solved_by_bit[bit] > 0) counts.emplace_back(-metrics.not_solved_by_bit[bit], bit);
+  }
+  std::sort(counts.begin(), counts.end());
+  std::string text;
+  for (const auto& [minus_count, bit] : counts) {
+    text += (text.empty() ? "" : ", ") + std::to_string(-minus_count) + " " + vo_quality_name(bit);
+  }
+  return text;
 }
 
 void write_pairs_csv(const PairMetrics& metrics, const std::string& path) {

@@ -96,21 +96,26 @@ function chart(svg, series, opts) {
 const S = D.series, col = (k) => S.map((r) => r[k]), t = col("t_s");
 // Key figures.
 const M = D.metrics, F = document.getElementById("figures");
-for (const [label, value] of [
+for (const [label, value, note] of [
   ["distance flown", fmt(M.distance_m, 0) + " m in " + fmt(M.duration_s, 0) + " s"],
   ["final error", fmt(M.final_error_3d_m, 2) + " m (" + fmt(M.error_pct_3d, 3) + " %)"],
   ["RMS horizontal error", fmt(M.rms_error_h_m, 2) + " m"],
-  ["yaw error RMS", fmt(M.rms_yaw_error_deg, 3) + " deg"],
-  ["pairs solved", fmt(M.pairs_solved_pct, 1) + " % of " + M.pairs],
+  ["yaw error RMS", fmt(M.rms_yaw_error_deg, 3) + " deg",
+   M.imported ? "fused yaw vs the flight's recorded yaw (the INS the estimator fuses: not independent)"
+              : "fused yaw vs truth yaw at each pose"],
+  ["pairs solved", fmt(M.pairs_solved_pct, 1) + " % of " + M.pairs,
+   M.pairs_not_solved_flagged ? M.pairs_not_solved_flagged + " flagged, not solved: " + M.pairs_not_solved_why : ""],
   ["NEES within 95 %", fmt(M.nees_h_within_95_pct, 1) + " %"],
   ["protection level exceeded", fmt(M.pl_exceeded_pct, 2) + " %"],
-  ["latency p50 / p99", fmt(M.latency_p50_ms, 1) + " / " + fmt(M.latency_p99_ms, 1) + " ms"],
+  M.latency_measured === false
+    ? ["latency", "not measured", M.imported ? "an imported flight" : "a lockstep replay"]
+    : ["latency p50 / p99", fmt(M.latency_p50_ms, 1) + " / " + fmt(M.latency_p99_ms, 1) + " ms"],
   ["poses (flagged)", M.poses + " (" + M.poses_flagged + ")"]]) {
   const d = document.createElement("div");
   d.className = "fig";
   d.innerHTML = "<b></b><span></span>";
   d.firstChild.textContent = value;
-  d.lastChild.textContent = label;
+  d.lastChild.textContent = note ? label + ": " + note : label;
   F.appendChild(d);
 }
 // Trajectory over a local grid; OSM tiles on request only.

@@ -14,6 +14,21 @@
 
 namespace nadir {
 
+namespace {
+
+// The reject mask yaw fusion ran with (its CONFIG, in the estimator's), else its default.
+int32_t reject_quality_mask(const EvalData& data) {
+  if (data.estimator_config_yaml.empty()) return kUnsolvedQualityMask;
+  try {
+    const Config root = Config::parse(data.estimator_config_yaml, "CONFIG of " + data.estimator_config_name);
+    return root.section_or_empty("yaw_fusion").get<int32_t>("reject_quality_mask", kUnsolvedQualityMask);
+  } catch (const ConfigError&) {
+    return kUnsolvedQualityMask;
+  }
+}
+
+}  // namespace
+
 EvalResult evaluate(const EvalData& data) {
   EvalResult result;
   EvalMetrics& m = result.metrics;
@@ -135,7 +150,7 @@ EvalResult evaluate(const EvalData& data) {
       m.footprint_problem = e.what();
     }
   }
-  result.pairs = evaluate_pairs(data.deltas, data.truth, camera.get());
+  result.pairs = evaluate_pairs(data.deltas, data.truth, camera.get(), reject_quality_mask(data));
   if (result.pairs.footprints) {
     m.pairs_apart = result.pairs.apart;
     m.pairs_overlapping_solved_pct = result.pairs.overlapping_solved_pct;
@@ -143,9 +158,18 @@ EvalResult evaluate(const EvalData& data) {
   m.pairs = result.pairs.pairs;
   m.pairs_solved = result.pairs.solved;
   m.pairs_solved_pct = result.pairs.solved_pct;
+  m.pairs_not_solved_flagged = result.pairs.pairs - result.pairs.solved;
+  for (int bit = 0; bit < kVoQualityBits; ++bit) {
+    if ((1 << bit) == vo_delta_t::QUALITY_HEADING_CONTRADICTS) {
+      m.pairs_heading_contradicts = result.pairs.not_solved_by_bit[bit];
+    }
+  }
+  m.pairs_not_solved_why = format_not_solved(result.pairs);
   m.pair_error_pct_median = result.pairs.error_pct_median;
   m.pair_error_pct_p90 = result.pairs.error_pct_p90;
   m.pair_step_median_m = result.pairs.step_median_m;
+  m.imported = data.imported;
+  m.latency_measured = !data.imported && !data.lockstep_replay;
   m.latency_p50_ms = percentile(latencies, 50);
   m.latency_p99_ms = percentile(latencies, 99);
   m.latency_max_ms = percentile(latencies, 100);
@@ -200,6 +224,10 @@ std::string metrics_json(const EvalMetrics& m) {
   j.field("pairs", m.pairs).field("pairs_solved", m.pairs_solved).field("pairs_solved_pct", m.pairs_solved_pct);
   j.field("pair_error_pct_median", m.pair_error_pct_median).field("pair_error_pct_p90", m.pair_error_pct_p90);
   j.field("pair_step_median_m", m.pair_step_median_m);
+  j.field("pairs_not_solved_flagged", m.pairs_not_solved_flagged);
+  j.field("pairs_heading_contradicts", m.pairs_heading_contradicts);
+  j.field("pairs_not_solved_why", m.pairs_not_solved_why).field("imported", m.imported);
+  j.field("latency_measured", m.latency_measured);
   j.field("pairs_apart", m.pairs_apart).field("pairs_overlapping_solved_pct", m.pairs_overlapping_solved_pct);
   j.field("latency_p50_ms", m.latency_p50_ms).field("latency_p99_ms", m.latency_p99_ms);
   j.field("latency_max_ms", m.latency_max_ms);

@@ -47,7 +47,10 @@ struct EvalMetrics {
   double rms_error_pct_3d = 0; // rms_error_3d_m as % of the distance flown
   double rms_velocity_error_h = 0;
   double max_velocity_error_h = 0;
-  double rms_yaw_error_deg = 0;
+  double rms_yaw_error_deg = 0;  // fused POSE yaw vs GROUND_TRUTH yaw at each pose's time
+  // An imported flight: its truth is the flight's record (GPS, the photos'
+  // recorded attitude, which is also the INS the estimator gets).
+  bool imported = false;
   int64_t poses = 0;
   int64_t poses_flagged = 0;
   int64_t images = 0;          // frames: images the tracker answered (tools/eval/pipeline_records.h)
@@ -79,6 +82,9 @@ struct EvalMetrics {
   // Frame pairs (tools/eval/pair_metrics.h): VO_DELTA against the truth step.
   int64_t pairs = 0, pairs_solved = 0;
   double pairs_solved_pct = 0;
+  int64_t pairs_not_solved_flagged = 0;     // a bit of the reject mask: not solved
+  int64_t pairs_heading_contradicts = 0;    // of those, QUALITY_HEADING_CONTRADICTS
+  std::string pairs_not_solved_why;         // per bit, pair_metrics.h format_not_solved
   double pair_error_pct_median = 0, pair_error_pct_p90 = 0;  // horizontal, % of the step, solved pairs
   double pair_step_median_m = 0;
   // With the estimator's camera (its CONFIG): pairs whose ground footprints do
@@ -86,6 +92,9 @@ struct EvalMetrics {
   int64_t pairs_apart = 0;
   double pairs_overlapping_solved_pct = -1;
   std::string footprint_problem;  // why there are no footprints, when there are none
+  // Latency is measured only in a live capture: a lockstep replay's and an
+  // imported flight's log times are the input's, not when anything was computed.
+  bool latency_measured = true;
   double latency_p50_ms = 0;   // logger receive time - sensor time of POSE
   double latency_p99_ms = 0;
   double latency_max_ms = 0;   // the worst frame

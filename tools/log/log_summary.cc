@@ -46,6 +46,7 @@ LogSummary summarize_log(const std::string& path) {
   s.truncated = reader.truncated();
   s.damage_report = reader.damage_report();
   s.holes = hole_finder.holes();
+  s.photo_intervals = hole_finder.irregular_channels();
   s.accounting = accountant.result();
   return s;
 }
@@ -72,6 +73,10 @@ std::string format_log_summary(const LogSummary& s) {
   }
   if (!s.damage_report.empty()) out << s.damage_report;
   out << format_log_holes(s.holes);
+  if (!s.photo_intervals.empty()) {
+    out << "intervals: a photo flight (its channels follow the photo times; long intervals are not holes)\n"
+        << format_channel_intervals(s.photo_intervals);
+  }
   out << format_capture_accounting(s.accounting);
   return out.str();
 }

@@ -33,6 +33,8 @@ struct LogSummary {
   bool truncated = false;
   std::string damage_report;
   std::vector<LogHole> holes;  // stretches of log time a regular channel has no messages for
+  // A photo flight's channels, irregular by nature: one summary each instead of holes.
+  std::vector<ChannelIntervals> photo_intervals;
   CaptureAccounting accounting;  // the capture against its publishers' STATUS counts
   std::map<std::string, ChannelSummary> channels;
 };

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <set>
 #include <vector>
 
 #include "common/channels.h"
@@ -21,6 +22,7 @@
 #include "nadir/vo_delta_t.hpp"
 #include "processes/vo_solver/plane_model.h"
 #include "processes/vo_solver/vo_solver_node.h"
+#include "processes/yaw_fusion/yaw_fusion_options.h"
 #include "tests/processes/vo_solver/synthetic_scene.h"
 
 namespace nadir {
@@ -492,10 +494,15 @@ vo_solver:
 constexpr int64_t kPhotoPeriod = 5000000;
 
 double survey_yaw(int k) { return wrap_angle(deg_to_rad(30.0) + (k >= 4 ? M_PI : 0.0) + (k >= 7 ? -M_PI_2 : 0.0)); }
+// Photos saved rotated by `rotation` (rad): the image turned about the
+// camera's axis, the INS (the photo's recorded attitude) not.
+double image_yaw(int k, const std::set<int>& rotated, double rotation) {
+  return wrap_angle(survey_yaw(k) + (rotated.count(k) ? rotation : 0.0));
+}
 double survey_roll(int k) { return deg_to_rad(2.0 * std::sin(k)); }
 double survey_pitch(int k) { return deg_to_rad(-1.5 * std::cos(0.7 * k)); }
 
-Sequence make_survey(int photos) {
+Sequence make_survey(int photos, const std::set<int>& rotated = {}, double rotation = M_PI) {
   Sequence seq;
   for (int k = 0; k < photos; ++k) {
     const int64_t t = kStart + k * kPhotoPeriod;
@@ -520,10 +527,10 @@ Sequence make_survey(int photos) {
       s.height_m = 60.0;
       s.prev_roll = survey_roll(k - 1);
       s.prev_pitch = survey_pitch(k - 1);
-      s.prev_yaw = survey_yaw(k - 1);
+      s.prev_yaw = image_yaw(k - 1, rotated, rotation);
       s.curr_roll = survey_roll(k);
       s.curr_pitch = survey_pitch(k);
-      s.curr_yaw = survey_yaw(k);
+      s.curr_yaw = image_yaw(k, rotated, rotation);
       // 12 m along the previous heading, 3 m to its right.
       s.translation = Eigen::Vector3d(12.0, 3.0, 0.0);
       s.num_features = 80;
@@ -559,6 +566,43 @@ TEST(VoSolverNode, PhotoSurveyWithHalfTurnsBetweenPhotos) {
   // The lockstep replay bus (nadir_replay's) gives the same bytes.
   const std::map<int64_t, std::vector<uint8_t>> replayed = lockstep_replay(seq, kSurveyConfig);
   EXPECT_EQ(replayed, live.encoded);
+}
+
+TEST(VoSolverNode, PhotoSavedRotatedContradictsTheInsHeading) {
+  // Photo 5 saved rotated: both its pairs are not a good solve. Rotated by
+  // 60 deg the fit converges to the images' heading change, 60 deg from the
+  // INS's: flagged QUALITY_HEADING_CONTRADICTS. Every other pair (half and
+  // quarter turns included) is not flagged.
+  const int photos = 10;
+  const int32_t reject_mask = YawFusionOptions{}.reject_quality_mask;
+  for (double rotation_deg : {60.0, -90.0, 180.0}) {
+    SCOPED_TRACE("rotated " + std::to_string(rotation_deg) + " deg");
+    const RunResult r =
+        run(in_arrival_order(make_survey(photos, {5}, deg_to_rad(rotation_deg)).events), kSurveyConfig);
+    ASSERT_EQ(r.deltas.size(), static_cast<size_t>(photos));
+    for (const auto& [utime, d] : r.deltas) {
+      if (utime == kStart) continue;
+      const int k = static_cast<int>((utime - kStart) / kPhotoPeriod);
+      SCOPED_TRACE("photo " + std::to_string(k) + ", quality " + std::to_string(d.quality));
+      if (k == 5 || k == 6) {
+        EXPECT_TRUE(d.quality & reject_mask) << "published as a good solve";
+        if (!(d.quality & vo_delta_t::QUALITY_NOT_CONVERGED)) {
+          EXPECT_TRUE(d.quality & vo_delta_t::QUALITY_HEADING_CONTRADICTS);
+        }
+      } else {
+        EXPECT_EQ(d.quality, 0);
+      }
+    }
+  }
+  const RunResult r = run(in_arrival_order(make_survey(photos, {5}, deg_to_rad(60.0)).events), kSurveyConfig);
+  std::map<std::string, double> counters(r.status.counters.begin(), r.status.counters.end());
+  EXPECT_EQ(counters["quality_heading_contradicts"], 2);
+
+  // The bound is the option; 0 turns the check off.
+  std::string off = kSurveyConfig;
+  off.insert(off.find("  variant: paper"), "  max_dyaw_vs_ins_deg: 0\n");
+  const RunResult unchecked = run(in_arrival_order(make_survey(photos, {5}, deg_to_rad(60.0)).events), off);
+  for (const auto& [utime, d] : unchecked.deltas) EXPECT_FALSE(d.quality & vo_delta_t::QUALITY_HEADING_CONTRADICTS);
 }
 
 }  // namespace

@@ -577,7 +577,8 @@ TEST(YawFusionOptions, CheckedInDefaultConfigLoads) {
   const YawFusionOptions o = YawFusionOptions::from_config(root);
   EXPECT_EQ(o.altitude_mode, AltitudeMode::kVoDz);
   EXPECT_EQ(o.reject_quality_mask, vo_delta_t::QUALITY_TOO_FEW_FEATURES | vo_delta_t::QUALITY_NO_ALTIMETER |
-                                       vo_delta_t::QUALITY_NOT_CONVERGED | vo_delta_t::QUALITY_NO_ATTITUDE);
+                                       vo_delta_t::QUALITY_NOT_CONVERGED | vo_delta_t::QUALITY_NO_ATTITUDE |
+                                       vo_delta_t::QUALITY_HEADING_CONTRADICTS);
   EXPECT_EQ(o.reject_quality_mask, YawFusionOptions{}.reject_quality_mask);
 }
 

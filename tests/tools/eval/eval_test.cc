@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -10,6 +11,7 @@
 #include "common/log_file.h"
 #include "nadir/config_t.hpp"
 #include "nadir/image_t.hpp"
+#include "nadir/status_t.hpp"
 #include "nadir/tracks_t.hpp"
 #include "tests/common/test_support.h"
 #include "tools/hostile/hostile_messages.h"
@@ -30,9 +32,11 @@ void put(LogWriter& w, const std::string& channel, const Msg& m) {
 // offset; the estimate has a constant 1 % scale error and drifts 0.5 m east.
 // `hole`: no messages at all from 30 s to 33 s (a logger stopped for 3 s).
 // `pairs`: the VO solver's CONFIG (the default camera) and a VO_DELTA per
-// pose after the first, each the truth step.
-void write_flight(const std::string& path, bool with_truth, bool hole = false, bool pairs = false) {
+// pose after the first, each the truth step. `first`: writes what the log begins with.
+void write_flight(const std::string& path, bool with_truth, bool hole = false, bool pairs = false,
+                  const std::function<void(LogWriter&)>& first = {}) {
   LogWriter w(path);
+  if (first) first(w);
   const int64_t t0 = 1767225600000000;
   if (pairs) {
     config_t c{};
@@ -303,6 +307,70 @@ TEST(Eval, LogWithoutTruthOrPoseGetsAClearError) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("no POSE"), std::string::npos);
   }
+}
+
+// Where a log comes from decides what its report can say: latency only from
+// a live capture (a lockstep replay's STATUS carries pid 0, its log times are
+// the input's), and an import's truth is the flight's own record. The VO
+// solver's CONFIG gives the reject mask the pairs are judged with.
+void write_origin(LogWriter& w, const std::string& config_name, const std::string& yaml, int32_t pid) {
+  const int64_t t0 = 1767225600000000;
+  if (!config_name.empty()) {
+    config_t c{};
+    c.utime = t0;
+    c.name = config_name;
+    c.yaml = yaml;
+    put(w, channels::kConfig, c);
+  }
+  status_t s{};
+  s.utime = t0;
+  s.name = "yaw_fusion";
+  s.pid = pid;
+  put(w, channels::kStatus, s);
+}
+
+TEST(Eval, LatencyOnlyForALiveCaptureAndImportsSaySo) {
+  testing::TempDir dir("eval");
+  struct Case {
+    const char* name;
+    std::string config;
+    int32_t pid;
+    bool latency;
+    bool imported;
+  };
+  for (const Case& c : {Case{"live", "", 4242, true, false}, Case{"replay", "", 0, false, false},
+                        Case{"import", "import", 0, false, true}, Case{"live_import", "import", 4242, false, true}}) {
+    SCOPED_TRACE(c.name);
+    const std::string path = dir.file(std::string(c.name) + ".lcmlog");
+    write_flight(path, true, false, false, [&](LogWriter& w) { write_origin(w, c.config, "mode: photos\n", c.pid); });
+    const EvalData data = load_eval_data(path, "");
+    const EvalMetrics m = evaluate(data).metrics;
+    EXPECT_EQ(m.latency_measured, c.latency);
+    EXPECT_EQ(m.imported, c.imported);
+    EXPECT_EQ(data.photo_intervals.empty(), !c.imported);
+  }
+}
+
+TEST(Eval, PairsAreJudgedWithTheConfiguredRejectMask) {
+  testing::TempDir dir("eval");
+  const std::string path = dir.file("flight.lcmlog");
+  write_flight(path, true, false, true);
+  EvalData data = load_eval_data(path, "");
+  ASSERT_GT(data.deltas.size(), 10u);
+  data.deltas[3].quality = vo_delta_t::QUALITY_HEADING_CONTRADICTS;
+  data.deltas[5].quality = vo_delta_t::QUALITY_HEADING_CONTRADICTS | vo_delta_t::QUALITY_HIGH_RESIDUAL;
+  const EvalMetrics m = evaluate(data).metrics;  // the shipped config: 283
+  EXPECT_EQ(m.pairs_solved, m.pairs - 2);
+  EXPECT_EQ(m.pairs_not_solved_flagged, 2);
+  EXPECT_EQ(m.pairs_heading_contradicts, 2);
+  EXPECT_EQ(m.pairs_not_solved_why, "2 heading_contradicts");
+
+  const std::string shipped = "reject_quality_mask: 283";
+  ASSERT_NE(data.estimator_config_yaml.find(shipped), std::string::npos);
+  data.estimator_config_yaml.replace(data.estimator_config_yaml.find(shipped), shipped.size(), "reject_quality_mask: 27");
+  const EvalMetrics old_mask = evaluate(data).metrics;
+  EXPECT_EQ(old_mask.pairs_solved, old_mask.pairs);
+  EXPECT_EQ(old_mask.pairs_not_solved_flagged, 0);
 }
 
 }  // namespace

@@ -88,5 +88,33 @@ TEST(PairMetrics, FootprintsTellPairsThatShareNoGround) {
   EXPECT_NEAR(m.solved_pct, 200.0 / 3.0, 1e-9);
 }
 
+// A pair solved backwards (its dyaw half a turn from the INS's) carries
+// QUALITY_HEADING_CONTRADICTS: not solved, counted under its bit, and not in
+// the per-pair error. Under a mask without the bit (a replay configured so)
+// it counts as solved, as yaw fusion then used it.
+TEST(PairMetrics, HeadingContradictionIsNotSolved) {
+  const std::vector<ground_truth_t> t = {truth(0, 0, 0, 0), truth(1000000, 20, 0, 0), truth(2000000, 40, 0, 0),
+                                         truth(3000000, 60, 0, 0)};
+  const int32_t contradicts = vo_delta_t::QUALITY_HEADING_CONTRADICTS;
+  const std::vector<vo_delta_t> d = {delta(0, 1000000, 20, 0, 0, 0),
+                                     delta(1000000, 2000000, -22, 0, M_PI, contradicts),
+                                     delta(2000000, 3000000, 0, 0, 0, vo_delta_t::QUALITY_TOO_FEW_FEATURES)};
+  const PairMetrics m = evaluate_pairs(d, t, nullptr);
+  EXPECT_EQ(m.reject_quality_mask, kUnsolvedQualityMask);
+  EXPECT_TRUE(kUnsolvedQualityMask & contradicts);
+  EXPECT_EQ(m.solved, 1);
+  EXPECT_FALSE(m.samples[1].solved);
+  EXPECT_EQ(m.measured, 1);
+  EXPECT_NEAR(m.error_pct_p90, 0.0, 1e-9) << "the backwards step is not in the per-pair error";
+  EXPECT_EQ(m.not_solved_by_bit[kVoQualityBits - 1], 1);
+  EXPECT_EQ(m.not_solved_by_bit[0], 1);
+  EXPECT_EQ(format_not_solved(m), "1 too_few_features, 1 heading_contradicts");
+
+  const PairMetrics old_mask = evaluate_pairs(d, t, nullptr, 1 | 2 | 8 | 16);
+  EXPECT_EQ(old_mask.solved, 2);
+  EXPECT_NEAR(old_mask.error_pct_p90, 210.0, 1e-9);  // 42 m off a 20 m step
+  EXPECT_EQ(format_not_solved(old_mask), "1 too_few_features");
+}
+
 }  // namespace
 }  // namespace nadir
