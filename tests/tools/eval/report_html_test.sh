@@ -2,7 +2,7 @@
 # nadir_eval's HTML report (report/index.html) opened in headless Chromium:
 # the script ran to its end (body data-rendered="ok"), the trajectory, error,
 # protection-level and yaw plots have their curves, the key figures, process
-# and pair tables their rows, no console message at all (errors, warnings,
+# and pair tables their rows, no console message from the page (errors, warnings,
 # failed requests), and the page references nothing outside itself. A page
 # with a deliberate error checks that the console check sees errors.
 # Usage: report_html_test.sh [SCREENSHOT.png]  (also writes a screenshot)
@@ -27,10 +27,14 @@ browse() {  # FILE DOM_OUT CONSOLE_OUT
 }
 printf '<html><body><script>console.error("deliberate"); notDefined();</script></body></html>' >"$work/bad.html"
 browse "$work/bad.html" "$work/bad.dom" "$work/bad.console"
-[ "$(grep -c ':CONSOLE' "$work/bad.console")" -ge 2 ] || fail "the console check does not see a page's errors"
+[ "$(grep ':CONSOLE' "$work/bad.console" | grep -vc 'source: chrome://')" -ge 2 ] ||
+  fail "the console check does not see a page's errors"
 
 browse "$page" "$work/dom.html" "$work/console.txt"
-grep ':CONSOLE' "$work/console.txt" && fail "console messages while rendering the report (above)"
+# Chromium's own pages (chrome://, e.g. its "slow network" font notice on a
+# loaded machine) are not the report's: only messages from the page count.
+grep ':CONSOLE' "$work/console.txt" | grep -v 'source: chrome://' &&
+  fail "console messages while rendering the report (above)"
 /usr/bin/python3 - "$work/dom.html" "$page" <<'PY' || exit 1
 import re, sys
 dom, src = open(sys.argv[1]).read(), open(sys.argv[2]).read()
