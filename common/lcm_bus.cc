@@ -21,6 +21,19 @@ std::string default_lcm_url() {
   return "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
 }
 
+int lcm_receive_port(const std::string& url) {
+  const std::string scheme = "udpm://";
+  if (url.rfind(scheme, 0) != 0) return 0;
+  const std::string address = url.substr(scheme.size(), url.find('?') - scheme.size());
+  const size_t colon = address.rfind(':');
+  if (colon == std::string::npos || colon + 1 == address.size()) return 7667;  // LCM's default port
+  try {
+    return std::stoi(address.substr(colon + 1));
+  } catch (const std::exception&) {
+    return 0;  // LCM refuses such a URL itself
+  }
+}
+
 void LcmBusOptions::Check() const {
   require_option(queue_capacity >= 1 && queue_capacity <= 100000, "lcm", "queue_capacity", "must be in [1, 100000]");
   require_option(image_queue_capacity >= 1 && image_queue_capacity <= 100000, "lcm", "image_queue_capacity",
@@ -33,7 +46,10 @@ struct LcmBus::Subscription {
 };
 
 LcmBus::LcmBus(const LcmBusOptions& options)
-    : url_(options.url.empty() ? default_lcm_url() : options.url), lcm_(url_), options_(options) {
+    : url_(options.url.empty() ? default_lcm_url() : options.url),
+      receive_port_(lcm_receive_port(url_)),
+      lcm_(url_),
+      options_(options) {
   options_.Check();
   if (!lcm_.good()) throw std::runtime_error("LCM could not start on '" + url_ + "'");
 }
@@ -81,8 +97,10 @@ void LcmBus::add_transport_counters(status_t* msg) {
     for (const auto& [channel, n] : tx_counts_) add("tx." + channel, static_cast<double>(n));
     for (const auto& [channel, n] : rx_counts_) add("rx." + channel, static_cast<double>(n));
   }
-  const int64_t drops = own_udp_receive_drops();
-  if (drops >= 0) add("udp_rx_drops", static_cast<double>(drops));
+  if (receive_port_ > 0) {
+    const int64_t drops = own_udp_receive_drops(receive_port_);
+    if (drops >= 0) add("udp_rx_drops", static_cast<double>(drops));
+  }
   msg->num_counters = static_cast<int32_t>(msg->counter_names.size());
 }
 

@@ -17,6 +17,11 @@ namespace nadir {
 // Default live URL: multicast on the host only (TTL 0). LCM_DEFAULT_URL wins.
 std::string default_lcm_url();
 
+// The UDP port an LCM URL receives on: udpm://ADDRESS:PORT (LCM's 7667
+// when the port is left out); 0 for a provider without a socket (memq://,
+// file://).
+int lcm_receive_port(const std::string& url);
+
 struct LcmBusOptions {
   std::string url;                 // empty: default_lcm_url()
   int queue_capacity = 100;        // per subscription
@@ -41,7 +46,8 @@ class LcmBus : public Bus {
   LatencyWindow& latency() { return latency_; }
   // Adds the counters "tx.<CHANNEL>" / "rx.<CHANNEL>" (messages published /
   // delivered since start, STATUS and CONFIG excepted) and "udp_rx_drops"
-  // (datagrams the kernel dropped for a full receive buffer) to a STATUS.
+  // (datagrams the kernel dropped for a full receive buffer of this bus's
+  // socket; not of the process's other UDP sockets) to a STATUS.
   // A capture is checked against the tx counts (nadir_log info, nadir_eval),
   // so a message lost between a publisher and the logger is counted.
   // The counts are this bus's: a STATUS relayed onto another bus carries
@@ -58,6 +64,7 @@ class LcmBus : public Bus {
   static void dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Subscription* sub);
 
   std::string url_;
+  int receive_port_;  // lcm_receive_port(url_)
   lcm::LCM lcm_;
   LcmBusOptions options_;
   std::mutex publish_mutex_;

@@ -31,9 +31,10 @@ bool own_socket_inodes(std::set<uint64_t>* inodes) {
 }
 
 // Lines of /proc/net/udp after the header: "sl local rem st tx:rx tr:when
-// retrnsmt uid timeout inode ref pointer drops". Returns the drops of the
-// sockets in `inodes`.
-int64_t drops_in_table(const std::string& table, const std::set<uint64_t>& inodes) {
+// retrnsmt uid timeout inode ref pointer drops", local as hex ADDRESS:PORT.
+// Returns the drops of the sockets in `inodes` (bound to local_port, when
+// not 0).
+int64_t drops_in_table(const std::string& table, const std::set<uint64_t>& inodes, int local_port) {
   std::istringstream lines(table);
   std::string line;
   std::getline(lines, line);  // header
@@ -45,6 +46,9 @@ int64_t drops_in_table(const std::string& table, const std::set<uint64_t>& inode
     while (count < 13 && fields >> field[count]) ++count;
     if (count < 13) continue;
     try {
+      const size_t colon = field[1].rfind(':');
+      if (local_port != 0 && (colon == std::string::npos || std::stoi(field[1].substr(colon + 1), nullptr, 16) != local_port))
+        continue;
       if (inodes.count(std::stoull(field[9])) != 0) drops += std::stoll(field[12]);
     } catch (const std::exception&) {
       continue;  // a line of another shape: not ours to judge
@@ -63,7 +67,7 @@ std::string read_text(const char* path, bool* ok) {
 
 }  // namespace
 
-int64_t own_udp_receive_drops() {
+int64_t own_udp_receive_drops(int local_port) {
   std::set<uint64_t> inodes;
   if (!own_socket_inodes(&inodes)) return -1;
   bool v4 = false;
@@ -71,7 +75,7 @@ int64_t own_udp_receive_drops() {
   const std::string udp = read_text("/proc/self/net/udp", &v4);
   const std::string udp6 = read_text("/proc/self/net/udp6", &v6);
   if (!v4 && !v6) return -1;
-  return drops_in_table(udp, inodes) + drops_in_table(udp6, inodes);
+  return drops_in_table(udp, inodes, local_port) + drops_in_table(udp6, inodes, local_port);
 }
 
 }  // namespace nadir

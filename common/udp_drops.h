@@ -11,7 +11,10 @@
 namespace nadir {
 
 // Sum of the kernel's receive drops over this process's UDP sockets (IPv4
-// and IPv6), or -1 when /proc cannot tell (not Linux, /proc not mounted).
-int64_t own_udp_receive_drops();
+// and IPv6) bound to local_port (0: every socket), or -1 when /proc cannot
+// tell (not Linux, /proc not mounted). A bus counts its own port only: a
+// process may hold other UDP sockets (a GigE Vision stream, a MAVLink link)
+// whose drops are not lost bus messages.
+int64_t own_udp_receive_drops(int local_port = 0);
 
 }  // namespace nadir

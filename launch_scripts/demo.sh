@@ -30,7 +30,9 @@ fi
 run_dir="$NADIR_ROOT/logs/$(nadir_utc_stamp)-demo-$profile"
 mkdir -p "$run_dir/report"
 echo "demo: flying profile '$profile' (seed $seed) through the live $set_name set; output in $run_dir"
-NADIR_PROFILE="$profile" NADIR_SEED="$seed" NADIR_CAPTURE_DIR="$run_dir" \
+# As root the namespace keeps CAP_SYS_NICE, so that the set's `realtime`
+# request is granted as it would be on the vehicle (run_set.sh says so).
+NADIR_NETNS_KEEP_CAPS=1 NADIR_PROFILE="$profile" NADIR_SEED="$seed" NADIR_CAPTURE_DIR="$run_dir" \
   nadir_in_netns "$NADIR_ROOT/launch_scripts/run_set.sh" "$set_name" 2>&1 | tee "$run_dir/run.txt" |
   grep -E '^\[run_set\]|: error|GIVING UP' || true
 capture="$run_dir/capture.lcmlog"

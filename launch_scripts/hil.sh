@@ -26,7 +26,8 @@ log_origin=$(nadir_log info "$sim_log" --json | /usr/bin/python3 -c 'import json
 export NADIR_HIL_LOG="$sim_log" NADIR_HIL_LOG_ORIGIN_US="$log_origin" NADIR_HIL_TTY_DIR="$run_dir/tty"
 export NADIR_HIL_ORIGIN_US=$(( $(date +%s%6N) + 8000000 ))   # 8 s for the set to come up
 echo "hil: $profile (seed $seed, $duration s) through the vehicle set; output in $run_dir"
-NADIR_CAPTURE_DIR="$run_dir" nadir_in_netns "$NADIR_ROOT/launch_scripts/run_set.sh" hil >"$run_dir/run.txt" 2>&1 || true
+# As root the namespace keeps CAP_SYS_NICE: the set's real-time request is granted, as on the vehicle.
+NADIR_NETNS_KEEP_CAPS=1 NADIR_CAPTURE_DIR="$run_dir" nadir_in_netns "$NADIR_ROOT/launch_scripts/run_set.sh" hil >"$run_dir/run.txt" 2>&1 || true
 grep -E '^\[run_set\]' "$run_dir/run.txt" | tail -3
 nadir_eval --log "$run_dir/capture.lcmlog" --truth "$sim_log" --truth-shift-us $((NADIR_HIL_ORIGIN_US - log_origin)) \
   --out "$run_dir/report" | tee "$run_dir/report/summary.txt"

@@ -5,10 +5,11 @@
 # namespace, evaluates each capture and prints per run the latency by stage
 # (p50/p99/worst) with the load average, then the medians over the runs.
 # Usage: latency.sh [--set sim|sim_composed] [--runs N] [--attitude-policy auto|propagate|interpolate]
-#        [--nice N] [--rt-priority P] [--keep-captures]   (reports in logs/latency/<UTC>-SET-POLICY/; captures deleted
-#        unless kept; --nice runs the whole set at that niceness, e.g. -10 on a machine others load;
-#        --rt-priority runs the estimator nodes, the logger and the simulator's publisher under
-#        SCHED_FIFO P, run_set.sh --rt-priority)
+#        [--nice N] [--rt-priority P|off] [--keep-captures]   (reports in logs/latency/<UTC>-SET-POLICY/;
+#        captures deleted unless kept; --nice runs the whole set at that niceness, e.g. -10 on a machine
+#        others load; the set's own `realtime` priority applies where granted, as in the demo;
+#        --rt-priority P insists on SCHED_FIFO P for the estimator nodes, the logger and the simulator's
+#        publisher, off declines it: run_set.sh --rt-priority)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 set_name=sim
@@ -19,17 +20,18 @@ niceness=0
 rt_args=()
 while (($#)); do
   case "$1" in
-    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --set) set_name="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
     --attitude-policy) policy="$2"; shift 2 ;;
     --nice) niceness="$2"; shift 2 ;;
-    --rt-priority) rt_args=(--rt-priority "$2"); export NADIR_NETNS_KEEP_CAPS=1; shift 2 ;;
+    --rt-priority) rt_args=(--rt-priority "$2"); shift 2 ;;
     --keep-captures) keep=1; shift ;;
     *) echo "latency: error: unknown option $1" >&2; exit 2 ;;
   esac
 done
 [[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "latency: error: --runs must be a positive integer, got '$runs'" >&2; exit 2; }
+export NADIR_NETNS_KEEP_CAPS=1   # as root: CAP_SYS_NICE survives, as in the demo
 out="$NADIR_ROOT/logs/latency/$(nadir_utc_stamp)-$set_name${policy:+-$policy}-nice$niceness${rt_args[1]:+-rt${rt_args[1]}}"
 mkdir -p "$out"
 if [ -n "$policy" ]; then

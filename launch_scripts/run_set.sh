@@ -2,7 +2,8 @@
 # Starts a named set of processes (launch_scripts/sets/NAME, or a path to a
 # set file), prefixes each one's output with its name, restarts a process that
 # dies (backoff 1, 2, 4 ... s; gives up after --max-restarts, loudly), and
-# stops them all cleanly on Ctrl-C / SIGTERM. Optional lcm-logger capture.
+# stops them all cleanly on Ctrl-C / SIGTERM, in reverse order of start, one
+# after the other (SIGKILL after 5 s). Optional lcm-logger capture.
 #
 # Usage: run_set.sh SET [--no-capture] [--duration S] [--max-restarts N] [--lcm-url URL]
 #                    [--rt-priority P|off] [--print-commands]
@@ -35,7 +36,7 @@
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-usage() { sed -n '2,34p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,35p' "$0" | sed 's/^# \{0,1\}//'; }
 set_arg=""
 capture_enabled=1
 duration=""
@@ -164,24 +165,23 @@ stopping=0
 stop_all() {
   stopping=1
   echo "[run_set] stopping set '$set_name'"
-  local n p i
+  # In reverse order of start, each stopped before the next is asked: a
+  # driver lets go of its device (the camera capture of the fake camera)
+  # while the device still answers.
+  local n p i k
   for ((i = ${#names[@]} - 1; i >= 0; i--)); do
     n="${names[$i]}"; p="${pid[$n]:-}"
-    [ -n "$p" ] && kill -TERM "$p" 2>/dev/null
-  done
-  for ((i = 0; i < 50; i++)); do
-    local alive=0
-    for n in "${names[@]}"; do p="${pid[$n]:-}"; [ -n "$p" ] && kill -0 "$p" 2>/dev/null && alive=1; done
-    ((alive)) || break
-    sleep 0.1
-  done
-  for n in "${names[@]}"; do
-    p="${pid[$n]:-}"
-    if [ -n "$p" ] && kill -0 "$p" 2>/dev/null; then
+    [ -n "$p" ] || continue
+    kill -TERM "$p" 2>/dev/null
+    for ((k = 0; k < 50; k++)); do
+      kill -0 "$p" 2>/dev/null || break
+      sleep 0.1
+    done
+    if kill -0 "$p" 2>/dev/null; then
       echo "[run_set] $n did not stop within 5 s; killing it"
       kill -KILL "$p" 2>/dev/null
     fi
-    [ -n "$p" ] && wait "$p" 2>/dev/null
+    wait "$p" 2>/dev/null
   done
   if [ -n "$logger_pid" ]; then
     sleep 0.5   # let the logger drain what the processes sent last

@@ -28,6 +28,10 @@ typedef float Lanes8 __attribute__((vector_size(kLanes * sizeof(float))));
 #else
 #define NADIR_LK_CLONES
 #endif
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#include <immintrin.h>
+#define NADIR_LK_GATHER 1
+#endif
 
 int round_up_to_lanes(int n) { return (n + kLanes - 1) / kLanes * kLanes; }
 
@@ -187,6 +191,112 @@ void abs_difference_sums(const float* j, size_t stride, const float* templ, cons
   std::memcpy(lane_sums, &sum, sizeof sum);
 }
 
+
+// The patch of a warped template: rows x cols bilinear samples (cols =
+// rows = window + 2) at offsets from `centre` mapped through `inverse_warp`,
+// each row padded with zeros to patch_cols (the deviation bound keeps every
+// read inside the pyramid's border).
+void sample_warped_rows_scalar(const float* origin, size_t stride, cv::Point2f centre,
+                               const cv::Matx22f& inverse_warp, int window, int patch_cols, float* patch) {
+  const float half = static_cast<float>(window - 1) * 0.5f;
+  const int cols = window + 2;
+  // floor() without a library call (SSE2 has no rounding instruction); exact.
+  auto floor_int = [](float v) {
+    const int t = static_cast<int>(v);
+    return static_cast<float>(t) > v ? t - 1 : t;
+  };
+  for (int r = 0; r < cols; ++r) {
+    float* row = patch + static_cast<size_t>(r) * static_cast<size_t>(patch_cols);
+    const float oy = static_cast<float>(r - 1) - half;
+    const float row_x = centre.x + inverse_warp(0, 1) * oy, row_y = centre.y + inverse_warp(1, 1) * oy;
+    for (int k = 0; k < cols; ++k) {
+      const float ox = static_cast<float>(k - 1) - half;
+      const float x = row_x + inverse_warp(0, 0) * ox;
+      const float y = row_y + inverse_warp(1, 0) * ox;
+      const int sx = floor_int(x), sy = floor_int(y);
+      const float a = x - static_cast<float>(sx), b = y - static_cast<float>(sy);
+      const float* p0 = origin + static_cast<ptrdiff_t>(sy) * static_cast<ptrdiff_t>(stride) + sx;
+      const float* p1 = p0 + stride;
+      row[k] = (1.f - a) * (1.f - b) * p0[0] + a * (1.f - b) * p0[1] + (1.f - a) * b * p1[0] + a * b * p1[1];
+    }
+    std::fill(row + cols, row + patch_cols, 0.f);  // beyond the window: masked lanes
+  }
+}
+
+#ifdef NADIR_LK_GATHER
+// Eight pairs of neighbouring floats (p[offset[l]], p[offset[l] + 1]),
+// split into the first of each pair (*first, lane l) and the second
+// (*second): 8-byte loads and one shuffle (an AVX2 gather is several times
+// slower on some processors). Lanes from `valid` on read lane 0's pair.
+__attribute__((target("avx2"))) inline void load_pairs(const float* p, __m256i offset, int valid, __m256* first,
+                                                       __m256* second) {
+  if (valid < kLanes) {
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    offset = _mm256_blendv_epi8(_mm256_set1_epi32(_mm256_extract_epi32(offset, 0)), offset,
+                                _mm256_cmpgt_epi32(_mm256_set1_epi32(valid), lane));
+  }
+  const __m128i lo = _mm256_castsi256_si128(offset), hi = _mm256_extracti128_si256(offset, 1);
+  auto two_pairs = [p](int i, int j) {
+    const __m128 v = _mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(p + i));
+    return _mm_loadh_pi(v, reinterpret_cast<const __m64*>(p + j));
+  };
+  // Lanes 0, 1, 4, 5 and 2, 3, 6, 7 as pairs: the shuffle puts them back in order.
+  const __m256 a = _mm256_set_m128(two_pairs(_mm_extract_epi32(hi, 0), _mm_extract_epi32(hi, 1)),
+                                   two_pairs(_mm_extract_epi32(lo, 0), _mm_extract_epi32(lo, 1)));
+  const __m256 b = _mm256_set_m128(two_pairs(_mm_extract_epi32(hi, 2), _mm_extract_epi32(hi, 3)),
+                                   two_pairs(_mm_extract_epi32(lo, 2), _mm_extract_epi32(lo, 3)));
+  *first = _mm256_shuffle_ps(a, b, 0x88);
+  *second = _mm256_shuffle_ps(a, b, 0xDD);
+}
+
+// The same, eight columns at a time: each lane the same IEEE operations in
+// the same order as the scalar sample (no fused multiply-add), so the same
+// bits.
+__attribute__((target("avx2"))) void sample_warped_rows_avx2(const float* origin, size_t stride, cv::Point2f centre,
+                                                             const cv::Matx22f& inverse_warp, int window,
+                                                             int patch_cols, float* patch) {
+  typedef int32_t Ints8 __attribute__((vector_size(kLanes * sizeof(int32_t))));
+  const float half = static_cast<float>(window - 1) * 0.5f;
+  const int cols = window + 2;
+  const int row_step = static_cast<int>(stride);
+  const Lanes8 one = Lanes8{} + 1.f;
+  const Ints8 lane = {0, 1, 2, 3, 4, 5, 6, 7};
+  for (int r = 0; r < cols; ++r) {
+    float* row = patch + static_cast<size_t>(r) * static_cast<size_t>(patch_cols);
+    const float oy = static_cast<float>(r - 1) - half;
+    const float row_x = centre.x + inverse_warp(0, 1) * oy, row_y = centre.y + inverse_warp(1, 1) * oy;
+    for (int c = 0; c < cols; c += kLanes) {
+      const int valid = std::min(kLanes, cols - c);
+      const Lanes8 ox = __builtin_convertvector(lane + (c - 1), Lanes8) - half;
+      const Lanes8 x = row_x + inverse_warp(0, 0) * ox;
+      const Lanes8 y = row_y + inverse_warp(1, 0) * ox;
+      // floor() as truncation, one less where that rounded up: exact.
+      Ints8 sx = __builtin_convertvector(x, Ints8), sy = __builtin_convertvector(y, Ints8);
+      sx += __builtin_convertvector(sx, Lanes8) > x;  // a true comparison is -1
+      sy += __builtin_convertvector(sy, Lanes8) > y;
+      const Lanes8 a = x - __builtin_convertvector(sx, Lanes8), b = y - __builtin_convertvector(sy, Lanes8);
+      const __m256i offset = (__m256i)(sy * row_step + sx);
+      __m256 p00, p01, p10, p11;
+      load_pairs(origin, offset, valid, &p00, &p01);
+      load_pairs(origin + stride, offset, valid, &p10, &p11);
+      const Lanes8 v = (one - a) * (one - b) * (Lanes8)p00 + a * (one - b) * (Lanes8)p01 +
+                       (one - a) * b * (Lanes8)p10 + a * b * (Lanes8)p11;
+      std::memcpy(row + c, &v, sizeof(float) * static_cast<size_t>(valid));
+    }
+    std::fill(row + cols, row + patch_cols, 0.f);  // beyond the window: masked lanes
+  }
+}
+#endif
+
+void sample_warped_rows(const float* origin, size_t stride, cv::Point2f centre, const cv::Matx22f& inverse_warp,
+                        int window, int patch_cols, float* patch) {
+#ifdef NADIR_LK_GATHER
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) return sample_warped_rows_avx2(origin, stride, centre, inverse_warp, window, patch_cols, patch);
+#endif
+  sample_warped_rows_scalar(origin, stride, centre, inverse_warp, window, patch_cols, patch);
+}
+
 }  // namespace
 
 void LkPyramid::build(const cv::Mat& image, int levels, int border) {
@@ -271,33 +381,7 @@ bool LucasKanade::load_warped_template(const LkPyramid& prev, cv::Point2f centre
                                        const cv::Matx22f& inverse_warp) {
   int ix = 0, iy = 0;
   if (!window_corner(corner, window_, prev.size(0), &ix, &iy)) return false;
-  // Offsets of the patch's samples from the window's centre; one bilinear
-  // sample each (the deviation bound keeps every read inside the border).
-  const size_t stride = prev.stride(0);
-  const float* origin = prev.origin(0);
-  const float half = static_cast<float>(window_ - 1) * 0.5f;
-  const int cols = window_ + 2;
-  // floor() without a library call (SSE2 has no rounding instruction); exact.
-  auto floor_int = [](float v) {
-    const int t = static_cast<int>(v);
-    return static_cast<float>(t) > v ? t - 1 : t;
-  };
-  for (int r = 0; r < window_ + 2; ++r) {
-    float* row = patch_.data() + static_cast<size_t>(r) * static_cast<size_t>(patch_cols_);
-    const float oy = static_cast<float>(r - 1) - half;
-    const float row_x = centre.x + inverse_warp(0, 1) * oy, row_y = centre.y + inverse_warp(1, 1) * oy;
-    for (int k = 0; k < cols; ++k) {
-      const float ox = static_cast<float>(k - 1) - half;
-      const float x = row_x + inverse_warp(0, 0) * ox;
-      const float y = row_y + inverse_warp(1, 0) * ox;
-      const int sx = floor_int(x), sy = floor_int(y);
-      const float a = x - static_cast<float>(sx), b = y - static_cast<float>(sy);
-      const float* p0 = origin + static_cast<ptrdiff_t>(sy) * static_cast<ptrdiff_t>(stride) + sx;
-      const float* p1 = p0 + stride;
-      row[k] = (1.f - a) * (1.f - b) * p0[0] + a * (1.f - b) * p0[1] + (1.f - a) * b * p1[0] + a * b * p1[1];
-    }
-    std::fill(row + cols, row + patch_cols_, 0.f);  // beyond the window: masked lanes
-  }
+  sample_warped_rows(prev.origin(0), prev.stride(0), centre, inverse_warp, window_, patch_cols_, patch_.data());
   template_from_patch();
   return true;
 }

@@ -1,10 +1,13 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
 #include "common/channels.h"
 #include "common/lcm_bus.h"
+#include "common/udp_drops.h"
 #include "nadir/ins_t.hpp"
 #include "nadir/pose_t.hpp"
 #include "tests/common/test_nodes.h"
@@ -80,6 +83,34 @@ TEST(LcmBus, TwoNodesExchangeOverMemq) {
 TEST(LcmBus, TwoNodesExchangeOverUdpmInPrivateNamespace) {
   if (!testing::in_private_netns()) GTEST_SKIP() << "udpm runs only inside test.sh's private network namespace";
   run_two_node_exchange("udpm://239.255.76.67:7667?ttl=0");
+}
+
+TEST(LcmBus, ReceivePortIsTheUrlsPort) {
+  EXPECT_EQ(lcm_receive_port("udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304"), 7667);
+  EXPECT_EQ(lcm_receive_port("udpm://239.255.76.67:7668?ttl=0"), 7668);
+  EXPECT_EQ(lcm_receive_port("udpm://239.255.76.67"), 7667);  // LCM's default
+  EXPECT_EQ(lcm_receive_port("udpm://239.255.76.67?ttl=0"), 7667);
+  EXPECT_EQ(lcm_receive_port("memq://"), 0);
+  EXPECT_EQ(lcm_receive_port("file:///tmp/capture.lcmlog?mode=r"), 0);
+}
+
+// A process's other UDP sockets (camera_capture's GigE Vision stream, which
+// the camera goes on filling after acquisition stops) overflow without a bus
+// message lost: the bus's STATUS counts its own socket's drops only.
+TEST(LcmBus, KernelDropsOfTheProcessesOtherUdpSocketsAreNotTheBuses) {
+  if (!testing::in_private_netns()) GTEST_SKIP() << "udpm runs only inside test.sh's private network namespace";
+  LcmBusOptions options;
+  options.url = "udpm://239.255.76.67:7667?ttl=0";
+  LcmBus bus(options);
+  int stream_port = 0;
+  const int stream = testing::overflowed_udp_socket(300, &stream_port);
+  ASSERT_GT(own_udp_receive_drops(), 0) << "the stream socket did not overflow";
+  status_t msg{};
+  bus.add_transport_counters(&msg);
+  const auto at = std::find(msg.counter_names.begin(), msg.counter_names.end(), "udp_rx_drops");
+  ASSERT_NE(at, msg.counter_names.end());
+  EXPECT_EQ(msg.counter_values[static_cast<size_t>(at - msg.counter_names.begin())], 0.0);
+  close(stream);
 }
 
 TEST(LcmBus, MalformedMessageIsCountedAndSurvived) {

@@ -1,5 +1,8 @@
 #include "tests/common/test_support.h"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -52,6 +55,33 @@ std::string file_digest(const std::string& path) {
 bool in_private_netns() {
   const char* env = std::getenv("NADIR_IN_NETNS");
   return env != nullptr && std::string(env) == "1";
+}
+
+int overflowed_udp_socket(int datagrams, int* port) {
+  const int receiver = socket(AF_INET, SOCK_DGRAM, 0);
+  const int small = 4096;
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof(address);
+  if (receiver < 0 || setsockopt(receiver, SOL_SOCKET, SO_RCVBUF, &small, sizeof(small)) != 0 ||
+      bind(receiver, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0 ||
+      getsockname(receiver, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+    throw std::runtime_error("overflowed_udp_socket: could not bind a UDP socket on loopback");
+  }
+  *port = ntohs(address.sin_port);
+  const int sender = socket(AF_INET, SOCK_DGRAM, 0);
+  if (sender < 0) throw std::runtime_error("overflowed_udp_socket: no sending socket");
+  const std::vector<char> payload(1000, 'x');
+  for (int i = 0; i < datagrams; ++i) {
+    if (sendto(sender, payload.data(), payload.size(), 0, reinterpret_cast<sockaddr*>(&address), sizeof(address)) !=
+        static_cast<ssize_t>(payload.size())) {
+      close(sender);
+      throw std::runtime_error("overflowed_udp_socket: sendto failed");
+    }
+  }
+  close(sender);
+  return receiver;
 }
 
 }  // namespace nadir::testing

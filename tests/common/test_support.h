@@ -25,5 +25,10 @@ void write_file_bytes(const std::string& path, const std::vector<uint8_t>& bytes
 std::string file_digest(const std::string& path);
 // True inside the private network namespace test.sh creates (NADIR_IN_NETNS=1).
 bool in_private_netns();
+// A UDP socket bound to loopback with a 4 KB receive buffer, sent `datagrams`
+// datagrams of 1000 bytes and never read: the kernel dropped what did not
+// fit. Returns the socket (the caller closes it) and its port in *port;
+// throws std::runtime_error when a socket call fails.
+int overflowed_udp_socket(int datagrams, int* port);
 
 }  // namespace nadir::testing

@@ -1,13 +1,11 @@
-#include <arpa/inet.h>
 #include <gtest/gtest.h>
-#include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <cerrno>
 #include <vector>
 
 #include "common/udp_drops.h"
+#include "tests/common/test_support.h"
 
 namespace nadir {
 namespace {
@@ -18,26 +16,9 @@ namespace {
 TEST(UdpDrops, CountsExactlyWhatTheKernelDroppedForAFullReceiveBuffer) {
   const int before = static_cast<int>(own_udp_receive_drops());
   ASSERT_GE(before, 0) << "/proc/self/net/udp unreadable";
-  const int receiver = socket(AF_INET, SOCK_DGRAM, 0);
-  ASSERT_GE(receiver, 0);
-  const int small = 4096;
-  ASSERT_EQ(setsockopt(receiver, SOL_SOCKET, SO_RCVBUF, &small, sizeof(small)), 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(bind(receiver, reinterpret_cast<sockaddr*>(&address), sizeof(address)), 0);
-  socklen_t length = sizeof(address);
-  ASSERT_EQ(getsockname(receiver, reinterpret_cast<sockaddr*>(&address), &length), 0);
-
-  const int sender = socket(AF_INET, SOCK_DGRAM, 0);
-  ASSERT_GE(sender, 0);
-  const std::vector<char> payload(1000, 'x');
   const int sent = 300;
-  for (int i = 0; i < sent; ++i) {
-    ASSERT_EQ(sendto(sender, payload.data(), payload.size(), 0, reinterpret_cast<sockaddr*>(&address),
-                     sizeof(address)),
-              static_cast<ssize_t>(payload.size()));
-  }
+  int port = 0;
+  const int receiver = testing::overflowed_udp_socket(sent, &port);
   const int dropped = static_cast<int>(own_udp_receive_drops()) - before;
   int queued = 0;
   std::vector<char> buffer(2000);
@@ -46,8 +27,24 @@ TEST(UdpDrops, CountsExactlyWhatTheKernelDroppedForAFullReceiveBuffer) {
   EXPECT_EQ(queued + dropped, sent);
   // Closed sockets no longer count: the figure is this process's, now.
   close(receiver);
-  close(sender);
   EXPECT_EQ(own_udp_receive_drops(), before);
+}
+
+// Only the sockets on the asked port count: a process's other UDP sockets (a
+// camera's stream, a MAVLink link) are not its bus.
+TEST(UdpDrops, CountsOnlyTheSocketsOnTheGivenPort) {
+  int bus_port = 0, other_port = 0;
+  const int bus = testing::overflowed_udp_socket(300, &bus_port);
+  const int bus_drops = static_cast<int>(own_udp_receive_drops(bus_port));
+  ASSERT_GT(bus_drops, 0);
+  const int other = testing::overflowed_udp_socket(300, &other_port);
+  ASSERT_NE(other_port, bus_port);
+  const int other_drops = static_cast<int>(own_udp_receive_drops(other_port));
+  EXPECT_GT(other_drops, 0);
+  EXPECT_EQ(own_udp_receive_drops(bus_port), bus_drops);  // the other socket's drops are not the bus's
+  EXPECT_GE(own_udp_receive_drops(), bus_drops + other_drops);
+  close(bus);
+  close(other);
 }
 
 }  // namespace

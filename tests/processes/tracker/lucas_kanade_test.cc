@@ -264,10 +264,19 @@ cv::Mat integer_texture_view(cv::Size size, cv::Point shift_q) {
 }
 
 // The same bits on every machine: a digest of every output bit of a fixed
-// job. CI runs this in the normal build (on x86-64 with AVX2 the cloned
-// loops run on AVX2) and in the sanitizer build (no clones: SSE2), so both
-// code paths are held to the recorded value.
-TEST(LucasKanade, OutputBitsMatchTheRecordedDigest) {
+// job. CI runs these in the normal build (on x86-64 with AVX2 the cloned
+// loops and the warped sampling run on AVX2) and in the sanitizer build (no
+// clones, the scalar sampling: SSE2), so both code paths are held to the
+// recorded values.
+struct DigestJob {
+  uint64_t digest = 1469598103934665603ull;  // FNV-1a
+  int tracked = 0;
+  double worst = 0;  // px from the true shift, away from the borders
+};
+
+// Every eighth pixel of a 160 x 128 texture tracked into its shifted view and
+// back, the forward template resampled through `warp` when given.
+DigestJob track_digest_job(const cv::Matx22f* warp) {
   const cv::Size size(160, 128);
   const cv::Mat a = integer_texture_view(size, {0, 0});
   const cv::Mat b = integer_texture_view(size, {7, -5});  // (1.75, -1.25) px
@@ -278,18 +287,16 @@ TEST(LucasKanade, OutputBitsMatchTheRecordedDigest) {
   LkOptions back_options;
   back_options.window_px = 8;
   LucasKanade backward{back_options};
-  uint64_t digest = 1469598103934665603ull;  // FNV-1a
-  auto mix = [&digest](const void* data, size_t n) {
-    for (size_t i = 0; i < n; ++i) digest = (digest ^ static_cast<const uint8_t*>(data)[i]) * 1099511628211ull;
+  DigestJob job;
+  auto mix = [&job](const void* data, size_t n) {
+    for (size_t i = 0; i < n; ++i) job.digest = (job.digest ^ static_cast<const uint8_t*>(data)[i]) * 1099511628211ull;
   };
-  int tracked = 0;
-  double worst = 0;
   for (int y = 4; y < size.height; y += 8)
     for (int x = 4; x < size.width; x += 8) {
       const cv::Point2f p(static_cast<float>(x) + 0.3f, static_cast<float>(y) + 0.6f);
       cv::Point2f next = p, back = p;
       float error = 0.f;
-      const uint8_t ok = forward.track(prev, curr, p, &next, 2, &error);
+      const uint8_t ok = forward.track(prev, curr, p, &next, 2, &error, warp);
       const uint8_t ok_back = backward.track(curr, prev, next, &back, 1, nullptr);
       mix(&ok, 1);
       mix(&ok_back, 1);
@@ -297,13 +304,28 @@ TEST(LucasKanade, OutputBitsMatchTheRecordedDigest) {
       mix(&back, sizeof back);
       mix(&error, sizeof error);
       if (ok && x > 24 && y > 24 && x < size.width - 24 && y < size.height - 24) {
-        ++tracked;
-        worst = std::max(worst, static_cast<double>(cv::norm(next - p - cv::Point2f(-1.75f, 1.25f))));
+        ++job.tracked;
+        job.worst = std::max(job.worst, static_cast<double>(cv::norm(next - p - cv::Point2f(-1.75f, 1.25f))));
       }
     }
-  EXPECT_GT(tracked, 100);
-  EXPECT_LT(worst, 0.2);  // a sane job: block means are not an exact shift
-  EXPECT_EQ(digest, 0x9f35d96e70d220f1ull) << std::hex << "digest 0x" << digest;
+  return job;
+}
+
+TEST(LucasKanade, OutputBitsMatchTheRecordedDigest) {
+  const DigestJob job = track_digest_job(nullptr);
+  EXPECT_GT(job.tracked, 100);
+  EXPECT_LT(job.worst, 0.2);  // a sane job: block means are not an exact shift
+  EXPECT_EQ(job.digest, 0x9f35d96e70d220f1ull) << std::hex << "digest 0x" << job.digest;
+}
+
+TEST(LucasKanade, WarpedTemplateOutputBitsMatchTheRecordedDigest) {
+  // A warp a little off the true one (identity: the views differ by a shift),
+  // so that every sample of the warped template falls between pixels.
+  const cv::Matx22f warp(1.015f, 0.02f, -0.025f, 0.99f);
+  const DigestJob job = track_digest_job(&warp);
+  EXPECT_GT(job.tracked, 100);
+  EXPECT_LT(job.worst, 0.5);
+  EXPECT_EQ(job.digest, 0xfffca6a0ad4e6d93ull) << std::hex << "digest 0x" << job.digest;
 }
 
 }  // namespace
