@@ -46,6 +46,7 @@ struct Arguments {
   double rate = 1.0;
   std::string lcm_url;
   std::string config_path;
+  std::string config_overlay;
   std::string sensors_path;
   std::string sensor_set = "standard";
   std::optional<double> relief_scale;
@@ -229,6 +230,9 @@ int main(int argc, char** argv) {
   app.add_option("--rate", args.rate, "live mode: simulated seconds per wall second")->check(CLI::Range(0.01, 100.0));
   app.add_option("--lcm-url", args.lcm_url, "live mode: LCM URL (default: $LCM_DEFAULT_URL or udpm with TTL 0)");
   app.add_option("--config", args.config_path, "config with the camera: section (default: config/default.yaml)");
+  app.add_option("--config-overlay", args.config_overlay,
+                 "YAML fragment merged into that config key by key, e.g. config/sim_camera_12mp.yaml "
+                 "(a 12 MP camera)");
   app.add_option("--sensors", args.sensors_path, "sensor model file (default: config/sim_sensors.yaml)");
   app.add_option("--sensor-set", args.sensor_set, "sensor set in that file (default: standard)");
   app.add_option("--relief-scale", args.relief_scale,
@@ -261,7 +265,8 @@ int main(int argc, char** argv) {
   }
   try {
     const std::string config_path = args.config_path.empty() ? nadir::default_config_path() : args.config_path;
-    const nadir::Config config = nadir::Config::load_file(config_path);
+    nadir::Config config = nadir::Config::load_file(config_path);
+    if (!args.config_overlay.empty()) config.apply_overlay(nadir::Config::load_file(args.config_overlay));
     const nadir::sim::SimCamera camera = nadir::sim::SimCamera::from_config(config);
     const std::string sensors_path =
         args.sensors_path.empty() ? nadir::checkout_root() + "/config/sim_sensors.yaml" : args.sensors_path;

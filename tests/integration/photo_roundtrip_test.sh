@@ -8,6 +8,7 @@
 #   the turn solved (its VO_DELTA unflagged, with inliers).
 # The camera from the photos alone (no calibration file): a 16:9 crop of a 4:3
 # sensor and DJI's XMP calibration, imported, give the true focal length.
+# 12 MP photos of the survey's first 30 s come at the working resolution (1000x750).
 # Then the same flight as video + SRT when nadir_import has a video mode.
 # Needs nadir_sim, nadir_export, nadir_import, nadir_replay, nadir_eval on
 # PATH or in $NADIR_BUILD/bin. Exit 77 (skip) when nadir_import is absent.
@@ -144,6 +145,25 @@ PY
 }
 camera_kind crop169 --crop-16-9 --model FC300X
 camera_kind calibrated --dji-calibration
+
+# 12 MP photos (a DJI Phantom 3's 4000x3000: the simulator's camera from config/sim_camera_12mp.yaml,
+# the survey's first 30 s, 16 photos), imported without --scale: the working resolution (1/4, 1000x750)
+# with the intrinsics scaled exactly, then replayed and evaluated.
+mkdir -p "$work/photos12"
+nadir_sim --profile survey --seed "$seed" --duration 30 --config-overlay "$root/config/sim_camera_12mp.yaml" \
+  --out "$work/sim12.lcmlog" >/dev/null 2>"$work/sim12.txt" || { cat "$work/sim12.txt"; fail "nadir_sim (12 MP) failed"; }
+nadir_export photos --in "$work/sim12.lcmlog" --out "$work/photos12/survey" >/dev/null 2>"$work/photos12/export.txt" ||
+  { cat "$work/photos12/export.txt"; fail "nadir_export photos (12 MP) failed"; }
+rm -f "$work/sim12.lcmlog"
+roundtrip photos12 --photos "$work/photos12/survey" --camera "$work/photos12/survey/camera.yaml"
+python3 - "$work/photos12/import.json" <<'PY' || bad "(photos12) not imported at the working resolution 1000x750"
+import json, sys
+c = json.load(open(sys.argv[1]))["camera"]
+print(f"(photos12) {c['width']}x{c['height']}, scale {c['scale']} ({c['scale_rule']}), fx {c['fx']}, cx {c['cx']}, cy {c['cy']}")
+# camera.yaml: 4000x3000, f 2311, principal point (1999.5, 1499.5); pixel centres kept at 1/4.
+sys.exit(0 if (c["width"], c["height"], c["scale"], c["fx"], c["fy"], c["cx"], c["cy"]) ==
+         (1000, 750, 0.25, 577.75, 577.75, 499.5, 374.5) else 1)
+PY
 
 # Video + SRT (every 7th frame: 2 Hz), when the importer has a video mode.
 if nadir_import --help 2>&1 | grep -q -- '--srt'; then

@@ -287,7 +287,8 @@ std::string config_message_yaml(const ImportOptions& o, const ImportSummary& s) 
     n["camera_model"] = s.camera_model;
     n["focal_rule"] = s.focal_rule;
   }
-  n["scale"] = o.scale;
+  n["scale"] = s.resolution.scale;
+  n["scale_rule"] = s.resolution.rule;
   n["interval_s"] = o.interval_s;
   n["skip_bad"] = o.skip_bad;
   n["skipped"] = static_cast<int64_t>(s.skipped.size());
@@ -403,7 +404,9 @@ void ImportOptions::Check() const {
   if (!video.empty() && srt.empty() == csv.empty()) throw std::invalid_argument("--video needs exactly one of --srt FILE or --csv FILE");
   if (video.empty() && (!srt.empty() || !csv.empty())) throw std::invalid_argument("--srt/--csv go with --video");
   if (out.empty()) throw std::invalid_argument("--out is required");
-  if (!(scale > 0.0 && scale <= 1.0)) throw std::invalid_argument("--scale must be in (0, 1]");
+  if (!(scale == 0.0 || (scale > 0.0 && scale <= 1.0))) {
+    throw std::invalid_argument("--scale must be in (0, 1] (1: full size; without it: the working resolution's rule)");
+  }
   if (!(focal_px >= 0.0 && focal_px < 1e6)) throw std::invalid_argument("--focal-px must be in [0, 1e6)");
   if (!(interval_s >= 0.0 && interval_s <= 3600.0)) throw std::invalid_argument("--interval must be in [0, 3600] s");
   if (!video.empty() && interval_s > 0.0) throw std::invalid_argument("--interval is for --photos only");
@@ -590,21 +593,33 @@ ImportSummary run_import(const ImportOptions& o) {
         }
         camera_known = true;
       }
-      // The calibration describes the files as they are (scaled here by --scale)
-      // or the output (already at the --scale size).
+      // The first written frame's size sets the working resolution (--scale, else the rule).
+      const WorkingResolution resolution =
+          summary.resolution.width > 0 ? summary.resolution : working_resolution(frame.cols, frame.rows, o.scale);
+      const double scale = resolution.scale;
+      // The calibration describes the files as they are (scaled here) or the
+      // output (already at the working size).
       if (frame.cols == source_camera.width && frame.rows == source_camera.height) {
-        summary.camera = source_camera.scaled(o.scale);
-      } else if (o.scale < 1.0 && std::lround(frame.cols * o.scale) == source_camera.width &&
-                 std::lround(frame.rows * o.scale) == source_camera.height) {
+        summary.camera = source_camera.scaled(scale);
+      } else if (scale < 1.0 && std::lround(frame.cols * scale) == source_camera.width &&
+                 std::lround(frame.rows * scale) == source_camera.height) {
         summary.camera = source_camera;
       } else {
         char text[240];
         std::snprintf(text, sizeof(text), "frame is %dx%d but the camera (%s) is %dx%d%s", frame.cols, frame.rows,
                       source_camera.source.c_str(), source_camera.width, source_camera.height,
-                      o.scale < 1.0 ? " (neither the files' size nor the --scale size)" : "");
-        skip_or_throw(o.skip_bad, s.where, text, &summary.skipped);
+                      scale < 1.0 ? " (neither the files' size nor the working size)" : "");
+        std::string why = text;
+        // A calibration of the images shrunk uniformly: say which --scale it is for.
+        const double ratio = static_cast<double>(source_camera.width) / frame.cols;
+        if (ratio < 1.0 && std::lround(frame.rows * ratio) == source_camera.height) {
+          std::snprintf(text, sizeof(text), "; give --scale %.6g for a calibration at that size", ratio);
+          why += text;
+        }
+        skip_or_throw(o.skip_bad, s.where, why, &summary.skipped);
         continue;
       }
+      summary.resolution = resolution;
       if (frame.cols != summary.camera.width || frame.rows != summary.camera.height) {
         cv::Mat small;
         cv::resize(frame, small, cv::Size(summary.camera.width, summary.camera.height), 0, 0, cv::INTER_AREA);
@@ -742,6 +757,8 @@ std::string summary_json(const ImportSummary& s) {
       .field("focal_rule", s.focal_rule)
       .field("width", s.camera.width)
       .field("height", s.camera.height)
+      .field("scale", s.resolution.scale)
+      .field("scale_rule", s.resolution.rule)
       .field("fx", s.camera.fx)
       .field("fy", s.camera.fy)
       .field("cx", s.camera.cx)
@@ -765,6 +782,7 @@ std::string summary_text(const ImportSummary& s) {
                 s.camera.fx, s.camera.fy, s.camera.source.c_str(), s.attitude_source.c_str(),
                 s.altimeter_source.c_str());
   std::string out = text;
+  out += "  " + describe(s.resolution) + "\n";
   if (!s.focal_rule.empty()) out += "  focal length: " + s.focal_rule + "\n";
   for (const SkippedInput& k : s.skipped) out += "  skipped " + k.where + ": " + k.reason + "\n";
   for (const std::string& w : s.warnings) out += "  warning: " + w + "\n";

@@ -11,6 +11,7 @@
 
 #include "tools/import/photo_metadata.h"
 #include "tools/import/telemetry.h"
+#include "tools/import/working_resolution.h"
 
 namespace nadir::import {
 
@@ -54,7 +55,7 @@ struct ImportOptions {
   std::string out;               // OUT -> OUT.lcmlog, OUT.yaml
   std::string camera_file;       // OpenCV calibration (empty: from the photos' metadata, photo_camera.h, with a warning)
   double focal_px = 0.0;         // > 0: focal length in pixels of the source images (overrides EXIF)
-  double scale = 1.0;            // downscale factor for the images (0, 1]
+  double scale = 0.0;            // downscale factor for the images (0, 1]; 0: the working resolution's rule (working_resolution.h)
   double interval_s = 0.0;       // > 0: photo times from file order at this interval (EXIF times ignored)
   bool skip_bad = false;         // skip and count bad inputs instead of failing
   std::string config_path;       // base config (config/default.yaml)
@@ -71,6 +72,7 @@ struct ImportSummary {
   double max_gap_s = 0, median_interval_s = 0;
   double distance_m = 0;              // along the GPS track (3D)
   CameraIntrinsics camera;            // as written (after scaling)
+  WorkingResolution resolution;       // the scale the images were brought to, and why
   std::string camera_model;           // EXIF Model of the photos when the camera came from them
   std::string focal_rule;             // ... and how their focal length was made (photo_camera.h)
   std::array<double, 3> mount_rpy_deg{0, 0, 0};

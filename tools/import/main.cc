@@ -3,7 +3,9 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+#include <string>
 
 #include "common/paths.h"
 #include "common/progress.h"
@@ -26,13 +28,24 @@ int main(int argc, char** argv) {
   app.add_option("--out", o.out, "output prefix: OUT.lcmlog and OUT.yaml")->required();
   app.add_option("--camera", o.camera_file,
                  "OpenCV calibration file (camera_matrix, distortion_coefficients, image_width, image_height, "
-                 "optional mount_rpy_deg) at the files' size or at the --scale size");
+                 "optional mount_rpy_deg) at the files' size or at the working size (--scale)");
   app.add_option("--focal-px", o.focal_px,
                  "focal length in pixels of the files (no calibration file; no distortion). Without --camera or "
                  "--focal-px, photos give it: DJI XMP CalibratedFocalLength, else the EXIF 35 mm equivalent on the "
                  "sensor's native frame (docs/own-flight.md, 'The camera from the photos')");
-  app.add_option("--scale", o.scale, "downscale the images by this factor, intrinsics scaled with them (0, 1]")
-      ->capture_default_str();
+  app.add_option("--scale", o.scale,
+                 "downscale the images by this factor, intrinsics scaled with them (0, 1]; 1 = full size. Default: "
+                 "the working resolution, 1/k with the smallest whole k that brings the long side to at most " +
+                     std::to_string(nadir::import::kWorkingLongSidePx) +
+                     " px (docs/own-flight.md, 'The working resolution')")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            const bool ok = end != text.c_str() && *end == '\0' && v > 0.0 && v <= 1.0;
+            return ok ? std::string() : "must be in (0, 1] (1: full size; leave it out for the working resolution), not " + text;
+          },
+          "(0, 1]"));
   app.add_option("--interval", o.interval_s, "photo times from file order, this many seconds apart (EXIF time ignored)");
   app.add_flag("--skip-bad", o.skip_bad, "skip and count bad photos / frames / telemetry lines instead of failing");
   app.add_option("--config", o.config_path, "base config to add the camera and overrides to (default config/default.yaml)");

@@ -58,8 +58,8 @@ std::string rational(double deg) {
          std::to_string(static_cast<long>(std::llround(s * 10000))) + "/10000";
 }
 
-void write_photo(const std::string& path, const PhotoTags& t, int w = 320, int h = 240, int seed = 1) {
-  ASSERT_TRUE(cv::imwrite(path, texture(w, h, seed)));
+// Writes the EXIF / XMP of `t` into the image file at `path`.
+void tag_photo(const std::string& path, const PhotoTags& t) {
   register_vendor_namespaces();
   auto image = Exiv2::ImageFactory::open(path);
   image->readMetadata();
@@ -87,6 +87,11 @@ void write_photo(const std::string& path, const PhotoTags& t, int w = 320, int h
     xmp["Xmp.sensefly.Height"] = std::to_string(t.height);
   }
   image->writeMetadata();
+}
+
+void write_photo(const std::string& path, const PhotoTags& t, int w = 320, int h = 240, int seed = 1) {
+  ASSERT_TRUE(cv::imwrite(path, texture(w, h, seed)));
+  tag_photo(path, t);
 }
 
 void write_camera(const std::string& path, int w, int h, double f) {
@@ -360,6 +365,100 @@ TEST(PhotoImport, MalformedXmpAndExifCamera) {
   EXPECT_NE(s.warnings[0].find("35 mm equivalent"), std::string::npos);
 }
 
+// 12 MP photos (a DJI Phantom 3's 4000x3000) come at the working resolution
+// (docs/own-flight.md, "The working resolution"): shrunk by the smallest whole
+// factor that brings the long side to at most 1000 px (1/4 -> 1000x750), the
+// intrinsics scaled exactly with the images. --scale overrides it (1: full
+// size), and a calibration at the working size is taken as it is.
+TEST(PhotoImport, TwelveMegapixelPhotosAtTheWorkingResolution) {
+  TempDir dir("import_12mp");
+  std::filesystem::create_directories(dir.file("photos"));
+  for (int i = 0; i < 2; ++i) {
+    cv::Mat photo;  // smooth content: a JPEG of 12 MP of noise is ~20 MB
+    cv::resize(texture(400, 300, i + 1), photo, cv::Size(4000, 3000), 0, 0, cv::INTER_LINEAR);
+    const std::string path = dir.file("photos/DJI_000" + std::to_string(i) + ".JPG");
+    ASSERT_TRUE(cv::imwrite(path, photo));
+    PhotoTags t;
+    t.time = "2024:05:01 10:00:0" + std::to_string(2 * i);
+    t.lat = 47.5 + 0.0001 * i;
+    tag_photo(path, t);
+  }
+  const auto write_calibration = [&](const std::string& name, int w, int h, double fx, double fy, double cx, double cy) {
+    cv::FileStorage fs(dir.file(name), cv::FileStorage::WRITE);
+    fs << "image_width" << w << "image_height" << h;
+    fs << "camera_matrix" << cv::Mat(cv::Matx33d(fx, 0, cx, 0, fy, cy, 0, 0, 1));
+    fs << "distortion_coefficients" << cv::Mat(cv::Matx<double, 1, 5>(-0.1, 0.01, 0.001, 0, 0));
+  };
+  // The files' calibration, principal point off centre.
+  write_calibration("full.yaml", 4000, 3000, 2311.0, 2309.0, 2010.5, 1490.5);
+  ImportOptions o = photo_options(dir);
+  o.camera_file = dir.file("full.yaml");
+  const ImportSummary s = run_import(o);  // no --scale
+  EXPECT_DOUBLE_EQ(s.resolution.scale, 0.25);
+  EXPECT_EQ(s.camera.width, 1000);
+  EXPECT_EQ(s.camera.height, 750);
+  EXPECT_DOUBLE_EQ(s.camera.fx, 577.75);
+  EXPECT_DOUBLE_EQ(s.camera.fy, 577.25);
+  EXPECT_DOUBLE_EQ(s.camera.cx, 502.25);  // pixel centres kept: (2010.5 + 0.5) / 4 - 0.5
+  EXPECT_DOUBLE_EQ(s.camera.cy, 372.25);
+  EXPECT_DOUBLE_EQ(s.camera.distortion[2], 0.001);  // normalized coordinates: unchanged
+  EXPECT_NE(summary_text(s).find("working resolution 1000x750 (scale 1/4: long side 4000 px over 1000 px)"),
+            std::string::npos)
+      << summary_text(s);
+  EXPECT_NE(summary_json(s).find("\"scale_rule\":\"1/4: long side 4000 px over 1000 px\""), std::string::npos)
+      << summary_json(s);
+  const LogContents log = read_log(s.log_path);
+  ASSERT_EQ(log.images.size(), 2u);
+  for (const image_t& img : log.images) {
+    EXPECT_EQ(img.width, 1000);
+    EXPECT_EQ(img.height, 750);
+    EXPECT_EQ(img.size, 1000 * 750);
+  }
+  ASSERT_EQ(log.config.size(), 1u);
+  EXPECT_NE(log.config[0].yaml.find("scale: 0.25"), std::string::npos) << log.config[0].yaml;
+  const Config c = Config::load_file(s.yaml_path);
+  EXPECT_EQ(c.section("camera").get<int>("width"), 1000);
+  EXPECT_DOUBLE_EQ(c.section("camera").get<double>("fx"), 577.75);
+
+  // --scale overrides the rule; 1 is full size.
+  o.scale = 1.0;
+  ImportSummary full = run_import(o);
+  EXPECT_EQ(full.camera.width, 4000);
+  EXPECT_EQ(full.camera.height, 3000);
+  EXPECT_DOUBLE_EQ(full.camera.fx, 2311.0);
+  EXPECT_DOUBLE_EQ(full.camera.cx, 2010.5);
+  EXPECT_EQ(read_log(full.log_path).images.at(0).width, 4000);
+  EXPECT_NE(summary_text(full).find("working resolution 4000x3000 (scale 1: --scale)"), std::string::npos)
+      << summary_text(full);
+  o.scale = 0.5;
+  full = run_import(o);
+  EXPECT_EQ(full.camera.width, 2000);
+  EXPECT_EQ(full.camera.height, 1500);
+  EXPECT_DOUBLE_EQ(full.camera.fx, 1155.5);
+
+  // A calibration at the working size is used as it is; one at neither size is an error naming the file.
+  write_calibration("working.yaml", 1000, 750, 577.75, 577.25, 502.25, 372.25);
+  o.scale = 0.0;
+  o.camera_file = dir.file("working.yaml");
+  const ImportSummary w = run_import(o);
+  EXPECT_EQ(w.camera.width, 1000);
+  EXPECT_DOUBLE_EQ(w.camera.fx, 577.75);
+  EXPECT_DOUBLE_EQ(w.camera.cx, 502.25);
+  write_calibration("other.yaml", 2000, 1500, 1155.5, 1155.5, 999.5, 749.5);
+  o.camera_file = dir.file("other.yaml");
+  const std::string error = import_error(o);
+  EXPECT_NE(error.find("DJI_0000.JPG: frame is 4000x3000 but the camera"), std::string::npos) << error;
+  EXPECT_NE(error.find("neither the files' size nor the working size); give --scale 0.5 for a calibration at that size"),
+            std::string::npos)
+      << error;
+
+  // --scale is checked at the start.
+  o.scale = 1.5;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+  o.scale = -0.5;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+}
+
 // The binary: exit 2 with the file named on a bad photo.
 TEST(PhotoImport, ToolExitsTwoOnBadInput) {
   TempDir dir("import_tool");
@@ -377,6 +476,26 @@ TEST(PhotoImport, ToolExitsTwoOnBadInput) {
   std::ifstream in(dir.file("err.txt"));
   const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(err.find("x.jpg: no attitude"), std::string::npos) << err;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("o.lcmlog")));
+}
+
+// The binary: --scale out of (0, 1] is refused before anything is read (0 is not "automatic": leave it out).
+TEST(PhotoImport, ToolRefusesScaleOutOfRange) {
+  TempDir dir("import_scale");
+  const char* bin = std::getenv("NADIR_BIN_DIR");
+  ASSERT_NE(bin, nullptr);
+  for (const std::string value : {"0", "-0.5", "1.5", "half"}) {
+    const std::string cmd = std::string(bin) + "/nadir_import --photos " + dir.file("none") + " --scale " + value +
+                            " --out " + dir.file("o") + " 2> " + dir.file("err.txt");
+    const int rc = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(rc));
+    EXPECT_NE(WEXITSTATUS(rc), 0) << value;
+    std::ifstream in(dir.file("err.txt"));
+    const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(err.find("--scale: must be in (0, 1] (1: full size; leave it out for the working resolution), not " + value),
+              std::string::npos)
+        << err;
+  }
   EXPECT_FALSE(std::filesystem::exists(dir.file("o.lcmlog")));
 }
 
