@@ -44,7 +44,14 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
               &O::vo_direction)
         .number("speed_window_s", 0.0, 60.0, "s", "window of the held speed", &O::speed_window_s)
         .number("max_climb_ratio", 0.0, 10.0, "", "vo_direction: |dz| at most this share of the horizontal step",
-                &O::max_climb_ratio);
+                &O::max_climb_ratio)
+        .flag("follow_altimeter", "while coasting, down = the last frames' ground plane minus the levelled range",
+              &O::follow_altimeter)
+        .number("terrain_window_s", 0.0, 60.0, "s",
+                "integrated frames whose ground points and patch tilts make that plane", &O::terrain_window_s)
+        .number("terrain_slope_stddev", 0.0, 1.0, "m/m",
+                "error of that plane's slope over the coast: weighs it against the held climb rate",
+                &O::terrain_slope_stddev);
     return s;
   }();
   return schema;

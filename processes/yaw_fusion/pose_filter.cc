@@ -160,6 +160,13 @@ PoseFilter::UpdateResult PoseFilter::update_yaw(double measured_yaw, double vari
   return UpdateResult::kAccepted;
 }
 
+void PoseFilter::set_down(double down, double variance) {
+  x_(kDown) = down;
+  p_.row(kDown).setZero();
+  p_.col(kDown).setZero();
+  p_(kDown, kDown) = variance;
+}
+
 void PoseFilter::reset_yaw(double yaw, double variance) {
   x_(kYaw) = wrap_angle(yaw);
   p_.row(kYaw).setZero();

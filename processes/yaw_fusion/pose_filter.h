@@ -76,6 +76,11 @@ class PoseFilter {
   void propagate_without_vo(const Eigen::Vector3d& displacement_ned, const Eigen::Vector3d& position_variance_added,
                             double yaw_variance_added);
 
+  // Replaces the down position by a value known independently of the
+  // state (coasting: the terrain model minus the altimeter height), with its
+  // variance, dropping its correlation with the other states.
+  void set_down(double down, double variance);
+
   // Yaw measurement (rad) with its variance. Rejected when the squared
   // innovation exceeds gate_sigma^2 times its variance.
   UpdateResult update_yaw(double measured_yaw, double variance, double gate_sigma);

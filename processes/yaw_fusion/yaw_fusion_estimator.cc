@@ -38,7 +38,8 @@ YawFusionEstimator::YawFusionEstimator(const YawFusionOptions& options)
       vo_jump_candidate_(std::numeric_limits<int64_t>::min()),
       ins_jump_candidate_(std::numeric_limits<int64_t>::min()),
       altimeter_jump_candidate_(std::numeric_limits<int64_t>::min()),
-      coast_detector_(options.coast) {
+      coast_detector_(options.coast),
+      coast_terrain_(options.coast.terrain_window_s) {
   options_.Check();
 }
 
@@ -327,6 +328,10 @@ void YawFusionEstimator::start(const vo_delta_t& first, std::vector<pose_t>* out
   last_frame_utime_ = t0;
   last_good_utime_ = t0;
   flags |= update_height(t0, std::numeric_limits<double>::quiet_NaN());
+  if (options_.coast.follow_altimeter) {
+    coast_terrain_.note_frame(t0, filter_.position(), last_altimeter_height_,
+                              Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  }
   good_filter_ = filter_;
   out->push_back(make_pose(t0, flags));
 }
@@ -389,6 +394,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   auto publish_gap = [&]() {
     recent_positions_.clear();
     coast_positions_.clear();
+    coast_terrain_.clear();
     flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.utime);
     flags |= update_height(delta.utime, held_height);
     out->push_back(make_pose(delta.utime, flags));
@@ -483,6 +489,10 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     fallback = height_agl_ - world.z();
   }
   flags |= update_height(delta.utime, fallback);
+  if (options_.coast.follow_altimeter) {  // the ground plane is only ever anchored then
+    coast_terrain_.note_frame(delta.utime, filter_.position(), last_altimeter_height_,
+                              ground_gradient_ned(delta.ground_roll, delta.ground_pitch, filter_.yaw()));
+  }
   good_filter_ = filter_;
   out->push_back(make_pose(delta.utime, flags));
 }
@@ -532,6 +542,12 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
       coast_velocity_level_.z() = mean.z();
     }
     coast_positions_.clear();
+    if (options_.coast.follow_altimeter) {
+      coast_terrain_.anchor();
+    } else {
+      coast_terrain_.release();
+    }
+    coast_held_down_ = good_filter_.position().z();
   }
   if (utime <= last_frame_utime_) return 0;
   const double e0 = static_cast<double>(last_frame_utime_ - last_good_utime_) * 1e-6;
@@ -554,10 +570,46 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
                           coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk, e0);
   const double yaw_var = square(deg_to_rad(options_.gap_yaw_rate_stddev_dps)) * (e1 * e1 - e0 * e0);
   filter_.propagate_without_vo(velocity * (e1 - e0), Eigen::Vector3d(horizontal, horizontal, vertical), yaw_var);
+  coast_held_down_ += velocity.z() * (e1 - e0);
   velocity_out_ = velocity;
+  if (follow_altimeter(utime, e1, (velocity * (e1 - e0)).head<2>().norm())) {
+    // The mean climb of the coast: the per-frame one carries the range noise.
+    velocity_out_.z() = (filter_.position().z() - good_filter_.position().z()) / e1;
+  }
   last_frame_utime_ = utime;
   yaw_without_vo_ = true;  // as in a gap: the next INS yaw is taken as it is
   return update_attitude(utime);
+}
+
+bool YawFusionEstimator::follow_altimeter(int64_t utime, double coasted_s, double horizontal_step_m) {
+  const double height = altimeter_height_at(utime);
+  if (!coast_terrain_.anchored() || !std::isfinite(height)) return false;
+  const Eigen::Vector2d horizontal = filter_.position().head<2>();
+  double terrain = coast_terrain_.ground_down(horizontal) - height;
+  const double previous = filter_.position().z();  // the last pose's down moved on by the held climb
+  if (std::abs(terrain - previous) > coast_detector_.vertical_gate(horizontal_step_m)) {
+    // As the coast detector judges a delta's dz against the altimeter: a jump
+    // this large is the ground under the beam (a cliff, a building), not the vehicle.
+    coast_terrain_.shift(previous - terrain);
+    ++counters_.coast_ground_steps;
+    terrain = previous;
+  }
+  // Two estimates of the same down from the last integrated frame on, with
+  // independent errors: the held climb's (the coast model, which knows no
+  // climb that starts or stops) and the terrain's (two ranges, and the
+  // plane's slope off by terrain_slope_stddev per metre flown, which knows no
+  // hill). Each weighted by the other's variance; the anchor's is common.
+  const CoastOptions& c = options_.coast;
+  const double held_variance = coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk, coasted_s);
+  const double slope_error = c.terrain_slope_stddev * coast_terrain_.distance(horizontal);
+  const double terrain_variance =
+      2.0 * square(options_.sensor_uncertainty.range_stddev(height)) + square(slope_error);
+  const double sum = held_variance + terrain_variance;
+  const double gain = sum > 0.0 ? held_variance / sum : 1.0;
+  const double down = coast_held_down_ + gain * (terrain - coast_held_down_);
+  const double anchor = good_filter_.covariance()(PoseFilter::kDown, PoseFilter::kDown);
+  filter_.set_down(down, anchor + (sum > 0.0 ? held_variance * terrain_variance / sum : 0.0));
+  return true;
 }
 
 double YawFusionEstimator::altimeter_height_at(int64_t utime) const {

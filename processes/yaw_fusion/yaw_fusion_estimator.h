@@ -44,6 +44,7 @@
 #include "nadir/ins_t.hpp"
 #include "nadir/pose_t.hpp"
 #include "nadir/vo_delta_t.hpp"
+#include "processes/yaw_fusion/coast_terrain.h"
 #include "processes/yaw_fusion/coasting.h"
 #include "processes/yaw_fusion/pose_filter.h"
 #include "processes/yaw_fusion/sensor_history.h"
@@ -82,6 +83,7 @@ struct YawFusionCounters {
   int64_t coast_reasons[kCoastReasons] = {};  // per CoastReason bit (coast_reason_name)
   int64_t coast_episodes = 0;
   int64_t coast_expired = 0;               // deltas after coast.max_duration_s (VO gap instead)
+  int64_t coast_ground_steps = 0;          // coasting on the altimeter: range jumps taken as the ground's
   int64_t deltas_reverted = 0;             // integrating would have made the state non-finite
   int64_t poses = 0;
   std::string last_problem;                // names the channel, utime and reason
@@ -128,6 +130,14 @@ class YawFusionEstimator {
   // Coasts from the last frame to `utime` (not integrating a delta); returns
   // pose flags. `direction`: a delta whose direction (not scale) is used.
   int32_t coast_to(int64_t utime, const vo_delta_t* direction = nullptr);
+  // While coasting with a valid range at `utime` and a terrain plane: down =
+  // the held climb's down and the terrain's (the plane below the coasted
+  // position minus the levelled height) weighted by their variances after
+  // `coasted_s` of coasting. A terrain down more than the vertical gate for
+  // this horizontal step from where the last pose and the held climb put it
+  // is the ground stepping: the plane moves by the step. False (nothing
+  // changed) without a range or a plane.
+  bool follow_altimeter(int64_t utime, double coasted_s, double horizontal_step_m);
   // Reason bits (CoastReason) for coasting over this usable delta; 0 = integrate it.
   int32_t coast_reason(const vo_delta_t& delta, int32_t coast_bits);
   bool held_speed_ready() const;  // coasting, or speed_window_s of integrated motion behind the pose
@@ -191,6 +201,10 @@ class YawFusionEstimator {
   bool coasting_ = false;
   Eigen::Vector3d coast_velocity_level_ = Eigen::Vector3d::Zero();
   double last_altimeter_height_ = std::numeric_limits<double>::quiet_NaN();  // at the last frame
+  // The ground while coasting (coast.follow_altimeter): the integrated frames'
+  // ground points and patch tilts, anchored when a coast starts.
+  CoastTerrain coast_terrain_;
+  double coast_held_down_ = 0.0;  // down with the climb rate held since the coast started
 };
 
 }  // namespace nadir

@@ -88,6 +88,7 @@ class YawFusionNode : public Node {
     report.counters.emplace_back("vo_deltas_coasted", static_cast<double>(c.vo_deltas_coasted));
     report.counters.emplace_back("coast_episodes", static_cast<double>(c.coast_episodes));
     report.counters.emplace_back("coast_expired", static_cast<double>(c.coast_expired));
+    report.counters.emplace_back("coast_ground_steps", static_cast<double>(c.coast_ground_steps));
     report.counters.emplace_back("deltas_reverted", static_cast<double>(c.deltas_reverted));
     for (int bit = 0; bit < kCoastReasons; ++bit) {
       report.counters.emplace_back(std::string("coast_") + coast_reason_name(bit),

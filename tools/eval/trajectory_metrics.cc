@@ -68,6 +68,7 @@ EvalResult evaluate(const EvalData& data) {
     s.sigma_h_m = std::sqrt(std::max(0.0, p.position_covariance[0][0] + p.position_covariance[1][1]));
     s.sigma_n_m = std::sqrt(std::max(0.0, p.position_covariance[0][0]));
     s.sigma_e_m = std::sqrt(std::max(0.0, p.position_covariance[1][1]));
+    s.sigma_d_m = std::sqrt(std::max(0.0, p.position_covariance[2][2]));
     s.sigma_yaw_deg = rad_to_deg(std::sqrt(std::max(0.0, p.yaw_variance)));
     // The first pose is the origin (error and covariance zero): no statement.
     if (&p != first) {

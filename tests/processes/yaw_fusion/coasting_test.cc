@@ -12,7 +12,9 @@
 
 #include "common/channels.h"
 #include "common/geometry.h"
+#include "processes/yaw_fusion/coast_terrain.h"
 #include "processes/yaw_fusion/coasting.h"
+#include "processes/vo_solver/plane_model.h"
 #include "processes/yaw_fusion/yaw_fusion_estimator.h"
 #include "estimator_runner.h"
 #include "synthetic_flight.h"
@@ -59,6 +61,22 @@ void flag_deltas(SyntheticFlight* flight, size_t first, size_t last, int32_t qua
   flight->altimeter = kept;
 }
 
+// Texture gone over deltas [first, last): the tracker keeps measuring from
+// its last good frame, so the flagged deltas all start there; then it
+// restarts (a first frame without motion, so the delta after is missing).
+void lose_texture(SyntheticFlight* flight, size_t first, size_t last) {
+  const int64_t kept_prev = flight->deltas[first - 1].utime;
+  for (size_t k = first; k < last; ++k) {
+    vo_delta_t& d = flight->deltas[k];
+    d = vo_delta_t{};
+    d.utime = flight->truth[k + 1].utime;
+    d.prev_utime = kept_prev;
+    d.quality = vo_delta_t::QUALITY_TOO_FEW_FEATURES | vo_delta_t::QUALITY_FRAME_GAP;
+    d.variant = "synthetic";
+  }
+  flight->deltas[last].prev_utime = 0;
+}
+
 TEST(CoastPositionVariance, GrowsAsConstantVelocityErrorPlusRandomWalk) {
   EXPECT_EQ(coast_position_variance(1.0, 0.5, 0.0), 0.0);
   EXPECT_EQ(coast_position_variance(1.0, 0.5, -3.0), 0.0);
@@ -95,6 +113,10 @@ TEST(Coasting, StaleAltimeterIsCoastedWithGrowingCovarianceAndResumesWithoutAJum
   YawFusionCounters counters;
   YawFusionOptions options;
   options.coast.max_range_age_s = 0.06;  // from the first frame without a range (20 Hz altimeter)
+  // The held climb rate's variance growth, checked exactly below (the first
+  // frames still have a range within max_altimeter_age_s, which the height
+  // would follow: TextureLossHeightFollowsTheAltimeterOverTheTerrainPlane).
+  options.coast.follow_altimeter = false;
   const auto poses = fly(flight, options, &counters);
   ASSERT_EQ(poses.size(), flight.truth.size());
   const Eigen::Vector3d origin = flight.truth.front().position;
@@ -291,16 +313,7 @@ TEST(Coasting, NothingJudgedIsCoastedBeforeASpeedIsHeld) {
 // overlapping or too long; then the tracker restarts (a first frame, a missing delta).
 TEST(Coasting, TextureLossDeltasFromTheLastGoodFrameAreCoasted) {
   SyntheticFlight flight = test::make_flight(straight_spec());
-  const int64_t kept_prev = flight.deltas[99].utime;
-  for (size_t k = 100; k < 240; ++k) {
-    vo_delta_t& d = flight.deltas[k];
-    d = vo_delta_t{};
-    d.utime = flight.truth[k + 1].utime;
-    d.prev_utime = kept_prev;
-    d.quality = vo_delta_t::QUALITY_TOO_FEW_FEATURES | vo_delta_t::QUALITY_FRAME_GAP;
-    d.variant = "synthetic";
-  }
-  flight.deltas[240].prev_utime = 0;  // the tracker's new first frame: no motion
+  lose_texture(&flight, 100, 240);
   YawFusionCounters counters;
   const auto poses = fly(flight, YawFusionOptions{}, &counters);
   EXPECT_EQ(counters.vo_deltas_late, 0);
@@ -317,6 +330,145 @@ TEST(Coasting, TextureLossDeltasFromTheLastGoodFrameAreCoasted) {
   const Eigen::Vector3d truth_end = flight.truth.back().position - flight.truth.front().position;
   EXPECT_LT((position(poses.back()) - truth_end).norm(), 0.5);
   EXPECT_EQ(poses.back().flags, 0);
+}
+
+// The ground patch's tilt is the terrain's slope in the world.
+TEST(CoastTerrain, GroundGradientFromThePatchTilt) {
+  // Ground down coordinate rising 0.1 m per metre forward, falling 0.05 per metre right:
+  // normal (-0.1, 0.05, 1) in the level frame.
+  double roll = 0.0, pitch = 0.0;
+  vo::tilt_from_normal(Eigen::Vector3d(-0.1, 0.05, 1.0), &roll, &pitch);
+  const Eigen::Vector2d level = ground_gradient_ned(roll, pitch, 0.0);
+  EXPECT_NEAR(level.x(), 0.1, 1e-12);
+  EXPECT_NEAR(level.y(), -0.05, 1e-12);
+  // Heading east: forward is east, right is south.
+  const Eigen::Vector2d east = ground_gradient_ned(roll, pitch, M_PI_2);
+  EXPECT_NEAR(east.x(), 0.05, 1e-12);
+  EXPECT_NEAR(east.y(), 0.1, 1e-12);
+}
+
+TEST(CoastTerrain, PlaneThroughTheAveragedGroundPointsAlongTheMeanSlope) {
+  CoastTerrain terrain(1.0);
+  EXPECT_FALSE(terrain.anchor());  // no frames
+  const Eigen::Vector2d gradient(0.02, -0.01);
+  // 2 s of frames at 10 Hz flying north-east over the plane down = 100 + g . p, at alternating heights.
+  for (int k = 0; k <= 20; ++k) {
+    const Eigen::Vector2d p(3.0 * k, 2.0 * k);
+    const double height = 50.0 + (k % 2 ? 0.5 : -0.5);
+    const double ground = 100.0 + gradient.dot(p);
+    terrain.note_frame(k * 100'000, Eigen::Vector3d(p.x(), p.y(), ground - height), height, gradient);
+  }
+  ASSERT_TRUE(terrain.anchor());
+  EXPECT_NEAR(terrain.gradient().x(), 0.02, 1e-12);
+  EXPECT_NEAR(terrain.gradient().y(), -0.01, 1e-12);
+  EXPECT_NEAR(terrain.ground_down(Eigen::Vector2d(300.0, -40.0)), 100.0 + gradient.dot(Eigen::Vector2d(300.0, -40.0)),
+              1e-9);
+  terrain.clear();
+  EXPECT_FALSE(terrain.anchored());
+  // Frames without a range give no ground point.
+  terrain.note_frame(0, Eigen::Vector3d::Zero(), std::numeric_limits<double>::quiet_NaN(), gradient);
+  EXPECT_FALSE(terrain.anchor());
+}
+
+// 10 s of texture loss over a 3 % slope while the climb rate changes from 0
+// to 2 m/s: the held climb rate would end ~13 m off; the height follows the
+// altimeter above the last frames' ground plane instead, with a vertical
+// sigma that does not grow while the horizontal one does, and the vertical
+// error after VO resumes is what it was before the coast.
+TEST(Coasting, TextureLossHeightFollowsTheAltimeterOverTheTerrainPlane) {
+  FlightSpec spec = straight_spec();
+  spec.terrain_gradient_north = 0.03;
+  spec.terrain_gradient_east = -0.01;
+  spec.climb_rate_change_s = 11.0;  // frame ~147, in the coast
+  spec.climb_rate_after_mps = 2.0;
+  SyntheticFlight flight = test::make_flight(spec);
+  lose_texture(&flight, 100, 240);
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  auto vertical_error = [&](const pose_t& p, size_t k) {
+    return p.position_ned[2] - (flight.truth[k].position.z() - origin.z());
+  };
+  YawFusionOptions held;
+  held.coast.follow_altimeter = false;
+  const auto held_poses = fly(flight, held);
+  YawFusionCounters counters;
+  YawFusionOptions options;
+  options.coast.follow_altimeter = true;
+  // The synthetic ground is a plane whose slope the deltas carry exactly.
+  options.coast.terrain_slope_stddev = 0.0;
+  const auto poses = fly(flight, options, &counters);
+  EXPECT_EQ(counters.coast_reasons[0], 140);
+  // With the default slope error the terrain and the held climb are weighted:
+  // the vertical sigma then grows, but less than either's alone and less than the horizontal.
+  YawFusionOptions weighted_options;
+  weighted_options.coast.follow_altimeter = true;
+  const auto weighted = fly(flight, weighted_options);
+  const pose_t* before = pose_at(poses, flight.truth[100].utime);  // the last integrated frame
+  ASSERT_NE(before, nullptr);
+  const double sigma_down_before = std::sqrt(before->position_covariance[2][2]);
+  double worst = 0.0, worst_held = 0.0;
+  for (size_t k = 101; k <= 241; ++k) {
+    const pose_t* p = pose_at(poses, flight.truth[k].utime);
+    const pose_t* h = pose_at(held_poses, flight.truth[k].utime);
+    ASSERT_NE(p, nullptr) << "frame " << k;
+    ASSERT_NE(h, nullptr) << "frame " << k;
+    EXPECT_TRUE(p->flags & pose_t::FLAG_COASTING) << "frame " << k;
+    worst = std::max(worst, std::abs(vertical_error(*p, k)));
+    worst_held = std::max(worst_held, std::abs(vertical_error(*h, k)));
+    // Vertical sigma: the anchor's plus two ranges' noise (0.1 m + 0.1 % of ~300 m), never growing.
+    EXPECT_LT(std::sqrt(p->position_covariance[2][2]), std::hypot(sigma_down_before, std::sqrt(2.0) * 0.45))
+        << "frame " << k;
+  }
+  // The altimeter's newest range is up to 50 ms old at 2 m/s climb and 30 m/s over a 3 % slope: 0.15 m.
+  EXPECT_LT(worst, 0.3);
+  EXPECT_GT(worst_held, 8.0);  // what holding the climb rate gives (the test's reason to exist)
+  // Horizontal sigma grows as the coast model says.
+  const pose_t* end = pose_at(poses, flight.truth[240].utime);
+  const double t = static_cast<double>(end->utime - before->utime) * 1e-6;
+  const double grown = coast_position_variance(options.coast.velocity_stddev_mps, options.coast.velocity_random_walk, t);
+  EXPECT_NEAR(end->position_covariance[0][0] - before->position_covariance[0][0], grown, 1e-6 * grown);
+  EXPECT_GT(std::sqrt(end->position_covariance[0][0]), 5.0 * std::sqrt(end->position_covariance[2][2]));
+  const pose_t* weighted_end = pose_at(weighted, flight.truth[240].utime);
+  const double held_variance = coast_position_variance(options.coast.vertical_velocity_stddev_mps,
+                                                       options.coast.velocity_random_walk, t);
+  EXPECT_LT(weighted_end->position_covariance[2][2], before->position_covariance[2][2] + held_variance);
+  EXPECT_LT(weighted_end->position_covariance[2][2], weighted_end->position_covariance[0][0]);
+  const double weighted_error = std::abs(vertical_error(*weighted_end, 240));
+  EXPECT_LT(weighted_error, std::abs(vertical_error(*pose_at(held_poses, flight.truth[240].utime), 240)));
+  EXPECT_LT(weighted_error, 3.0 * std::sqrt(weighted_end->position_covariance[2][2]));
+  // After VO resumes the vertical error is not frozen at the held climb's: back within 0.3 m.
+  const pose_t& last = poses.back();
+  EXPECT_EQ(last.flags, 0);
+  EXPECT_LT(std::abs(vertical_error(last, flight.truth.size() - 1)), 0.3);
+  EXPECT_GT(std::abs(vertical_error(held_poses.back(), flight.truth.size() - 1)), 8.0);
+  // No vertical jump at the resume: each step within 0.3 m of the true one.
+  for (size_t k = 236; k < 250; ++k) {
+    const pose_t* a = pose_at(poses, flight.truth[k].utime);
+    const pose_t* b = pose_at(poses, flight.truth[k + 1].utime);
+    const double step = b->position_ned[2] - a->position_ned[2];
+    const double truth_step = flight.truth[k + 1].position.z() - flight.truth[k].position.z();
+    EXPECT_NEAR(step, truth_step, 0.3) << "frame " << k;
+  }
+}
+
+// A 30 m terrain step (a cliff) under the beam while coasting on the
+// altimeter is the ground's, not a climb: the plane moves, the height stays.
+TEST(Coasting, AGroundStepWhileFollowingTheAltimeterMovesThePlane) {
+  FlightSpec spec = straight_spec();
+  spec.terrain_step_m = 30.0;
+  spec.terrain_step_frame = 170;
+  SyntheticFlight flight = test::make_flight(spec);
+  lose_texture(&flight, 100, 240);
+  YawFusionCounters counters;
+  YawFusionOptions options;
+  options.coast.follow_altimeter = true;
+  const auto poses = fly(flight, options, &counters);
+  EXPECT_EQ(counters.coast_ground_steps, 1);
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  for (size_t k = 101; k < flight.truth.size(); ++k) {
+    const pose_t* p = pose_at(poses, flight.truth[k].utime);
+    ASSERT_NE(p, nullptr) << "frame " << k;
+    EXPECT_NEAR(p->position_ned[2], flight.truth[k].position.z() - origin.z(), 0.3) << "frame " << k;
+  }
 }
 
 TEST(Coasting, CleanFlightNeverCoasts) {
@@ -402,6 +554,12 @@ TEST(CoastOptions, ConfigErrorsNameTheKey) {
     FAIL() << "no error";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("inlier_drop_fraction"), std::string::npos) << e.what();
+  }
+  try {
+    YawFusionOptions::from_config(Config::parse("yaw_fusion:\n  coast: {terrain_window_s: -1}\n", "test.yaml"));
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("yaw_fusion.coast.terrain_window_s"), std::string::npos) << e.what();
   }
   const Config ok = Config::parse("yaw_fusion:\n  coast: {enabled: false, max_duration_s: 12}\n", "test.yaml");
   const YawFusionOptions o = YawFusionOptions::from_config(ok);

@@ -53,6 +53,7 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
   int64_t next_ins = kStartUs;
   int64_t next_alt = kStartUs;
   double terrain_down = spec.height_agl_m;
+  const Eigen::Vector2d terrain_gradient(spec.terrain_gradient_north, spec.terrain_gradient_east);
   int64_t t_us = kStartUs;
   while (t_us <= end_us) {
     const double t = static_cast<double>(t_us - kStartUs) * 1e-6;
@@ -81,7 +82,7 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
       altimeter_t alt{};
       alt.utime = t_us;
       alt.beam_body[2] = 1.0;
-      const double agl = terrain_down - state.position.z();
+      const double agl = terrain_down + terrain_gradient.dot(state.position.head<2>()) - state.position.z();
       const Eigen::Vector3d beam = rotation_from_rpy(roll_at(t), pitch_at(t), 0.0) * Eigen::Vector3d::UnitZ();
       alt.range_m = agl / beam.z();
       alt.signal_quality = 1.0f;
@@ -96,8 +97,10 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
     next = std::min({next, next_ins, next_alt});
     const double dt = static_cast<double>(next - t_us) * 1e-6;
     const double rate = yaw_rate(spec, t);
+    const double climb =
+        spec.climb_rate_change_s >= 0.0 && t >= spec.climb_rate_change_s ? spec.climb_rate_after_mps : spec.climb_rate_mps;
     state.position += dt * Eigen::Vector3d(spec.speed_mps * std::cos(state.yaw), spec.speed_mps * std::sin(state.yaw),
-                                           -spec.climb_rate_mps);
+                                           -climb);
     state.yaw += rate * dt;
     t_us = next;
   }
@@ -129,7 +132,14 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
     d.covariance[0][0] = d.covariance[1][1] = d.covariance[2][2] = st * st;
     d.covariance[3][3] = std::pow(deg_to_rad(spec.covariance_dyaw_stddev_deg), 2);
     d.covariance[4][4] = d.covariance[5][5] = std::pow(deg_to_rad(0.5), 2);
-    d.altitude_m = spec.height_agl_m - a.position.z();
+    d.altitude_m = spec.height_agl_m + terrain_gradient.dot(a.position.head<2>()) - a.position.z();
+    // The terrain plane in the level frame of frame b (x forward, y right):
+    // down changes by `forward` per metre ahead and `right` per metre right;
+    // its normal (-forward, -right, 1) as the solver's ground roll/pitch.
+    const double forward = std::cos(b.yaw) * terrain_gradient.x() + std::sin(b.yaw) * terrain_gradient.y();
+    const double right = -std::sin(b.yaw) * terrain_gradient.x() + std::cos(b.yaw) * terrain_gradient.y();
+    d.ground_pitch = std::atan2(-forward, 1.0);
+    d.ground_roll = std::atan2(right, std::hypot(forward, 1.0));
     d.inliers = 300;
     d.residual_rms_px = 0.3;
     d.iterations = 4;

@@ -36,6 +36,12 @@ struct FlightSpec {
   double covariance_dyaw_stddev_deg = 0.05;
   double terrain_step_m = 0.0;          // terrain rises this much at terrain_step_frame
   int terrain_step_frame = -1;
+  // Terrain down coordinate changes by this much per metre north and east (a
+  // plane; the deltas carry its tilt as ground_roll/ground_pitch).
+  double terrain_gradient_north = 0.0;
+  double terrain_gradient_east = 0.0;
+  double climb_rate_change_s = -1.0;    // from this flight time on (>= 0) the climb rate is ...
+  double climb_rate_after_mps = 0.0;    // ... this
   uint32_t seed = 7;
 };
 

@@ -76,6 +76,11 @@ TEST(ConfigSources, EveryFileUnderConfigLoads) {
     c.apply_overlay(Config::load_file(path));
     EXPECT_NO_THROW(check_every_section(c)) << path;
   }
+  // The simulator's 12 MP camera (nadir_sim --config-overlay).
+  Config camera_12mp = Config::load_file(kRoot + "/config/default.yaml");
+  camera_12mp.apply_overlay(Config::load_file(kRoot + "/config/sim_camera_12mp.yaml"));
+  EXPECT_NO_THROW(check_every_section(camera_12mp));
+  EXPECT_EQ(camera_12mp.section("camera").get<int>("width"), 3000);
   for (const std::string& path : files_in("config/profiles")) {
     EXPECT_NO_THROW(sim::FlightProfile::load(path)) << path;
   }
