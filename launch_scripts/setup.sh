@@ -92,8 +92,7 @@ case "$scope" in
 esac
 echo "setup: building ${scope} into $NADIR_BUILD"
 cmake --build "$NADIR_BUILD" -j"$(nproc)" "${targets[@]}" 2>&1 |
-  grep -vE '^\[ *[0-9]+(%\]|/[0-9]+\]) (Building|Linking|Built)' || true
-test "${PIPESTATUS[0]}" -eq 0
+  { grep -vE '^\[ *[0-9]+(%\]|/[0-9]+\]) (Building|Linking|Built)' || true; }  # pipefail: a failed build stops here
 if [ "$scope" = tests ]; then
   # node-mavlink from the npm registry: the independent MAVLink implementation
   # the MAVLink bridge's codec is tested against (once; tests run without network).

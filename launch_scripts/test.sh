@@ -39,8 +39,8 @@ if [ "${NADIR_SKIP_SANITIZERS:-0}" != 1 ]; then
                         sed -n 's/^ *Test *#[0-9]*: //p')
   ((${#suites[@]})) || { echo "test: no ASan/UBSan suite matches in $asan" >&2; exit 1; }
   echo "test: building the ${#suites[@]} ASan/UBSan suites in $asan"
-  cmake --build "$asan" -j"$(nproc)" --target "${suites[@]}" 2>&1 | grep -vE '^\[ *[0-9]+(%\]|/[0-9]+\]) (Building|Linking|Built)' || true
-  test "${PIPESTATUS[0]}" -eq 0
+  cmake --build "$asan" -j"$(nproc)" --target "${suites[@]}" 2>&1 |
+    { grep -vE '^\[ *[0-9]+(%\]|/[0-9]+\]) (Building|Linking|Built)' || true; }  # pipefail: a failed build stops here
   echo "test: ASan/UBSan run"
   (cd "$asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
      nadir_in_netns ctest --output-on-failure -j"$(nproc)" -R "$sanitized_suites" -E "$unsanitized_suites")
