@@ -6,8 +6,9 @@
 #        own_flight.sh --video FILE (--srt FILE | --csv FILE) [--camera FILE] [--name NAME] [import options...]
 # Import options (nadir_import --help): --focal-px F, --scale S, --interval S, --skip-bad, --config FILE.
 # --overlay FILE: a config fragment for the replay (e.g. vo_solver: {variant: homography}).
-# --gps-scale focal|altimeter --calibrate-until S: fit the image scale against the GPS on the first S
-#   seconds (nadir_calibrate --scale-only), replay again with it and report the pairs after S apart.
+# --gps-scale focal|altimeter --calibrate-until S: fit the image scale and the heading offset (the images'
+#   heading against the recorded yaw) to the GPS on the first S seconds (nadir_calibrate --scale-only),
+#   replay again with them and report the pairs after S apart.
 # Output under logs/<UTC>-own-<NAME>/ (NAME: the folder's / video's name unless given).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -19,7 +20,7 @@ gps_scale=""
 calibrate_until=""
 while (($#)); do
   case "$1" in
-    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --name) name="$2"; shift 2 ;;
     --photos|--video) source_path="$2"; import_args+=("$1" "$2"); shift 2 ;;
     --skip-bad) import_args+=("$1"); shift ;;
@@ -49,6 +50,8 @@ nadir_replay --in "$run_dir/flight.lcmlog" --out "$run_dir/replay.lcmlog" --node
 echo
 echo "=== nadir on your own flight: $name ==="
 nadir_eval --log "$run_dir/replay.lcmlog" --out "$run_dir/report" | tee "$run_dir/report/summary.txt"
+echo "heading             the recorded yaw (not fitted to the GPS: --gps-scale focal --calibrate-until S fits its offset)" |
+  tee -a "$run_dir/report/summary.txt"
 if [ -n "$gps_scale" ]; then
   # The image scale against the GPS on the first part, checked on the rest.
   nadir_calibrate --log "$run_dir/replay.lcmlog" --config "$run_dir/flight.yaml" --gps-scale "$gps_scale" \
@@ -62,9 +65,12 @@ if [ -n "$gps_scale" ]; then
     { cat "$run_dir/replay_calibrated.txt" >&2; echo "own_flight: error: calibrated replay failed" >&2; exit 1; }
   mkdir -p "$run_dir/report_calibrated"
   echo
-  echo "=== with the image scale fitted on the first $calibrate_until s ($(grep -m1 'GNSS scale' "$run_dir/gps_scale.yaml" | sed 's/^# *//')) ==="
+  echo "=== with the image scale and heading fitted on the first $calibrate_until s ==="
   nadir_eval --log "$run_dir/replay_calibrated.lcmlog" --out "$run_dir/report_calibrated" \
     | tee "$run_dir/report_calibrated/summary.txt"
+  { echo "image scale         $(grep -m1 'GNSS scale' "$run_dir/gps_scale.yaml" | sed 's/^# *GNSS scale *//')"
+    echo "heading             offset $(grep -m1 'heading offset' "$run_dir/gps_scale.yaml" | sed 's/^# *heading offset *//')"
+  } | tee -a "$run_dir/report_calibrated/summary.txt"
   /usr/bin/python3 "$NADIR_ROOT/tools/import/held_out_pairs.py" --split-s "$calibrate_until" \
     --before "$run_dir/report/pairs.csv" --after "$run_dir/report_calibrated/pairs.csv" \
     | tee -a "$run_dir/report_calibrated/summary.txt"

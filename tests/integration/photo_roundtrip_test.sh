@@ -9,6 +9,8 @@
 # The camera from the photos alone (no calibration file): a 16:9 crop of a 4:3
 # sensor and DJI's XMP calibration, imported, give the true focal length.
 # 12 MP photos of the survey's first 30 s come at the working resolution (1000x750).
+# A return line stored turned 180 deg is found and turned back; a recorded yaw 11.5 deg off the
+# images' heading is fitted against the GPS.
 # Then the same flight as video + SRT when nadir_import has a video mode.
 # Needs nadir_sim, nadir_export, nadir_import, nadir_replay, nadir_eval on
 # PATH or in $NADIR_BUILD/bin. Exit 77 (skip) when nadir_import is absent.
@@ -145,6 +147,52 @@ PY
 }
 camera_kind crop169 --crop-16-9 --model FC300X
 camera_kind calibrated --dji-calibration
+
+# A return line stored turned 180 deg in its pixels (a photo viewer re-saved it; EXIF Orientation 1):
+# found from the images and turned back (exactly the return line's photos named), the pair across the
+# turn solved again, the flight within the same bound.
+mkdir -p "$work/turned"
+nadir_export photos --in "$work/sim.lcmlog" --out "$work/turned/survey" --turn-return-lines 180 --json \
+  >"$work/turned/export.json" 2>"$work/turned/export.txt" || { cat "$work/turned/export.txt"; fail "nadir_export --turn-return-lines failed"; }
+roundtrip turned --photos "$work/turned/survey" --camera "$work/turned/survey/camera.yaml"
+python3 - "$work/turned/export.json" "$work/turned/import.json" <<'PY' || bad "(turned) the turned photos were not all found"
+import json, os, sys
+stored = {p["file"]: p["stored_turn_deg"] for p in json.load(open(sys.argv[1]))["photos"] if p["stored_turn_deg"]}
+imported = json.load(open(sys.argv[2]))
+found = {os.path.basename(t["where"]): t["degrees"] for t in imported["turned_back"]}
+print(f"(turned) {len(stored)} photos stored turned, {len(found)} found and turned back, "
+      f"{imported['orientation_unchecked']} not linked to a neighbour")
+sys.exit(0 if stored and found == stored else 1)
+PY
+read -r quality inliers dyaw < <(vo_delta_of_pair "$work/turned/replay.lcmlog" "$work/turned/import.lcmlog" "$turn_index")
+echo "(turned) VO_DELTA across the turn: quality $quality, $inliers inliers, dyaw $dyaw deg"
+[ "$quality" = 0 ] && [ "$inliers" -gt 0 ] || bad "(turned) the pair across the turn is not solved"
+
+# The recorded yaw 11.5 deg off the images' heading (a compass disturbed by the site): the offset fitted
+# against the GPS over the flight's solved pairs (nadir_calibrate --scale-only, as own_flight.sh
+# --gps-scale does) to within 3 sigma and 1 deg, and written into the camera mount's yaw.
+mkdir -p "$work/yawoffset"
+nadir_export photos --in "$work/sim.lcmlog" --out "$work/yawoffset/survey" --yaw-offset-deg=-11.5 \
+  >/dev/null 2>"$work/yawoffset/export.txt" || { cat "$work/yawoffset/export.txt"; fail "nadir_export --yaw-offset-deg failed"; }
+nadir_import --photos "$work/yawoffset/survey" --camera "$work/yawoffset/survey/camera.yaml" --out "$work/yawoffset/import" \
+  >/dev/null 2>"$work/yawoffset/import.txt" || { cat "$work/yawoffset/import.txt"; fail "(yawoffset) nadir_import failed"; }
+nadir_replay --in "$work/yawoffset/import.lcmlog" --out "$work/yawoffset/replay.lcmlog" --nodes tracker,vo_solver,yaw_fusion \
+  --config "$work/yawoffset/import.yaml" --json >/dev/null 2>"$work/yawoffset/replay.txt" ||
+  { cat "$work/yawoffset/replay.txt"; fail "(yawoffset) nadir_replay failed"; }
+nadir_calibrate --log "$work/yawoffset/replay.lcmlog" --config "$work/yawoffset/import.yaml" --gps-scale focal \
+  --scale-only --out "$work/yawoffset/fit.yaml" --json >"$work/yawoffset/fit.json" 2>"$work/yawoffset/fit.txt" ||
+  { cat "$work/yawoffset/fit.txt"; fail "(yawoffset) nadir_calibrate failed"; }
+python3 - "$work/yawoffset/fit.json" "$work/yawoffset/fit.yaml" <<'PY' || bad "(yawoffset) the heading offset was not recovered"
+import json, re, sys
+f = json.load(open(sys.argv[1]))
+h = f["heading_offset_deg"]
+yaml = open(sys.argv[2]).read()
+mount = re.search(r"mount_rpy_deg: \[([^\]]*)\]", yaml)
+print(f"(yawoffset) heading offset {h['value']:+.2f} +- {h['sigma']:.2f} deg (true +11.50), applied "
+      f"{f['heading_offset_applied']}, mount {mount.group(1) if mount else 'not written'}")
+ok = h["estimated"] and abs(h["value"] - 11.5) <= max(3 * h["sigma"], 0.2) and abs(h["value"] - 11.5) < 1.0
+sys.exit(0 if ok and f["heading_offset_applied"] and mount else 1)
+PY
 
 # 12 MP photos (a DJI Phantom 3's 4000x3000: the simulator's camera from config/sim_camera_12mp.yaml,
 # the survey's first 30 s, 16 photos), imported without --scale: the working resolution (1/4, 1000x750)

@@ -527,7 +527,8 @@ FlightData load_flight(const std::string& log_path, bool progress) {
   }
   bar.finish();
   data.corrupt_records = reader.corrupt_records();
-  if (data.ins.size() < 100) throw std::runtime_error(log_path + ": fewer than 100 INS messages: no attitude/position reference");
+  // A photo survey of 20 photos carries 40 INS messages (two per photo): enough for the GNSS fits.
+  if (data.ins.size() < 20) throw std::runtime_error(log_path + ": fewer than 20 INS messages: no attitude/position reference");
   return data;
 }
 
@@ -824,9 +825,17 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
 
   // --- Image scale against GNSS, from the VO_DELTA of a replay.
   std::vector<PositionSample> positions;
-  for (const auto& s : data.ins) positions.push_back({s.utime, s.position_ned});
+  for (const auto& s : data.ins) positions.push_back({s.utime, s.position_ned, s.yaw});
   const GpsScaleFit gps = fit_gps_scale(data.vo_steps, positions, kUnsolvedQualityMask,
                                         options.gps_scale_min_baseline_m, options.outlier_sigma);
+  // The recorded yaw against the images' heading, on the same pairs.
+  const HeadingOffsetFit heading = fit_heading_offset(data.vo_steps, positions, kUnsolvedQualityMask,
+                                                      options.gps_scale_min_baseline_m, options.outlier_sigma);
+  result.heading_offset_deg = make_estimate("heading_offset_deg", heading.offset_rad * (180.0 / M_PI),
+                                            heading.sigma_rad * (180.0 / M_PI), heading.pairs >= 10, 2.0);
+  result.heading_offset_applied = options.gps_scale_only && result.heading_offset_deg.estimated &&
+                                  std::fabs(result.heading_offset_deg.value) > 3.0 * result.heading_offset_deg.sigma;
+  result.configured_mount_rpy_deg = rpy_from_rotation(camera.body_from_camera) * (180.0 / M_PI);
   result.gps_scale_pairs = gps.pairs;
   result.gps_scale = make_estimate("gps_scale", gps.scale, gps.sigma, gps.pairs >= 10, 0.01);
   result.gps_scale_target = options.gps_scale_target;
@@ -873,12 +882,22 @@ std::string CalibrationResult::config_fragment(const std::string& source) const 
         : gps_scale_target == CalibrationOptions::GpsScaleTarget::kAltimeter ? "; written as the altimeter scale"
                                                                              : "; not applied")
     << ")\n";
+  o << "# heading offset  " << line(heading_offset_deg) << " deg (image heading - recorded yaw, the same pairs"
+    << (heading_offset_applied ? "; written into the camera mount's yaw"
+        : scale_only           ? "; not written: within 3 sigma of zero, the recorded yaw is kept"
+                               : "; not applied")
+    << ")\n";
   for (const std::string& w : warnings) o << "# warning: " << w << "\n";
   if (scale_only) {  // only the keys the GNSS scale sets; everything else stays as configured
-    if (gps_scale_target == CalibrationOptions::GpsScaleTarget::kFocal)
-      o << "camera:\n  fx: " << fmt("%.3f", fx) << "\n  fy: " << fmt("%.3f", fy) << "\n";
-    else
-      o << "altimeter:\n  range_scale: " << fmt("%.5f", range_scale) << "\n";
+    const bool focal = gps_scale_target == CalibrationOptions::GpsScaleTarget::kFocal;
+    if (focal || heading_offset_applied) o << "camera:\n";
+    if (focal) o << "  fx: " << fmt("%.3f", fx) << "\n  fy: " << fmt("%.3f", fy) << "\n";
+    if (heading_offset_applied) {
+      o << "  mount_rpy_deg: [" << fmt("%.4f", configured_mount_rpy_deg[0]) << ", "
+        << fmt("%.4f", configured_mount_rpy_deg[1]) << ", "
+        << fmt("%.4f", configured_mount_rpy_deg[2] + heading_offset_deg.value) << "]\n";
+    }
+    if (!focal) o << "altimeter:\n  range_scale: " << fmt("%.5f", range_scale) << "\n";
     return o.str();
   }
   o << "camera:\n";
@@ -938,6 +957,8 @@ std::string CalibrationResult::json() const {
   put(altimeter_scale);
   put(altimeter_bias_m);
   put(gps_scale);
+  put(heading_offset_deg);
+  j.field("heading_offset_applied", heading_offset_applied);
   j.key("mount_rpy_deg").begin_array().value(mount_rpy_deg[0]).value(mount_rpy_deg[1]).value(mount_rpy_deg[2]).end_array();
   j.field("frame_pairs", frame_pairs).field("residuals", residuals).field("outliers", outliers);
   j.field("altimeter_samples", altimeter_samples).field("camera_rms_rad", camera_rms_rad);

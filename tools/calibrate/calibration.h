@@ -144,6 +144,9 @@ struct CalibrationResult {
   Estimate altimeter_bias_m;
   Estimate gps_scale;                 // GNSS baseline / VO step (not estimated without VO_DELTA)
   int64_t gps_scale_pairs = 0;
+  Estimate heading_offset_deg;        // image heading - recorded yaw over the same pairs (deg)
+  bool heading_offset_applied = false;  // scale-only fragment: written into the mount's yaw (beyond 3 sigma)
+  Eigen::Vector3d configured_mount_rpy_deg = Eigen::Vector3d::Zero();
   CalibrationOptions::GpsScaleTarget gps_scale_target = CalibrationOptions::GpsScaleTarget::kReport;
   Eigen::Vector3d mount_rpy_deg = Eigen::Vector3d::Zero();  // configured mount composed with the boresight
   double fx = 0, fy = 0;              // configured focal lengths times the focal scale (or over the GNSS scale)

@@ -22,6 +22,7 @@ struct VoStep {
 struct PositionSample {
   int64_t utime = 0;
   Eigen::Vector3d position_ned = Eigen::Vector3d::Zero();
+  double yaw = 0.0;  // the recorded yaw (rad): the heading the VO steps are turned by
 };
 
 struct GpsScaleFit {
@@ -37,5 +38,19 @@ struct GpsScaleFit {
 // Returns pairs == 0 when nothing is usable.
 GpsScaleFit fit_gps_scale(const std::vector<VoStep>& steps, const std::vector<PositionSample>& positions,
                           int32_t unsolved_mask, double min_baseline_m, double outlier_sigma);
+
+// The steady offset between the recorded yaw and the images' heading (a
+// compass disturbed by the site, a gimbal yaw offset): per solved pair, the
+// GNSS baseline's direction minus the VO step's turned by the recorded yaw
+// at the previous frame; the median over the pairs, outliers dropped as in
+// fit_gps_scale. Image heading = recorded yaw + offset.
+struct HeadingOffsetFit {
+  double offset_rad = 0.0;
+  double sigma_rad = 0.0;  // 1-sigma of the median (robust spread / sqrt(n))
+  int64_t pairs = 0;
+  int64_t rejected = 0;
+};
+HeadingOffsetFit fit_heading_offset(const std::vector<VoStep>& steps, const std::vector<PositionSample>& positions,
+                                    int32_t unsolved_mask, double min_baseline_m, double outlier_sigma);
 
 }  // namespace nadir::calibrate

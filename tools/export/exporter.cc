@@ -5,6 +5,7 @@
 #include <opencv2/videoio.hpp>
 
 #include <cmath>
+#include <optional>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -102,6 +103,9 @@ void PhotoExportOptions::Check() const {
   require(quality >= 1 && quality <= 100, "--quality", "must be in [1, 100]");
   require(pixel_pitch_um >= 0.5 && pixel_pitch_um <= 50.0, "--pixel-pitch-um", "must be in [0.5, 50]");
   require(model.find_first_of("\r\n") == std::string::npos, "--model", "must be one line");
+  require(return_lines_turn_deg % 90 == 0 && return_lines_turn_deg >= 0 && return_lines_turn_deg < 360,
+          "--turn-return-lines", "must be 0, 90, 180 or 270");
+  require(std::fabs(yaw_offset_deg) <= 180.0, "--yaw-offset-deg", "must be in [-180, 180]");
 }
 
 void VideoExportOptions::Check() const {
@@ -154,6 +158,7 @@ PhotoExportResult export_photos(const SimLog& log, const std::string& out_dir, c
   size_t next_image = 0;
   const ground_truth_t* previous_truth = nullptr;
   std::vector<Eigen::Vector2d> previous_footprint;
+  std::optional<double> first_yaw_rad;  // the first photo's heading: the return lines are the others
   for (int64_t tick = t0; tick <= t_end; tick += step) {
     progress.update(static_cast<double>(tick - t0));
     if (std::fabs(rad_to_deg(log.yaw_rate_at(tick))) > options.max_yaw_rate_dps) {
@@ -178,6 +183,8 @@ PhotoExportResult export_photos(const SimLog& log, const std::string& out_dir, c
     record.metadata =
         frame_metadata(log, written, ref.utime, options.attitude, options.pixel_pitch_um, sensor_diagonal_px);
     if (!options.model.empty()) record.metadata.model = options.model;
+    record.metadata.flight.yaw_deg += options.yaw_offset_deg;
+    record.metadata.gimbal.yaw_deg += options.yaw_offset_deg;
     if (options.dji_calibration) {
       record.metadata.has_dji_calibration = true;
       record.metadata.calibrated_focal_px = written.fx;
@@ -185,12 +192,24 @@ PhotoExportResult export_photos(const SimLog& log, const std::string& out_dir, c
       record.metadata.calibrated_center_y = written.cy;
     }
     const std::string path = (fs::path(out_dir) / name).string();
-    const cv::Mat photo = turn_to_dji(sim_frame(log, ref))(crop);
+    const ground_truth_t& truth = log.truth_for_frame(ref.utime);
+    if (first_yaw_rad.has_value() && std::fabs(angle_difference(truth.yaw, *first_yaw_rad)) > M_PI / 2) {
+      record.stored_turn_deg = options.return_lines_turn_deg;
+    }
+    if (!first_yaw_rad) first_yaw_rad = truth.yaw;
+    cv::Mat photo = turn_to_dji(sim_frame(log, ref))(crop);
+    static constexpr int kClockwise[] = {-1, cv::ROTATE_90_CLOCKWISE, cv::ROTATE_180, cv::ROTATE_90_COUNTERCLOCKWISE};
+    if (record.stored_turn_deg != 0) {
+      cv::Mat turned_pixels;
+      cv::rotate(photo, turned_pixels, kClockwise[record.stored_turn_deg / 90]);
+      photo = turned_pixels;
+      record.metadata.width = photo.cols;
+      record.metadata.height = photo.rows;
+    }
     if (!cv::imwrite(path, photo, {cv::IMWRITE_JPEG_QUALITY, options.quality})) {
       throw std::runtime_error(path + ": cannot write the JPEG");
     }
     write_photo_metadata(path, record.metadata);
-    const ground_truth_t& truth = log.truth_for_frame(ref.utime);
     const std::vector<Eigen::Vector2d> footprint =
         ground_footprint(log.camera(), Eigen::Vector3d(truth.position_ned[0], truth.position_ned[1], truth.position_ned[2]),
                          rotation_from_rpy(truth.roll, truth.pitch, truth.yaw), -truth.terrain_height_m);

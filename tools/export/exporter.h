@@ -34,6 +34,14 @@ struct PhotoExportOptions {
   // shooting 16:9 on a 4:3 sensor does.
   bool crop_16_9 = false;
   bool dji_calibration = false;    // write XMP drone-dji:CalibratedFocalLength / CalibratedOpticalCenterX/Y
+  // The photos of the return lines (heading more than 90 deg from the first
+  // photo's) stored turned clockwise by this in their pixels, EXIF
+  // Orientation 1: a photo viewer re-saved them rotated (0, 90, 180, 270).
+  int return_lines_turn_deg = 0;
+  // The recorded yaw (flight and gimbal) = the true one + this: a compass
+  // disturbed by the site, a steady offset between the heading the photos
+  // say and the images' heading.
+  double yaw_offset_deg = 0.0;
   bool progress = false;
   void Check() const;              // throws std::invalid_argument naming the option and range
 };
@@ -53,6 +61,7 @@ struct PhotoRecord {
   PhotoMetadata metadata;
   double overlap_with_previous = -1.0;  // share of the previous footprint seen again (truth, flat ground)
   double heading_change_deg = 0.0;      // truth yaw change from the previous photo
+  int stored_turn_deg = 0;              // pixels stored turned clockwise by this (return_lines_turn_deg)
   double north_m = 0.0, east_m = 0.0;   // truth position in the simulator's local frame
 };
 

@@ -99,6 +99,7 @@ void print_photos(const PhotoExportResult& r, const std::string& in, const std::
           .field("utime", p.utime)
           .field("overlap_with_previous", p.overlap_with_previous)
           .field("heading_change_deg", p.heading_change_deg)
+          .field("stored_turn_deg", p.stored_turn_deg)
           .field("north_m", p.north_m)
           .field("east_m", p.east_m)
           .end_object();
@@ -151,6 +152,11 @@ int main(int argc, char** argv) {
   photos->add_flag("--dji-calibration", photo.dji_calibration,
                    "write the true focal length and principal point as XMP drone-dji:CalibratedFocalLength / "
                    "CalibratedOpticalCenterX/Y");
+  photos->add_option("--turn-return-lines", photo.return_lines_turn_deg,
+                     "store the return lines' photos (heading > 90 deg from the first photo's) turned clockwise by "
+                     "0, 90, 180 or 270 deg in their pixels, EXIF Orientation 1, as a photo viewer re-saves them");
+  photos->add_option("--yaw-offset-deg", photo.yaw_offset_deg,
+                     "write the flight and gimbal yaw this many degrees off the true heading (a disturbed compass)");
   photos->add_flag("--json", json, "print a machine-readable summary on stdout");
 
   nadir::exporter::VideoExportOptions video;

@@ -33,6 +33,7 @@
 #include "nadir/image_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "tools/import/photo_camera.h"
+#include "tools/import/stored_turn.h"
 
 namespace nadir::import {
 namespace {
@@ -170,8 +171,10 @@ bool same_camera(const FlightCamera& flight, const PhotoMetadata& m, std::string
            ": one camera per import, mixed cameras in the folder";
     return false;
   }
-  if (m.image_width > 0 && first.image_width > 0 &&
-      (m.image_width != first.image_width || m.image_height != first.image_height)) {
+  // A photo stored turned by a quarter turn has the size transposed: the same camera.
+  const bool same_size = (m.image_width == first.image_width && m.image_height == first.image_height) ||
+                         (m.image_width == first.image_height && m.image_height == first.image_width);
+  if (m.image_width > 0 && first.image_width > 0 && !same_size) {
     *why = "photo is " + std::to_string(m.image_width) + "x" + std::to_string(m.image_height) +
            " but the flight's are " + std::to_string(first.image_width) + "x" + std::to_string(first.image_height) +
            others + ": one image size per import, mixed sizes in the folder";
@@ -413,6 +416,38 @@ void ImportOptions::Check() const {
   if (config_path.empty()) throw std::invalid_argument("a base config is required");
 }
 
+// Photos stored turned against the flight (stored_turn.h): every photo read
+// once at a reduced size and registered with the one before it. The turned
+// ones are named in a warning and in the summary; a photo the images could
+// not link is counted as unchecked.
+std::vector<StoredTurn> find_stored_turns(const std::vector<Sample>& samples, const std::array<double, 3>& mount,
+                                          ImportSummary* summary) {
+  const StoredTurnOptions options;
+  StoredTurnCheck check(options);
+  const Eigen::Matrix3d body_from_cam = body_from_camera(mount);
+  for (const Sample& s : samples) {
+    check.add(read_grey_reduced(s.image_path, options.max_side_px, s.photo.image_width, s.photo.image_height),
+              s.world_from_body * body_from_cam);
+  }
+  std::vector<StoredTurn> turns = check.verdicts();
+  std::string named;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (!turns[i].linked) ++summary->orientation_unchecked;
+    if (turns[i].quarter_turns == 0) continue;
+    const std::string file = fs::path(samples[i].image_path).filename().string();
+    summary->turned_back.push_back({samples[i].image_path, 90 * turns[i].quarter_turns});
+    if (summary->turned_back.size() <= 6) named += (named.empty() ? "" : ", ") + file + " " +
+                                                   std::to_string(90 * turns[i].quarter_turns) + " deg";
+  }
+  if (!summary->turned_back.empty()) {
+    if (summary->turned_back.size() > 6) named += ", ...";
+    summary->warnings.push_back(std::to_string(summary->turned_back.size()) +
+                                " photos were stored turned against the rest of the flight (found from the images; "
+                                "their stored turn, clockwise) and are turned back: " + named);
+  }
+  return turns;
+}
+
 ImportSummary run_import(const ImportOptions& o) {
   o.Check();
   ImportSummary summary;
@@ -539,7 +574,12 @@ ImportSummary run_import(const ImportOptions& o) {
     summary.warnings.push_back("rangefinder flight without GPS altitude in every record: truth down uses the range");
   }
 
-  // 2. Images: read, check size, grey, scale; write the log body.
+  // 2. Photos stored turned against the flight (a viewer re-saved them
+  // rotated), found from the images: turned back as they are read below.
+  std::vector<StoredTurn> turns;
+  if (!o.photos_dir.empty()) turns = find_stored_turns(samples, mount, &summary);
+
+  // 3. Images: read, check size, grey, scale; write the log body.
   const fs::path out_dir = fs::path(o.out).parent_path();
   if (!out_dir.empty()) fs::create_directories(out_dir);
   const std::string body_path = summary.log_path + ".part";
@@ -571,11 +611,22 @@ ImportSummary run_import(const ImportOptions& o) {
           frame = colour;
         }
       } else {
-        frame = cv::imread(s.image_path, cv::IMREAD_GRAYSCALE);
+        // The pixels as stored: EXIF Orientation is a display hint; the stored
+        // turn check above decides from the images what is turned.
+        frame = cv::imread(s.image_path, cv::IMREAD_GRAYSCALE | cv::IMREAD_IGNORE_ORIENTATION);
         if (frame.empty()) {
           skip_or_throw(o.skip_bad, s.where, "cannot decode the image", &summary.skipped);
           continue;
         }
+        const StoredTurn& turn = turns[i];
+        if (turn.size_transposed && !turn.linked) {
+          skip_or_throw(o.skip_bad, s.where,
+                        "stored turned by a quarter turn (its width and height are the flight's swapped) and no "
+                        "neighbouring photo matched it to tell which way: turn it back, or leave it out (--skip-bad)",
+                        &summary.skipped);
+          continue;
+        }
+        frame = turn_back(frame, turn.quarter_turns);
       }
       if (frame.depth() != CV_8U) frame.convertTo(frame, CV_8U, 1.0 / 256.0);
       if (!camera_known) {
@@ -710,7 +761,7 @@ ImportSummary run_import(const ImportOptions& o) {
   summary.median_interval_s = intervals.empty() ? 0.0 : median(intervals, EvenMedian::kUpper);
   summary.mount_rpy_deg = mount;
 
-  // 3. The final log: CONFIG first, then the body; and the config file.
+  // 4. The final log: CONFIG first, then the body; and the config file.
   {
     LogWriter log(summary.log_path);
     config_t cfg;
@@ -750,6 +801,10 @@ std::string summary_json(const ImportSummary& s) {
       .field("distance_m", s.distance_m)
       .field("altimeter_source", s.altimeter_source)
       .field("attitude_source", s.attitude_source);
+  j.key("turned_back").begin_array();
+  for (const TurnedPhoto& t : s.turned_back) j.begin_object().field("where", t.where).field("degrees", t.degrees).end_object();
+  j.end_array();
+  j.field("orientation_unchecked", s.orientation_unchecked);
   j.key("camera")
       .begin_object()
       .field("source", s.camera.source)

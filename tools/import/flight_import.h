@@ -63,6 +63,12 @@ struct ImportOptions {
   void Check() const;            // throws std::invalid_argument naming the option
 };
 
+// A photo stored turned clockwise by `degrees` against the flight, turned back (stored_turn.h).
+struct TurnedPhoto {
+  std::string where;
+  int degrees = 0;
+};
+
 struct ImportSummary {
   std::string log_path, yaml_path;
   std::string mode;                   // photos | video
@@ -78,6 +84,8 @@ struct ImportSummary {
   std::array<double, 3> mount_rpy_deg{0, 0, 0};
   std::string altimeter_source;       // rangefinder | barometric_relative
   std::string attitude_source;        // dji_gimbal | dji_flight | sensefly | srt_gimbal | srt_flight | csv_body
+  std::vector<TurnedPhoto> turned_back;  // photos found stored turned (from the images), turned back
+  int64_t orientation_unchecked = 0;     // photos no neighbour could be registered with: orientation as stored
   std::vector<std::string> warnings;
 };
 

@@ -1,6 +1,6 @@
-// The image scale against GNSS (tools/calibrate/gps_scale.h): exact on
-// noise-free steps, the median holds against mismatched pairs, flagged and
-// short pairs are not used.
+// The image scale and the heading offset against GNSS
+// (tools/calibrate/gps_scale.h): exact on noise-free steps, the median holds
+// against mismatched pairs, flagged and short pairs are not used.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,13 +20,16 @@ struct Track {
   std::vector<VoStep> steps;
 };
 
-Track curved_flight(int n, double vo_scale) {
+// The recorded yaw of each position is the steps' true heading minus
+// `heading_offset` (rad): image heading = recorded yaw + offset.
+Track curved_flight(int n, double vo_scale, double heading_offset = 0.0) {
   Track t;
   for (int i = 0; i <= n; ++i) {
     const double s = i * 20.0;  // 20 m/s
     t.positions.push_back({static_cast<int64_t>(i) * 1000000, Eigen::Vector3d(200.0 * std::sin(s / 200.0),
                                                                               200.0 * (1.0 - std::cos(s / 200.0)),
-                                                                              -100.0 - 0.1 * i)});
+                                                                              -100.0 - 0.1 * i),
+                           0.3 * i - heading_offset});
   }
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d d = t.positions[i + 1].position_ned - t.positions[i].position_ned;
@@ -95,6 +98,45 @@ TEST(GpsScale, FlaggedShortAndUncoveredPairsAreNotUsed) {
   // Baselines under the minimum carry mostly GNSS noise.
   const GpsScaleFit long_only = fit_gps_scale(t.steps, t.positions, kUnsolved, 25.0, 4.0);
   EXPECT_EQ(long_only.pairs, 0);
+}
+
+TEST(HeadingOffset, ExactOnNoiseFreeStepsAndAcrossTheHalfTurn) {
+  for (double offset_deg : {0.0, 11.5, -7.25, 179.0, -179.5}) {
+    const double offset = offset_deg * M_PI / 180.0;
+    const Track t = curved_flight(50, 1.2, offset);
+    const HeadingOffsetFit fit = fit_heading_offset(t.steps, t.positions, kUnsolved, 2.0, 4.0);
+    EXPECT_EQ(fit.pairs, 50) << offset_deg;
+    EXPECT_NEAR(std::remainder(fit.offset_rad - offset, 2.0 * M_PI), 0.0, 1e-12) << offset_deg;
+    EXPECT_NEAR(fit.sigma_rad, 0.0, 1e-12) << offset_deg;
+  }
+}
+
+TEST(HeadingOffset, NoisyStepsWithMismatchesStayWithinThreeSigma) {
+  const double offset = 11.5 * M_PI / 180.0;
+  Track t = curved_flight(200, 1.0, offset);
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> noise(0.0, 0.5);  // 0.5 m per axis on 20 m steps: ~1.4 deg
+  for (size_t i = 0; i < t.steps.size(); ++i) {
+    t.steps[i].dx += noise(rng);
+    t.steps[i].dy += noise(rng);
+    if (i % 10 == 3) std::swap(t.steps[i].dx, t.steps[i].dy);  // a pair solved in a wrong direction
+  }
+  const HeadingOffsetFit fit = fit_heading_offset(t.steps, t.positions, kUnsolved, 2.0, 4.0);
+  EXPECT_GT(fit.sigma_rad, 0.0);
+  EXPECT_LT(fit.sigma_rad, 0.005);
+  EXPECT_NEAR(fit.offset_rad, offset, 3.0 * fit.sigma_rad);
+  EXPECT_GE(fit.rejected, 15);
+}
+
+TEST(HeadingOffset, FlaggedAndShortPairsAreNotUsed) {
+  Track t = curved_flight(30, 1.0, 0.1);
+  t.steps[0].quality = 8;             // not converged
+  t.steps[2].dx = t.steps[2].dy = 0.0;
+  const HeadingOffsetFit fit = fit_heading_offset(t.steps, t.positions, kUnsolved, 2.0, 4.0);
+  EXPECT_EQ(fit.pairs, 28);
+  EXPECT_EQ(fit.rejected, 1);
+  EXPECT_NEAR(fit.offset_rad, 0.1, 1e-12);
+  EXPECT_EQ(fit_heading_offset({}, t.positions, kUnsolved, 2.0, 4.0).pairs, 0);
 }
 
 }  // namespace
