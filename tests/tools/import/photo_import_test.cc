@@ -242,6 +242,7 @@ TEST(PhotoImport, DjiSurveyWithTurn) {
   // A barometric height above take-off: the vertical follows it.
   EXPECT_EQ(c.section("yaw_fusion").get<std::string>("altitude_mode"), "barometric");
   EXPECT_DOUBLE_EQ(c.section("yaw_fusion").get<double>("altimeter_stddev_m"), 0.3);
+  EXPECT_DOUBLE_EQ(c.section("yaw_fusion").get<double>("altimeter_gate_sigma"), 10.0);
 }
 
 // senseFly: roll right wing down +, pitch nose up +, heading clockwise from north (README evidence).
