@@ -202,6 +202,7 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
       const vo_delta_t& next = pending_.begin()->second;
       if (started_ && supersedes_gap_poses(next)) {
         filter_ = good_filter_;
+        consecutive_altimeter_rejections_ = good_consecutive_altimeter_rejections_;
         last_frame_utime_ = last_good_utime_;
         yaw_without_vo_ = false;  // back to the yaw the delta continues from
         ++counters_.gap_poses_superseded;
@@ -333,6 +334,7 @@ void YawFusionEstimator::start(const vo_delta_t& first, std::vector<pose_t>* out
                               Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
   }
   good_filter_ = filter_;
+  good_consecutive_altimeter_rejections_ = consecutive_altimeter_rejections_;
   out->push_back(make_pose(t0, flags));
 }
 
@@ -494,6 +496,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
                               ground_gradient_ned(delta.ground_roll, delta.ground_pitch, filter_.yaw()));
   }
   good_filter_ = filter_;
+  good_consecutive_altimeter_rejections_ = consecutive_altimeter_rejections_;
   out->push_back(make_pose(delta.utime, flags));
 }
 
@@ -700,10 +703,11 @@ int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height)
                                             static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_,
                                             options_.altimeter_interpolate);
   const bool level_terrain = options_.altitude_mode == AltitudeMode::kLevelTerrain;
+  const bool barometric = options_.altitude_mode == AltitudeMode::kBarometric;
   last_altimeter_height_ = height ? *height : std::numeric_limits<double>::quiet_NaN();
   if (!height) {
     ++counters_.frames_without_altimeter;
-    if (level_terrain && filter_.terrain_initialised()) {
+    if ((level_terrain || barometric) && filter_.terrain_initialised()) {
       height_agl_ = filter_.terrain_down() - filter_.position().z();
       have_height_ = true;
     } else if (std::isfinite(fallback_height)) {
@@ -725,8 +729,40 @@ int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height)
       ++counters_.altimeter_rejected;
       filter_.anchor_terrain(*height, variance);
     }
+  } else if (barometric) {
+    update_barometric(utime, *height);
   }
   return 0;
+}
+
+void YawFusionEstimator::update_barometric(int64_t utime, double height) {
+  // The datum (take-off) does not move and the barometer does not see the
+  // ground, so unlike level_terrain nothing is ever re-anchored: a sample
+  // that disagrees is either the barometer's outlier (not used) or, when
+  // several in a row disagree, the VO-integrated down has drifted away
+  // (reset to the barometer, which has not).
+  const double variance = square(options_.altimeter_stddev_m + options_.altimeter_stddev_fraction * std::abs(height));
+  if (!filter_.terrain_initialised()) {
+    filter_.anchor_terrain(height, variance);
+    consecutive_altimeter_rejections_ = 0;
+    return;
+  }
+  if (filter_.update_height_agl(height, variance, options_.altimeter_gate_sigma) ==
+      PoseFilter::UpdateResult::kAccepted) {
+    consecutive_altimeter_rejections_ = 0;
+    return;
+  }
+  ++counters_.altimeter_rejected;
+  if (++consecutive_altimeter_rejections_ < options_.altimeter_max_consecutive_rejections) return;
+  const double down = filter_.terrain_down() - height;
+  std::ostringstream text;
+  text << utime_label("ALTIMETER", utime) << "down reset to the barometric height after "
+       << consecutive_altimeter_rejections_ << " rejections (" << filter_.position().z() << " -> " << down << " m)";
+  note_problem(text.str());
+  const double terrain_variance = filter_.covariance()(PoseFilter::kTerrain, PoseFilter::kTerrain);
+  filter_.set_down(down, variance + terrain_variance);
+  ++counters_.altimeter_down_resets;
+  consecutive_altimeter_rejections_ = 0;
 }
 
 pose_t YawFusionEstimator::make_pose(int64_t utime, int32_t flags) const {

@@ -71,7 +71,8 @@ struct YawFusionCounters {
   int64_t yaw_from_ins_in_gap = 0;  // INS yaw taken ungated during a VO gap
   int64_t altimeter_received = 0;
   int64_t altimeter_invalid = 0;           // validity != OK or non-finite
-  int64_t altimeter_rejected = 0;          // level_terrain: gated, terrain re-anchored
+  int64_t altimeter_rejected = 0;          // gated: level_terrain: terrain re-anchored; barometric: not used
+  int64_t altimeter_down_resets = 0;       // barometric: down reset to the barometric height
   int64_t frames_without_altimeter = 0;
   int64_t gap_bridges = 0;                 // gaps closed by a delta starting after the last pose
   int64_t gap_poses = 0;                   // poses without VO: at the camera rate in a gap, and at
@@ -149,6 +150,9 @@ class YawFusionEstimator {
   // INS yaw update at `utime`; returns pose flags; fills the attitude used.
   int32_t update_attitude(int64_t utime);
   int32_t update_height(int64_t utime, double fallback_height);
+  // barometric: a height above the datum (the terrain state, anchored once)
+  // updates down, gated; altimeter_max_consecutive_rejections in a row reset it.
+  void update_barometric(int64_t utime, double height);
   pose_t make_pose(int64_t utime, int32_t flags) const;
   bool delta_values_valid(const vo_delta_t& delta, std::string* why) const;
   bool delta_quality_ok(const vo_delta_t& delta) const { return (delta.quality & options_.reject_quality_mask) == 0; }
@@ -192,6 +196,8 @@ class YawFusionEstimator {
   // as it is, not gated against a prediction that knows no turn.
   bool yaw_without_vo_ = false;
   int consecutive_yaw_rejections_ = 0;
+  int consecutive_altimeter_rejections_ = 0;       // barometric
+  int good_consecutive_altimeter_rejections_ = 0;  // ... as at last_good_utime_ (with good_filter_)
   int64_t frames_ = 0;
   std::optional<pose_t> resume_;
   // Coasting: the velocity held in the level vehicle frame (x forward, y right,

@@ -75,6 +75,7 @@ class YawFusionNode : public Node {
         {"yaw_from_ins_in_gap", static_cast<double>(c.yaw_from_ins_in_gap)},
         {"altimeter_invalid", static_cast<double>(c.altimeter_invalid)},
         {"altimeter_rejected", static_cast<double>(c.altimeter_rejected)},
+        {"altimeter_down_resets", static_cast<double>(c.altimeter_down_resets)},
         {"frames_without_altimeter", static_cast<double>(c.frames_without_altimeter)},
         {"time_jumps_dropped", static_cast<double>(c.time_jumps_dropped)},
         {"gap_bridges", static_cast<double>(c.gap_bridges)},

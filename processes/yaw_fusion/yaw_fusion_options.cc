@@ -5,7 +5,15 @@
 namespace nadir {
 
 std::string altitude_mode_name(AltitudeMode mode) {
-  return mode == AltitudeMode::kVoDz ? "vo_dz" : "level_terrain";
+  switch (mode) {
+    case AltitudeMode::kVoDz:
+      return "vo_dz";
+    case AltitudeMode::kLevelTerrain:
+      return "level_terrain";
+    case AltitudeMode::kBarometric:
+      return "barometric";
+  }
+  return "unknown";
 }
 
 const OptionsSchema<YawFusionOptions>& YawFusionOptions::schema() {
@@ -53,15 +61,24 @@ const OptionsSchema<YawFusionOptions>& YawFusionOptions::schema() {
         .number("max_altimeter_age_s", 0.001, 10.0, "s", "altimeter samples further from the frame are not used",
                 &O::max_altimeter_age_s)
         .choice<AltitudeMode>("altitude_mode",
-                              {{"vo_dz", AltitudeMode::kVoDz}, {"level_terrain", AltitudeMode::kLevelTerrain}},
-                              "down from the sum of VO dz, or also corrected by the altimeter over level terrain",
+                              {{"vo_dz", AltitudeMode::kVoDz},
+                               {"level_terrain", AltitudeMode::kLevelTerrain},
+                               {"barometric", AltitudeMode::kBarometric}},
+                              "down from the sum of VO dz, also corrected by the altimeter over level terrain, or "
+                              "following a barometric height above take-off",
                               &O::altitude_mode)
-        .number("altimeter_stddev_m", 1e-4, 100.0, "m", "level_terrain: range noise, constant part",
+        .number("altimeter_stddev_m", 1e-4, 100.0, "m",
+                "level_terrain: range noise, constant part; barometric: barometric height noise, constant part",
                 &O::altimeter_stddev_m)
-        .number("altimeter_stddev_fraction", 0.0, 0.5, "", "level_terrain: range noise, fraction of the range",
+        .number("altimeter_stddev_fraction", 0.0, 0.5, "",
+                "level_terrain / barometric: the noise's part proportional to the height",
                 &O::altimeter_stddev_fraction)
-        .number("altimeter_gate_sigma", 1.0, 100.0, "", "level_terrain: beyond this the terrain is re-anchored",
+        .number("altimeter_gate_sigma", 1.0, 100.0, "",
+                "level_terrain: beyond this the terrain is re-anchored; barometric: the sample is not used",
                 &O::altimeter_gate_sigma)
+        .number("altimeter_max_consecutive_rejections", 1, 100000, "",
+                "barometric: after this many gated samples in a row down is reset to the barometric height",
+                &O::altimeter_max_consecutive_rejections)
         .number("gap.velocity_stddev_mps", 0.0, 100.0, "m/s", "error of the last velocity used to dead-reckon a gap",
                 &O::gap_velocity_stddev_mps)
         .number("gap.yaw_rate_stddev_dps", 0.0, 180.0, "deg/s", "unknown yaw rate during a gap",

@@ -19,6 +19,7 @@ namespace nadir {
 enum class AltitudeMode {
   kVoDz,          // down position = sum of VO dz; the altimeter only gives height_agl_m
   kLevelTerrain,  // also correct down with the altimeter, assuming level terrain (gated)
+  kBarometric,    // the altimeter is a height above a fixed datum (take-off): down follows it (gated)
 };
 
 struct YawFusionOptions {
@@ -63,9 +64,16 @@ struct YawFusionOptions {
   // Altimeter.
   double max_altimeter_age_s = 0.25;  // altimeter samples further from the frame are not used
   AltitudeMode altitude_mode = AltitudeMode::kVoDz;
-  double altimeter_stddev_m = 0.2;          // level_terrain: range noise, constant part
-  double altimeter_stddev_fraction = 0.005; // level_terrain: range noise, proportional part
-  double altimeter_gate_sigma = 3.0;        // level_terrain: beyond this the terrain is re-anchored
+  // level_terrain: range noise; barometric: the noise of one barometric
+  // height (stddev_m + fraction * height; a barometer's is mostly constant).
+  double altimeter_stddev_m = 0.2;          // constant part
+  double altimeter_stddev_fraction = 0.005; // proportional part
+  // level_terrain: beyond this the terrain is re-anchored; barometric: the
+  // sample is not used (the datum never moves).
+  double altimeter_gate_sigma = 3.0;
+  // barometric: after this many gated samples in a row the down position is
+  // reset to the barometric height (VO dz has drifted, the barometer has not).
+  int altimeter_max_consecutive_rejections = 3;
 
   // VO gaps.
   double frame_rate_hz = 14.0;             // camera.rate_hz: gap poses are published at this rate

@@ -107,6 +107,14 @@ PY
 echo "(photos) $photos photos; pair $turn_index across the turn: heading change $turn_dyaw deg, overlap $turn_overlap"
 [ "$turn_index" != 0 ] || fail "(photos) no consecutive photos across a 180 deg turn"
 roundtrip photos --photos "$work/photos/survey" --camera "$work/photos/survey/camera.yaml"
+# The photos' height is barometric (above take-off): the import sets yaw_fusion.altitude_mode barometric,
+# so the vertical follows it instead of summing each pair's dz.
+python3 - "$work/photos/metrics.json" <<'PY' || bad "(photos) final vertical error above 0.5 m"
+import json, sys
+v = json.load(open(sys.argv[1]))["final_error_v_m"]
+print(f"(photos) final vertical error {v:+.2f} m")
+sys.exit(0 if abs(v) <= 0.5 else 1)
+PY
 read -r quality inliers dyaw < <(vo_delta_of_pair "$work/photos/replay.lcmlog" "$work/photos/import.lcmlog" "$turn_index")
 echo "(photos) VO_DELTA across the turn: quality $quality, $inliers inliers, dyaw $dyaw deg"
 [ "$quality" = 0 ] && [ "$inliers" -gt 0 ] || bad "(photos) the pair across the turn is not solved"

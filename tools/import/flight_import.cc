@@ -272,6 +272,20 @@ std::string output_yaml(const ImportOptions& o, const ImportSummary& s) {
   root["yaw_fusion"]["max_time_jump_s"] = gap;
   root["input_checks"]["max_ahead_s"] = gap;
   root["input_checks"]["max_behind_s"] = gap;
+  // A barometric height above take-off (DJI RelativeAltitude) is an altitude,
+  // not a range to the ground: down follows it (processes/yaw_fusion/README.md
+  // § Altitude), with an assumed 0.3 m of noise per photo (DJI writes it to
+  // 0.1 m). The gate is wide: a photo pair's dz is less certain than its
+  // covariance says (Seneca: 15 barometric samples beyond 3 sigma, each
+  // keeping a dz error of metres; none beyond 10), and the gate is only
+  // there for a barometer's gross faults. A rangefinder flight keeps the
+  // base config's mode.
+  if (s.altimeter_source == "barometric_relative") {
+    root["yaw_fusion"]["altitude_mode"] = "barometric";
+    root["yaw_fusion"]["altimeter_stddev_m"] = 0.3;
+    root["yaw_fusion"]["altimeter_stddev_fraction"] = 0.0;
+    root["yaw_fusion"]["altimeter_gate_sigma"] = 10.0;
+  }
   YAML::Emitter out;
   out.SetDoublePrecision(12);
   out << root;

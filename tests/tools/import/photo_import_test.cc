@@ -239,6 +239,10 @@ TEST(PhotoImport, DjiSurveyWithTurn) {
   EXPECT_GT(c.section("yaw_fusion").get<double>("max_delta_interval_s"), 2.25);
   EXPECT_GT(c.section("input_checks").get<double>("max_ahead_s"), 2.25);
   EXPECT_TRUE(c.section("vo_solver").has("variant"));  // the rest of default.yaml is kept
+  // A barometric height above take-off: the vertical follows it.
+  EXPECT_EQ(c.section("yaw_fusion").get<std::string>("altitude_mode"), "barometric");
+  EXPECT_DOUBLE_EQ(c.section("yaw_fusion").get<double>("altimeter_stddev_m"), 0.3);
+  EXPECT_DOUBLE_EQ(c.section("yaw_fusion").get<double>("altimeter_gate_sigma"), 10.0);
 }
 
 // senseFly: roll right wing down +, pitch nose up +, heading clockwise from north (README evidence).
@@ -784,6 +788,8 @@ TEST(VideoImport, SrtAndCsv) {
   EXPECT_NEAR(log.ins[2].pitch, deg_to_rad(2.0), 1e-9);
   EXPECT_NEAR(log.ins[8].yaw, deg_to_rad(40.0), 1e-9);
   EXPECT_DOUBLE_EQ(log.altimeter[4].range_m, 39.5);
+  // A rangefinder flight keeps the base config's altitude mode.
+  EXPECT_EQ(Config::load_file(s.yaml_path).section("yaw_fusion").get<std::string>("altitude_mode"), "vo_dz");
 }
 
 }  // namespace
