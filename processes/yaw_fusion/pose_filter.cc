@@ -182,7 +182,8 @@ void PoseFilter::anchor_terrain(double height_agl, double variance) {
   terrain_initialised_ = true;
 }
 
-PoseFilter::UpdateResult PoseFilter::update_height_agl(double height_agl, double variance, double gate_sigma) {
+PoseFilter::UpdateResult PoseFilter::update_height_agl(double height_agl, double variance, double gate_sigma,
+                                                       bool terrain_moves) {
   Eigen::Matrix<double, 1, kSize> h = Eigen::Matrix<double, 1, kSize>::Zero();
   h(kDown) = -1.0;
   h(kTerrain) = 1.0;
@@ -193,7 +194,7 @@ PoseFilter::UpdateResult PoseFilter::update_height_agl(double height_agl, double
   // are not observable from a height above level ground.
   Vector k = p_ * h.transpose() / s;
   for (int i = 0; i < kSize; ++i) {
-    if (i != kDown && i != kTerrain) k(i) = 0.0;
+    if (i != kDown && (i != kTerrain || !terrain_moves)) k(i) = 0.0;
   }
   x_ += k * innovation;
   joseph_update(k, h, variance);

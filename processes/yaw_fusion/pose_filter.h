@@ -94,7 +94,9 @@ class PoseFilter {
   // measures terrain - down.
   bool terrain_initialised() const { return terrain_initialised_; }
   void anchor_terrain(double height_agl, double variance);
-  UpdateResult update_height_agl(double height_agl, double variance, double gate_sigma);
+  // `terrain_moves` false: the terrain state is a fixed datum (a barometer's
+  // take-off point), only down takes the correction.
+  UpdateResult update_height_agl(double height_agl, double variance, double gate_sigma, bool terrain_moves = true);
   double terrain_down() const { return x_(kTerrain); }
 
   // Errors shared between deltas, kept beside the state (README § Consistency).

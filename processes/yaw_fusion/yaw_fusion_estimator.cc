@@ -747,7 +747,10 @@ void YawFusionEstimator::update_barometric(int64_t utime, double height) {
     consecutive_altimeter_rejections_ = 0;
     return;
   }
-  if (filter_.update_height_agl(height, variance, options_.altimeter_gate_sigma) ==
+  // The datum is the first height, by definition of the height given: it
+  // takes no correction, or it would absorb the dz errors the barometer is
+  // there to remove.
+  if (filter_.update_height_agl(height, variance, options_.altimeter_gate_sigma, /*terrain_moves=*/false) ==
       PoseFilter::UpdateResult::kAccepted) {
     consecutive_altimeter_rejections_ = 0;
     return;

@@ -275,16 +275,17 @@ std::string output_yaml(const ImportOptions& o, const ImportSummary& s) {
   // A barometric height above take-off (DJI RelativeAltitude) is an altitude,
   // not a range to the ground: down follows it (processes/yaw_fusion/README.md
   // § Altitude), with an assumed 0.3 m of noise per photo (DJI writes it to
-  // 0.1 m). The gate is wide: a photo pair's dz is less certain than its
-  // covariance says (Seneca: 15 barometric samples beyond 3 sigma, each
-  // keeping a dz error of metres; none beyond 10), and the gate is only
-  // there for a barometer's gross faults. A rangefinder flight keeps the
-  // base config's mode.
+  // 0.1 m). A height beyond 3 sigma of the integrated down says the pair's dz
+  // is wrong (a photo pair's dz is less certain than its covariance says; a
+  // pair solved with an unknown lens distortion), not the barometer: down
+  // goes back to the barometer at once. A rangefinder flight keeps the base
+  // config's mode.
   if (s.altimeter_source == "barometric_relative") {
     root["yaw_fusion"]["altitude_mode"] = "barometric";
     root["yaw_fusion"]["altimeter_stddev_m"] = 0.3;
     root["yaw_fusion"]["altimeter_stddev_fraction"] = 0.0;
-    root["yaw_fusion"]["altimeter_gate_sigma"] = 10.0;
+    root["yaw_fusion"]["altimeter_gate_sigma"] = 3.0;
+    root["yaw_fusion"]["altimeter_max_consecutive_rejections"] = 1;
   }
   YAML::Emitter out;
   out.SetDoublePrecision(12);

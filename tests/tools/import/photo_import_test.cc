@@ -242,7 +242,8 @@ TEST(PhotoImport, DjiSurveyWithTurn) {
   // A barometric height above take-off: the vertical follows it.
   EXPECT_EQ(c.section("yaw_fusion").get<std::string>("altitude_mode"), "barometric");
   EXPECT_DOUBLE_EQ(c.section("yaw_fusion").get<double>("altimeter_stddev_m"), 0.3);
-  EXPECT_DOUBLE_EQ(c.section("yaw_fusion").get<double>("altimeter_gate_sigma"), 10.0);
+  EXPECT_DOUBLE_EQ(c.section("yaw_fusion").get<double>("altimeter_gate_sigma"), 3.0);
+  EXPECT_EQ(c.section("yaw_fusion").get<int>("altimeter_max_consecutive_rejections"), 1);
 }
 
 // senseFly: roll right wing down +, pitch nose up +, heading clockwise from north (README evidence).
