@@ -214,6 +214,10 @@ bool ReferenceMap::covers(double latitude_deg, double longitude_deg) const {
   return impl_->orthophoto.pixel(latitude_deg, longitude_deg, &col, &row);
 }
 
+bool ReferenceMap::orthophoto_pixel(double latitude_deg, double longitude_deg, double* col, double* row) const {
+  return impl_->orthophoto.pixel(latitude_deg, longitude_deg, col, row);
+}
+
 bool ReferenceMap::dem_covers(double latitude_deg, double longitude_deg) const {
   double col, row;
   return impl_->dem.pixel(latitude_deg, longitude_deg, &col, &row);

@@ -73,6 +73,9 @@ class ReferenceMap {
   // True when the point lies inside the orthophoto (resp. the DEM).
   bool covers(double latitude_deg, double longitude_deg) const;
   bool dem_covers(double latitude_deg, double longitude_deg) const;
+  // The orthophoto's fractional pixel position of a WGS84 point ((0, 0) the
+  // top-left corner of the first pixel); false when outside it.
+  bool orthophoto_pixel(double latitude_deg, double longitude_deg, double* col, double* row) const;
   // A size x size window of `gsd_m` pixels around a WGS84 point; each pixel
   // the mean of the orthophoto over its footprint (ceil(gsd / map pixel)^2
   // bilinear subsamples). Throws MapCoverageError when any of it lies outside
