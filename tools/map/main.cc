@@ -1,6 +1,7 @@
 // nadir_map: reference maps for position fixes. `simulate` writes the
 // orthophoto + DEM of the world a simulated flight flies over, seen in
-// another season and light (tools/map/simulated_map.h).
+// another season and light (tools/map/simulated_map.h); `check` opens any
+// orthophoto + DEM pair with the reader the map matcher uses.
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -9,12 +10,14 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "common/json_writer.h"
 #include "common/paths.h"
 #include "processes/sim/flight_profile.h"
 #include "tools/map/geotiff_writer.h"
 #include "tools/map/map_record.h"
+#include "tools/map/reference_map.h"
 #include "tools/map/simulated_map.h"
 
 namespace {
@@ -71,6 +74,56 @@ int simulate(const SimulateArgs& args) {
   return 0;
 }
 
+struct CheckArgs {
+  std::string orthophoto, dem;
+  std::vector<double> point;  // latitude, longitude
+  bool json = false;
+};
+
+void write_raster(nadir::JsonWriter* j, const nadir::map::RasterInfo& r) {
+  j->begin_object()
+      .field("path", r.path)
+      .field("crs", r.crs_name)
+      .field("width_px", r.width)
+      .field("height_px", r.height)
+      .field("bands", r.bands)
+      .field("pixel_size_m", r.pixel_size_m)
+      .field("nodata_pixels", static_cast<int64_t>(r.nodata_pixels))
+      .end_object();
+}
+
+// Opens a map pair as the matcher will, and optionally looks a point up.
+int check(const CheckArgs& args) {
+  const nadir::map::ReferenceMap map = nadir::map::ReferenceMap::open(args.orthophoto, args.dem);
+  const nadir::map::RasterInfo& o = map.orthophoto_info();
+  const nadir::map::RasterInfo& d = map.dem_info();
+  double grey = 0.0, height = 0.0;
+  if (args.point.size() == 2) {
+    grey = map.sample(args.point[0], args.point[1]);
+    height = map.height(args.point[0], args.point[1]);
+  }
+  if (args.json) {
+    nadir::JsonWriter j;
+    j.begin_object().key("orthophoto");
+    write_raster(&j, o);
+    j.key("dem");
+    write_raster(&j, d);
+    j.field("dem_crs_differs", map.dem_crs_differs());
+    if (args.point.size() == 2) j.field("grey", grey).field("height_m", height);
+    j.end_object();
+    std::printf("%s\n", j.str().c_str());
+    return 0;
+  }
+  for (const nadir::map::RasterInfo* r : {&o, &d})
+    std::printf("%s: %d x %d px, %d band(s), %s, %.3f m pixels, %lld NoData/NaN pixels\n", r->path.c_str(), r->width,
+                r->height, r->bands, r->crs_name.c_str(), r->pixel_size_m, r->nodata_pixels);
+  if (map.dem_crs_differs()) std::printf("the DEM's CRS differs from the orthophoto's: reprojected at every lookup\n");
+  if (args.point.size() == 2)
+    std::printf("at %.7f, %.7f: grey %.1f, height %.2f m above the WGS84 ellipsoid\n", args.point[0], args.point[1],
+                grey, height);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -88,6 +141,15 @@ int main(int argc, char** argv) {
   sim->add_option("--margin", args.options.margin_m, "around the flight's horizontal extent, m (0 .. 5000)")
       ->capture_default_str();
   sim->add_flag("--json", args.json, "print the summary as JSON");
+  CheckArgs check_args;
+  CLI::App* check_cmd = app.add_subcommand(
+      "check", "Opens an orthophoto + DEM pair as the map matcher will (tools/map/reference_map.h) and says what it "
+               "found, or why the pair cannot be used (exit 1)");
+  check_cmd->add_option("--orthophoto", check_args.orthophoto, "orthophoto GeoTIFF (8-bit grey or RGB)")->required();
+  check_cmd->add_option("--dem", check_args.dem, "DEM GeoTIFF (heights above the WGS84 ellipsoid, m)")->required();
+  check_cmd->add_option("--point", check_args.point, "LAT LON: look the grey value and height up there")
+      ->expected(2);
+  check_cmd->add_flag("--json", check_args.json, "machine-readable output");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -95,6 +157,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (sim->parsed()) return simulate(args);
+    if (check_cmd->parsed()) return check(check_args);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nadir_map: error: %s\n", e.what());
     return 1;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -57,16 +58,22 @@ struct Correlation {
   }
 };
 
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
 }  // namespace
 
 void SimulatedMapOptions::Check() const {
-  if (!(gsd_m >= 0.5 && gsd_m <= 2.0)) throw std::invalid_argument("gsd " + std::to_string(gsd_m) + " m: must be in [0.5, 2]");
+  if (!(gsd_m >= 0.5 && gsd_m <= 2.0)) throw std::invalid_argument("gsd_m " + number(gsd_m) + ": must be in [0.5, 2] m");
   if (!(margin_m >= 0.0 && margin_m <= 5000.0))
-    throw std::invalid_argument("margin " + std::to_string(margin_m) + " m: must be in [0, 5000]");
+    throw std::invalid_argument("margin_m " + number(margin_m) + ": must be in [0, 5000] m");
   if (subsamples < 1 || subsamples > 8)
     throw std::invalid_argument("subsamples " + std::to_string(subsamples) + ": must be in [1, 8]");
   if (!(changed_fraction >= 0.0 && changed_fraction <= 0.1))
-    throw std::invalid_argument("changed_fraction " + std::to_string(changed_fraction) + ": must be in [0, 0.1]");
+    throw std::invalid_argument("changed_fraction " + number(changed_fraction) + ": must be in [0, 0.1]");
   season.Check();
 }
 
