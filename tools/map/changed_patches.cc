@@ -28,6 +28,10 @@ bool ChangedPatch::contains(double n, double e) const {
   return std::fabs(dn) < half_north && std::fabs(de) < half_east;
 }
 
+double ChangedPatch::area_m2() const {
+  return shape == kDisc ? M_PI * half_north * half_north : 4.0 * half_north * half_east;
+}
+
 double ChangedPatch::albedo_at(double n, double e) const {
   return albedo + grain * sim::value_noise(n / 5.0, e / 5.0, salt);
 }
@@ -43,12 +47,11 @@ std::vector<ChangedPatch> make_changed_patches(double north0, double north1, dou
     p.shape = rng.next() & 1 ? ChangedPatch::kDisc : ChangedPatch::kRectangle;
     if (p.shape == ChangedPatch::kDisc) {
       p.half_north = p.half_east = rng.uniform(8.0, 30.0);
-      area += M_PI * p.half_north * p.half_north;
     } else {
       p.half_north = rng.uniform(7.5, 30.0);
       p.half_east = rng.uniform(7.5, 30.0);
-      area += 4.0 * p.half_north * p.half_east;
     }
+    area += p.area_m2();
     p.north = rng.uniform(north0, north1);
     p.east = rng.uniform(east0, east1);
     p.albedo = rng.uniform(40.0, 220.0);

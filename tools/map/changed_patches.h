@@ -18,6 +18,7 @@ struct ChangedPatch {
   uint32_t salt = 0;
 
   bool contains(double n, double e) const;
+  double area_m2() const;
   double albedo_at(double n, double e) const;
 };
 

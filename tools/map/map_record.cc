@@ -75,8 +75,7 @@ std::string map_record_json(const sim::FlightProfile& profile, uint64_t seed, co
       .field("ambient", s.ambient)
       .end_object();
   double area = 0.0;
-  for (const ChangedPatch& p : map.patches)
-    area += p.shape == ChangedPatch::kDisc ? M_PI * p.half_north * p.half_north : 4.0 * p.half_north * p.half_east;
+  for (const ChangedPatch& p : map.patches) area += p.area_m2();
   j.key("changed_patches")
       .begin_object()
       .field("seed", std::to_string(map.patch_seed))

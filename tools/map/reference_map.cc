@@ -223,24 +223,26 @@ bool ReferenceMap::dem_covers(double latitude_deg, double longitude_deg) const {
   return impl_->dem.pixel(latitude_deg, longitude_deg, &col, &row);
 }
 
-double ReferenceMap::sample(double latitude_deg, double longitude_deg) const {
-  const Raster& r = impl_->orthophoto;
+namespace {
+
+// Bilinear value at a WGS84 point; `raster_name` and `value_name` word the errors.
+double lookup(const Raster& r, double lat, double lon, const char* raster_name, const char* value_name) {
   double col, row, value;
-  if (!r.pixel(latitude_deg, longitude_deg, &col, &row))
-    throw MapCoverageError(r.info.path + ": point " + point_text(latitude_deg, longitude_deg) + " outside the map");
+  if (!r.pixel(lat, lon, &col, &row))
+    throw MapCoverageError(r.info.path + ": point " + point_text(lat, lon) + " outside the " + raster_name);
   if (!r.bilinear(col, row, &value))
-    throw MapNoDataError(r.info.path + ": no data (NoData or NaN) at " + point_text(latitude_deg, longitude_deg));
+    throw MapNoDataError(r.info.path + ": no " + value_name + " (NoData or NaN) at " + point_text(lat, lon));
   return value;
 }
 
+}  // namespace
+
+double ReferenceMap::sample(double latitude_deg, double longitude_deg) const {
+  return lookup(impl_->orthophoto, latitude_deg, longitude_deg, "map", "data");
+}
+
 double ReferenceMap::height(double latitude_deg, double longitude_deg) const {
-  const Raster& r = impl_->dem;
-  double col, row, value;
-  if (!r.pixel(latitude_deg, longitude_deg, &col, &row))
-    throw MapCoverageError(r.info.path + ": point " + point_text(latitude_deg, longitude_deg) + " outside the DEM");
-  if (!r.bilinear(col, row, &value))
-    throw MapNoDataError(r.info.path + ": no height (NoData or NaN) at " + point_text(latitude_deg, longitude_deg));
-  return value;
+  return lookup(impl_->dem, latitude_deg, longitude_deg, "DEM", "height");
 }
 
 MapWindow ReferenceMap::window(double latitude_deg, double longitude_deg, int size, double gsd_m) const {

@@ -149,12 +149,36 @@ TEST_F(SimulatedMapTest, OrthophotoCorrelatesWithAlbedoButIsNotIt) {
 
 TEST_F(SimulatedMapTest, ChangedPatchesCoverAFewPercent) {
   double area = 0.0;
-  for (const ChangedPatch& p : map_->patches)
-    area += p.shape == ChangedPatch::kDisc ? M_PI * p.half_north * p.half_north : 4.0 * p.half_north * p.half_east;
+  for (const ChangedPatch& p : map_->patches) area += p.area_m2();
   const double map_area = (map_->north_max - map_->north_min) * (map_->east_max - map_->east_min);
   EXPECT_GE(area / map_area, 0.02);
   EXPECT_LT(area / map_area, 0.03);
   EXPECT_GE(map_->patches.size(), 2u);
+
+  // The same map without patches differs only at them, and at most of them.
+  const sim::FlightProfile profile = test_profile();
+  SimulatedMapOptions options = test_options();
+  options.changed_fraction = 0.0;
+  const SimulatedMap unchanged = simulate_map(profile, kSeed, options);
+  ASSERT_EQ(unchanged.orthophoto.size(), map_->orthophoto.size());
+  const LocalProjection projection(
+      {profile.reference_latitude_deg, profile.reference_longitude_deg, profile.reference_height_m});
+  const MapGrid& g = map_->grid;
+  long long differing = 0, away_from_patches = 0;
+  for (int row = 0; row < g.height; ++row)
+    for (int col = 0; col < g.width; ++col) {
+      const size_t i = static_cast<size_t>(row) * g.width + col;
+      if (unchanged.orthophoto[i] == map_->orthophoto[i]) continue;
+      ++differing;
+      const Eigen::Vector2d utm = g.projected(col + 0.5, row + 0.5);
+      const Eigen::Vector2d c = projection.local_from_utm(utm.x(), utm.y());
+      bool near = false;
+      for (const ChangedPatch& p : map_->patches)  // within a pixel of the patch's box
+        near |= std::fabs(c.x() - p.north) < p.half_north + 1.5 && std::fabs(c.y() - p.east) < p.half_east + 1.5;
+      away_from_patches += near ? 0 : 1;
+    }
+  EXPECT_EQ(away_from_patches, 0);
+  EXPECT_GT(differing, 0.5 * area / (g.gsd_m * g.gsd_m));
 }
 
 TEST(SeasonTransformTest, ShiftsClassesAndMovesTheLight) {
