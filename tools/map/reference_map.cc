@@ -72,7 +72,8 @@ struct Raster {
   void to_pixels(std::vector<double>* lon_col, std::vector<double>* lat_row) const {
     const size_t n = lon_col->size();
     std::vector<int> ok(n, 0);
-    if (n && !from_wgs84->Transform(n, lon_col->data(), lat_row->data(), nullptr, ok.data())) std::fill(ok.begin(), ok.end(), 0);
+    // The call is false when any point fails; the flags say which.
+    if (n) from_wgs84->Transform(n, lon_col->data(), lat_row->data(), nullptr, ok.data());
     for (size_t i = 0; i < n; ++i) {
       if (!ok[i]) {
         (*lon_col)[i] = (*lat_row)[i] = -1e30;  // not transformable: outside

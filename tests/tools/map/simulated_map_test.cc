@@ -147,6 +147,34 @@ TEST_F(SimulatedMapTest, OrthophotoCorrelatesWithAlbedoButIsNotIt) {
   EXPECT_LT(map_->albedo_correlation, 0.97);
 }
 
+// A window is north-up around its point: pixel (row, col) is the map at
+// local north (size/2 - row - 0.5) * gsd, east (col - size/2 + 0.5) * gsd.
+TEST_F(SimulatedMapTest, WindowIsNorthUpAroundItsPoint) {
+  const sim::FlightProfile profile = test_profile();
+  const ReferenceMap map = open();
+  const LocalProjection projection(
+      {profile.reference_latitude_deg, profile.reference_longitude_deg, profile.reference_height_m});
+  const Eigen::Vector2d centre(40.0, -25.0);  // local north/east of the window's point
+  const GeodeticPoint g = projection.geodetic(centre.x(), centre.y());
+  const int size = 64;
+  const MapWindow w = map.window(g.latitude_deg, g.longitude_deg, size, 1.0);
+  EXPECT_EQ(w.nodata_pixels, 0);
+  double worst = 0.0;
+  for (int row = 1; row < size; row += 9)
+    for (int col = 2; col < size; col += 7) {
+      const double north = centre.x() + (size / 2.0 - row - 0.5), east = centre.y() + (col - size / 2.0 + 0.5);
+      const GeodeticPoint p = projection.geodetic(north, east);
+      worst = std::max(worst, std::fabs(w.grey.at<float>(row, col) - map.sample(p.latitude_deg, p.longitude_deg)));
+    }
+  EXPECT_LT(worst, 0.5);  // grey levels: the tangent plane and the rhumb step agree to well under a millimetre here
+  // At 2 m, each pixel is the mean of the map over its footprint: smoother.
+  const MapWindow coarse = map.window(g.latitude_deg, g.longitude_deg, size / 2, 2.0);
+  cv::Mat fine_sd, coarse_sd, mean;
+  cv::meanStdDev(w.grey, mean, fine_sd);
+  cv::meanStdDev(coarse.grey, mean, coarse_sd);
+  EXPECT_LT(coarse_sd.at<double>(0), fine_sd.at<double>(0));
+}
+
 TEST_F(SimulatedMapTest, ChangedPatchesCoverAFewPercent) {
   double area = 0.0;
   for (const ChangedPatch& p : map_->patches) area += p.area_m2();
