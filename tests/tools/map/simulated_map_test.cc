@@ -209,6 +209,31 @@ TEST_F(SimulatedMapTest, ChangedPatchesCoverAFewPercent) {
   EXPECT_GT(differing, 0.5 * area / (g.gsd_m * g.gsd_m));
 }
 
+// The simulator's INS reports latitude/longitude along the flown path (a
+// GeodeticTrack stepped at the INS rate); the map places local points one
+// step from the origin. Over the paper's longest flight the two agree within
+// half a 1 m pixel.
+TEST(MapPlacementTest, SimulatorLatLonWithinHalfAPixel) {
+  for (const char* name : {"test1", "test2"}) {
+    const sim::FlightProfile profile =
+        sim::FlightProfile::load(std::string(NADIR_SOURCE_DIR) + "/config/profiles/" + name + ".yaml");
+    const GeodeticPoint origin{profile.reference_latitude_deg, profile.reference_longitude_deg,
+                               profile.reference_height_m};
+    const LocalProjection projection(origin);
+    const sim::Trajectory trajectory(profile, 1);
+    GeodeticTrack path(origin);
+    double worst = 0.0, farthest = 0.0;
+    for (double t = 0.0; t <= trajectory.duration_s(); t += 0.01) {
+      const Eigen::Vector3d ned = trajectory.at(t).position_ned;
+      const GeodeticPoint flown = path.geodetic(ned);
+      const Eigen::Vector2d placed = projection.local(flown.latitude_deg, flown.longitude_deg);
+      worst = std::max(worst, (placed - ned.head<2>()).norm());
+      farthest = std::max(farthest, ned.head<2>().norm());
+    }
+    EXPECT_LT(worst, 0.5) << name;  // measured: test1 0.43 m (6.1 km out), test2 0.13 m
+  }
+}
+
 TEST(SeasonTransformTest, ShiftsClassesAndMovesTheLight) {
   const SeasonTransform s;
   EXPECT_EQ(s.land_cover(40).name, "dark");
