@@ -16,6 +16,9 @@ find_package(Threads REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(websocketpp QUIET)
 find_package(Boost 1.70 QUIET)
+# GeoTIFF maps (tools/map: the simulated reference map and its reader) with
+# GDAL (Debian libgdal-dev); optional: without it nadir_map is not built.
+find_package(GDAL QUIET)
 find_package(Java COMPONENTS Development)
 find_program(LCM_GEN lcm-gen REQUIRED)
 if(NADIR_BUILD_TESTS)

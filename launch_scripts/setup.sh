@@ -44,10 +44,11 @@ if [ "$scope" != demo ]; then
   # jchart2d, Xvfb for a headless check), the Aravis fake camera, gpiod,
   # campaigns on Slurm, the tests and benchmarks, the documentation site,
   # systemd-analyze (the vehicle's units are verified by the tests), the
-  # Foxglove bridge (websocketpp on Boost.Asio) and headless Chromium (the
-  # HTML report's test and screenshot).
+  # Foxglove bridge (websocketpp on Boost.Asio), headless Chromium (the
+  # HTML report's test and screenshot), and GDAL (nadir_map: GeoTIFF reference
+  # maps, orthophoto + DEM, in any CRS).
   packages+=(
-    liblcm-java libexiv2-dev aravis-tools aravis-tools-cli gpiod
+    liblcm-java libexiv2-dev libgdal-dev aravis-tools aravis-tools-cli gpiod
     libwebsocketpp-dev libboost-dev chromium
     libgtest-dev libgmock-dev libbenchmark-dev
     openjdk-17-jdk-headless libjchart2d-java xvfb xauth
