@@ -53,21 +53,45 @@ constexpr double kMedianEfficiency = 1.2533;
 
 }  // namespace
 
+namespace {
+
+// A solved pair with its GNSS positions at both frames and the recorded yaw
+// at the previous one.
+struct GnssPair {
+  const VoStep* step;
+  Eigen::Vector3d a, b;
+  double yaw;
+};
+
+// The solved pairs the positions cover with a GNSS baseline of at least
+// `min_baseline_m` and a finite, non-zero VO step; `rejected` counts the
+// covered ones left out.
+std::vector<GnssPair> gnss_pairs(const std::vector<VoStep>& steps, const std::vector<PositionSample>& positions,
+                                 int32_t unsolved_mask, double min_baseline_m, int64_t* rejected) {
+  std::vector<GnssPair> out;
+  for (const VoStep& s : steps) {
+    if ((s.quality & unsolved_mask) != 0) continue;
+    GnssPair p{&s, {}, {}, 0.0};
+    if (!position_at(positions, s.prev_utime, &p.a, &p.yaw) || !position_at(positions, s.utime, &p.b)) continue;
+    const double gnss = std::hypot(p.b.x() - p.a.x(), p.b.y() - p.a.y());
+    const double vo = std::hypot(s.dx, s.dy);
+    if (gnss < min_baseline_m || !(vo > 0.0) || !std::isfinite(vo)) {
+      ++*rejected;
+      continue;
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
 GpsScaleFit fit_gps_scale(const std::vector<VoStep>& steps, const std::vector<PositionSample>& positions,
                           int32_t unsolved_mask, double min_baseline_m, double outlier_sigma) {
   GpsScaleFit fit;
   std::vector<double> log_ratio;
-  for (const VoStep& s : steps) {
-    if ((s.quality & unsolved_mask) != 0) continue;
-    Eigen::Vector3d a, b;
-    if (!position_at(positions, s.prev_utime, &a) || !position_at(positions, s.utime, &b)) continue;
-    const double gnss = std::hypot(b.x() - a.x(), b.y() - a.y());
-    const double vo = std::hypot(s.dx, s.dy);
-    if (gnss < min_baseline_m || !(vo > 0.0) || !std::isfinite(vo)) {
-      ++fit.rejected;
-      continue;
-    }
-    log_ratio.push_back(std::log(gnss / vo));
+  for (const GnssPair& p : gnss_pairs(steps, positions, unsolved_mask, min_baseline_m, &fit.rejected)) {
+    log_ratio.push_back(std::log(std::hypot(p.b.x() - p.a.x(), p.b.y() - p.a.y()) / std::hypot(p.step->dx, p.step->dy)));
   }
   if (log_ratio.empty()) return fit;
   // Median of the log ratio (a scale error is multiplicative), robust spread
@@ -84,18 +108,9 @@ HeadingOffsetFit fit_heading_offset(const std::vector<VoStep>& steps, const std:
                                     int32_t unsolved_mask, double min_baseline_m, double outlier_sigma) {
   HeadingOffsetFit fit;
   std::vector<double> differences;
-  for (const VoStep& s : steps) {
-    if ((s.quality & unsolved_mask) != 0) continue;
-    Eigen::Vector3d a, b;
-    double yaw = 0.0;
-    if (!position_at(positions, s.prev_utime, &a, &yaw) || !position_at(positions, s.utime, &b)) continue;
-    const double gnss = std::hypot(b.x() - a.x(), b.y() - a.y());
-    if (gnss < min_baseline_m || !(std::hypot(s.dx, s.dy) > 0.0) || !std::isfinite(s.dx + s.dy)) {
-      ++fit.rejected;
-      continue;
-    }
-    const double vo_heading = yaw + std::atan2(s.dy, s.dx);  // the step in the level frame, x forward, y right
-    differences.push_back(std::remainder(std::atan2(b.y() - a.y(), b.x() - a.x()) - vo_heading, 2.0 * M_PI));
+  for (const GnssPair& p : gnss_pairs(steps, positions, unsolved_mask, min_baseline_m, &fit.rejected)) {
+    const double vo_heading = p.yaw + std::atan2(p.step->dy, p.step->dx);  // the step in the level frame, x forward, y right
+    differences.push_back(std::remainder(std::atan2(p.b.y() - p.a.y(), p.b.x() - p.a.x()) - vo_heading, 2.0 * M_PI));
   }
   if (differences.empty()) return fit;
   // About the circular mean's direction, so that offsets near 180 deg do not wrap.
