@@ -441,6 +441,7 @@ CameraFit fit_camera(const EpipolarFit& fit, const std::vector<bool>& active, co
   return out;
 }
 
+// printf into a string; every conversion in `format` takes a double.
 std::string fmt(const char* format, double a, double b = 0.0) {
   char buf[256];
   std::snprintf(buf, sizeof(buf), format, a, b);
@@ -844,9 +845,10 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   result.scale_only = options.gps_scale_only;
   if (options.gps_scale_target != CalibrationOptions::GpsScaleTarget::kReport) {
     if (!result.gps_scale.estimated)
-      throw std::runtime_error(fmt("GNSS scale: %lld solved frame pair(s) with VO_DELTA and a GNSS baseline of at "
-                                   "least %.1f m, 10 needed (replay vo_solver over the flight first)",
-                                   static_cast<long long>(gps.pairs), options.gps_scale_min_baseline_m));
+      throw std::runtime_error(fmt("GNSS scale: %.0f solved frame pair(s) with VO_DELTA and a GNSS baseline of at "
+                                   "least %.1f m, 10 needed (replay vo_solver over the flight first, or give a "
+                                   "longer segment)",
+                                   static_cast<double>(gps.pairs), options.gps_scale_min_baseline_m));
     if (options.gps_scale_target == CalibrationOptions::GpsScaleTarget::kFocal) {
       result.fx = camera.fx / gps.scale;
       result.fy = camera.fy / gps.scale;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <random>
 
+#include "common/config.h"
+#include "tools/calibrate/calibration.h"
 #include "tools/calibrate/gps_scale.h"
 
 namespace nadir::calibrate {
@@ -137,6 +139,29 @@ TEST(HeadingOffset, FlaggedAndShortPairsAreNotUsed) {
   EXPECT_EQ(fit.rejected, 1);
   EXPECT_NEAR(fit.offset_rad, 0.1, 1e-12);
   EXPECT_EQ(fit_heading_offset({}, t.positions, kUnsolved, 2.0, 4.0).pairs, 0);
+}
+
+// The error for a segment with too few pairs counts them (a photo survey's
+// first seconds): it once printed a double through %lld.
+TEST(GpsScale, TooFewPairsAreCountedInTheError) {
+  const Track t = curved_flight(30, 1.0);
+  FlightData data;
+  for (const PositionSample& p : t.positions) {
+    data.ins.push_back({p.utime, 0.0, 0.0, p.yaw, false, Eigen::Vector3d::Zero(), p.position_ned});
+  }
+  data.vo_steps.assign(t.steps.begin(), t.steps.begin() + 8);
+  CalibrationOptions options;
+  options.gps_scale_target = CalibrationOptions::GpsScaleTarget::kFocal;
+  options.gps_scale_only = true;
+  options.estimate_focal = false;  // the focal length comes from the GNSS scale
+  const Config config = Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml");
+  try {
+    calibrate(data, config, options);
+    FAIL() << "a GNSS scale from 8 pairs";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("GNSS scale: 8 solved frame pair(s)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("10 needed"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
