@@ -121,8 +121,8 @@ echo "(photos) VO_DELTA across the turn: quality $quality, $inliers inliers, dya
 
 # The camera from what the photos say (import only, no --camera): the exporter's true focal length
 # (its camera.yaml) recovered from a 16:9 crop of a 4:3 sensor with only the 35 mm equivalent in EXIF
-# (to 0.5 %, and not the 16:9 frame's diagonal answer, 8.2 % short), and from DJI's XMP calibration
-# (as written).
+# (to 0.5 %, and not the 16:9 frame's diagonal answer, 8.2 % short), from DJI's XMP calibration
+# (as written), and from DJI's DewarpData with the lens distortion.
 camera_kind() {
   local name="$1"; shift
   local dir="$work/$name"
@@ -147,6 +147,16 @@ if name == "crop169":
     own = c["fx"] * math.hypot(w, h) / math.hypot(w, 0.75 * w)  # what the 16:9 frame's diagonal would give
     print(f"({name}) {w}x{h}: the 16:9 diagonal would give {own:.3f} px ({100 * (own / fx - 1):+.2f} %)")
     ok = ok and c["source"] == "EXIF FocalLengthIn35mmFilm" and abs(err) < 0.005 and own / fx - 1 < -0.07
+elif name == "dewarp":
+    # DewarpData carries the lens distortion too: the import's config has the exporter's k1 k2 p1 p2 k3.
+    dist = [float(v) for v in re.search(r"distortion_coefficients:.*?data:\s*\[([^\]]*)\]", text, re.S).group(1).split(",")]
+    written = open(sys.argv[2].replace("import.json", "import.yaml")).read()
+    block = re.search(r"\n  distortion:\n((?:    - [^\n]*\n)+)", written).group(1)
+    got = [float(v.strip()[2:]) for v in block.strip().split("\n")]
+    print(f"({name}) distortion {got} vs true {dist}")
+    ok = ok and c["source"] == "XMP drone-dji:DewarpData" and abs(c["fx"] - fx) < 1e-6
+    ok = ok and abs(c["cx"] - cx) < 1e-6 and abs(c["cy"] - cy) < 1e-6
+    ok = ok and len(got) == len(dist) and all(abs(a - b) < 1e-9 for a, b in zip(got, dist))
 else:
     ok = ok and c["source"] == "XMP drone-dji:CalibratedFocalLength" and abs(c["fx"] - fx) < 1e-6
     ok = ok and abs(c["cx"] - cx) < 1e-6 and abs(c["cy"] - cy) < 1e-6
@@ -155,6 +165,7 @@ PY
 }
 camera_kind crop169 --crop-16-9 --model FC300X
 camera_kind calibrated --dji-calibration
+camera_kind dewarp --dji-dewarp
 
 # A return line stored turned 180 deg in its pixels (a photo viewer re-saved it; EXIF Orientation 1):
 # found from the images and turned back (exactly the return line's photos named), the pair across the

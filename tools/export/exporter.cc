@@ -127,6 +127,22 @@ void write_calibration(const CameraModel& camera, const std::string& path) {
   file.release();
 }
 
+namespace {
+
+// DJI's DewarpData for `camera`: the principal point as an offset from the
+// centre of the pixel grid ((W - 1) / 2, (H - 1) / 2), then k1 k2 p1 p2 k3.
+std::string dewarp_data_text(const CameraModel& camera) {
+  std::vector<double> d = camera.distortion;
+  d.resize(5, 0.0);
+  char text[400];
+  std::snprintf(text, sizeof(text), "2026-01-01;%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g", camera.fx,
+                camera.fy, camera.cx - 0.5 * (camera.width - 1), camera.cy - 0.5 * (camera.height - 1), d[0], d[1], d[2],
+                d[3], d[4]);
+  return text;
+}
+
+}  // namespace
+
 PhotoExportResult export_photos(const SimLog& log, const std::string& out_dir, const PhotoExportOptions& options) {
   options.Check();
   std::error_code ec;
@@ -183,6 +199,7 @@ PhotoExportResult export_photos(const SimLog& log, const std::string& out_dir, c
     record.metadata =
         frame_metadata(log, written, ref.utime, options.attitude, options.pixel_pitch_um, sensor_diagonal_px);
     if (!options.model.empty()) record.metadata.model = options.model;
+    if (options.dji_dewarp) record.metadata.dewarp_data = dewarp_data_text(written);
     record.metadata.flight.yaw_deg += options.yaw_offset_deg;
     record.metadata.gimbal.yaw_deg += options.yaw_offset_deg;
     if (options.dji_calibration) {

@@ -34,6 +34,7 @@ struct PhotoExportOptions {
   // shooting 16:9 on a 4:3 sensor does.
   bool crop_16_9 = false;
   bool dji_calibration = false;    // write XMP drone-dji:CalibratedFocalLength / CalibratedOpticalCenterX/Y
+  bool dji_dewarp = false;         // write XMP drone-dji:DewarpData (fx, fy, centre offset, k1 k2 p1 p2 k3), DewarpFlag 0
   // The photos of the return lines (heading more than 90 deg from the first
   // photo's) stored turned clockwise by this in their pixels, EXIF
   // Orientation 1: a photo viewer re-saved them rotated (0, 90, 180, 270).

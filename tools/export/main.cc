@@ -152,6 +152,9 @@ int main(int argc, char** argv) {
   photos->add_flag("--dji-calibration", photo.dji_calibration,
                    "write the true focal length and principal point as XMP drone-dji:CalibratedFocalLength / "
                    "CalibratedOpticalCenterX/Y");
+  photos->add_flag("--dji-dewarp", photo.dji_dewarp,
+                   "write the lens calibration (focal lengths, principal point, k1 k2 p1 p2 k3) as XMP "
+                   "drone-dji:DewarpData with DewarpFlag 0, as DJI's enterprise cameras do");
   photos->add_option("--turn-return-lines", photo.return_lines_turn_deg,
                      "store the return lines' photos (heading > 90 deg from the first photo's) turned clockwise by "
                      "0, 90, 180 or 270 deg in their pixels, EXIF Orientation 1, as a photo viewer re-saves them");

@@ -171,6 +171,10 @@ void write_photo_metadata(const std::string& path, const PhotoMetadata& m) {
       xmp["Xmp.drone-dji.CalibratedOpticalCenterX"] = decimal_text(m.calibrated_center_x);
       xmp["Xmp.drone-dji.CalibratedOpticalCenterY"] = decimal_text(m.calibrated_center_y);
     }
+    if (!m.dewarp_data.empty()) {
+      xmp["Xmp.drone-dji.DewarpData"] = m.dewarp_data;
+      xmp["Xmp.drone-dji.DewarpFlag"] = "0";
+    }
     image->writeMetadata();
   } catch (const Exiv2::AnyError& e) {
     throw std::runtime_error(path + ": cannot write EXIF/XMP: " + e.what());
@@ -219,6 +223,8 @@ PhotoMetadata read_photo_metadata(const std::string& path) {
       m.calibrated_center_x = xmp_number(x, "CalibratedOpticalCenterX", path);
       m.calibrated_center_y = xmp_number(x, "CalibratedOpticalCenterY", path);
     }
+    const auto dewarp = x.findKey(Exiv2::XmpKey("Xmp.drone-dji.DewarpData"));
+    if (dewarp != x.end()) m.dewarp_data = dewarp->toString();
   } catch (const Exiv2::AnyError& e) {
     throw std::runtime_error(path + ": cannot read EXIF/XMP: " + e.what());
   }

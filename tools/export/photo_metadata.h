@@ -20,6 +20,7 @@ struct PhotoMetadata {
   double focal_length_35mm = 0.0;  // 35 mm equivalent (diagonal of the sensor's full frame), rounded on write
   bool has_dji_calibration = false;  // XMP drone-dji:CalibratedFocalLength / CalibratedOpticalCenterX/Y
   double calibrated_focal_px = 0.0, calibrated_center_x = 0.0, calibrated_center_y = 0.0;
+  std::string dewarp_data;         // XMP drone-dji:DewarpData "DATE;fx,fy,cx,cy,k1,k2,p1,p2,k3" (+ DewarpFlag 0); empty: none
   double pixel_pitch_um = 0.0;     // -> FocalPlaneX/YResolution (pixels per cm)
   double latitude_deg = 0.0, longitude_deg = 0.0, altitude_m = 0.0;  // GPS; altitude ellipsoidal
   DjiAngles gimbal;                // camera attitude (contract section 3)

@@ -651,6 +651,8 @@ ImportSummary run_import(const ImportOptions& o) {
           const PhotoFocal f = focal_from_photo(s.photo, frame.cols, frame.rows);
           source_camera = camera_from_focal(f.focal_px, frame.cols, frame.rows, f.source);
           if (f.has_center) source_camera.cx = f.cx, source_camera.cy = f.cy;
+          if (f.fy > 0.0) source_camera.fy = f.fy;
+          if (!f.distortion.empty()) source_camera.distortion = f.distortion;
           summary.camera_model = s.photo.model;
           summary.focal_rule = f.rule;
           summary.warnings.push_back(f.warning);

@@ -1,5 +1,7 @@
 #include "tools/import/photo_camera.h"
 
+#include <array>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -42,11 +44,33 @@ double native_frame_diagonal_px(int width, int height, int native_width, int nat
 PhotoFocal focal_from_photo(const PhotoMetadata& m, int width, int height) {
   const KnownCamera* known = find_known_camera(m.model, width, height);
   PhotoFocal f;
+  // DJI's calibration is for the image the camera wrote; a resized file
+  // (long side changed) scales it, pixel centres kept.
+  const int written_long = std::max(m.exif_width, m.exif_height);
+  const double s = written_long > 0 ? static_cast<double>(std::max(width, height)) / written_long : 1.0;
+  if (m.has_dji_dewarp && m.dji_dewarp_flag != 1) {
+    // cx, cy from the photo's centre, taken as the centre of the pixel grid
+    // ((W - 1) / 2 in pixel-centre coordinates) of the image the camera wrote.
+    const std::array<double, 9>& d = m.dji_dewarp;
+    const double written_w = m.exif_width > 0 ? m.exif_width : width / s;
+    const double written_h = m.exif_height > 0 ? m.exif_height : height / s;
+    f.focal_px = d[0] * s;
+    f.fy = d[1] * s;
+    f.has_center = true;
+    f.cx = (0.5 * (written_w - 1.0) + d[2] + 0.5) * s - 0.5;
+    f.cy = (0.5 * (written_h - 1.0) + d[3] + 0.5) * s - 0.5;
+    f.distortion.assign(d.begin() + 4, d.end());
+    f.source = "XMP drone-dji:DewarpData";
+    f.rule = format("DJI's lens calibration: fx %.2f, fy %.2f px, centre %+.2f, %+.2f px from the photo's centre",
+                    d[0], d[1], d[2], d[3]) +
+             format("; k1 %.5g, k2 %.5g, p1 %.5g, p2 %.5g", d[4], d[5], d[6], d[7]) + format(", k3 %.5g", d[8]) +
+             (s != 1.0 ? format(", for the %.0fx%.0f image the camera wrote, scaled by %.6g", written_w, written_h, s)
+                       : std::string());
+    f.warning = "camera " + model_name(m) + format(": fx %.2f, fy %.2f px", f.focal_px, f.fy) +
+                " and the lens distortion from drone-dji:DewarpData";
+    return f;
+  }
   if (m.has_dji_calibrated_focal) {
-    // DJI's calibration is for the image the camera wrote; a resized file
-    // (long side changed) scales it, pixel centres kept.
-    const int written_long = std::max(m.exif_width, m.exif_height);
-    const double s = written_long > 0 ? static_cast<double>(std::max(width, height)) / written_long : 1.0;
     f.focal_px = m.dji_calibrated_focal_px * s;
     f.has_center = m.has_dji_optical_center;
     f.cx = (m.dji_optical_center_x + 0.5) * s - 0.5;

@@ -1,5 +1,8 @@
 #pragma once
 // The camera from what a photo file says, when no calibration is given:
+//  0. DJI XMP drone-dji:DewarpData (fx, fy, principal point from the photo's
+//     centre, k1 k2 p1 p2 k3: the lens distortion too) unless DewarpFlag says
+//     the image was already dewarped, scaled like (1);
 //  1. DJI XMP drone-dji:CalibratedFocalLength (+ CalibratedOpticalCenterX/Y),
 //     in pixels of the image as the camera wrote it (EXIF PixelXDimension),
 //     scaled to the file's size when the file was resized;
@@ -16,16 +19,19 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "tools/import/photo_metadata.h"
 
 namespace nadir::import {
 
 struct PhotoFocal {
-  double focal_px = 0;                // fx = fy, at the file's size
+  double focal_px = 0;                // fx, at the file's size
+  double fy = 0;                      // 0: fy = fx
+  std::vector<double> distortion;     // k1 k2 p1 p2 k3 (empty: none known)
   bool has_center = false;            // false: the image centre
   double cx = 0, cy = 0;              // pixel-centre coordinates, at the file's size
-  std::string source;                 // "XMP drone-dji:CalibratedFocalLength" | "EXIF FocalLengthIn35mmFilm"
+  std::string source;                 // "XMP drone-dji:DewarpData" | "XMP drone-dji:CalibratedFocalLength" | "EXIF FocalLengthIn35mmFilm"
   std::string rule;                   // how the number was made, one line
   std::string warning;                // one line naming the model and what was assumed
 };

@@ -2,8 +2,11 @@
 
 #include <exiv2/exiv2.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <locale>
 #include <mutex>
+#include <sstream>
 #include <stdexcept>
 
 #include "tools/import/telemetry.h"
@@ -84,6 +87,19 @@ void register_vendor_namespaces() {
   });
 }
 
+bool parse_dewarp_data(const std::string& text, std::array<double, 9>* values) {
+  const size_t semicolon = text.find(';');
+  std::string list = semicolon == std::string::npos ? text : text.substr(semicolon + 1);
+  std::replace(list.begin(), list.end(), ',', ' ');
+  std::istringstream in(list);
+  in.imbue(std::locale::classic());
+  for (double& v : *values) {
+    if (!(in >> v) || !std::isfinite(v)) return false;
+  }
+  std::string rest;
+  return !(in >> rest) && (*values)[0] > 0.0 && (*values)[1] > 0.0;
+}
+
 PhotoMetadata read_photo_metadata(const std::string& path) {
   register_vendor_namespaces();
   PhotoMetadata p;
@@ -130,6 +146,16 @@ PhotoMetadata read_photo_metadata(const std::string& path) {
                         r.xmp_number("Xmp.drone-dji.CalibratedOpticalCenterY", &p.dji_optical_center_y);
     if (centres == 1) throw std::runtime_error(path + ": Xmp.drone-dji.CalibratedOpticalCenter{X,Y} incomplete");
     p.has_dji_optical_center = centres == 2;
+    std::string dewarp;
+    if (r.xmp_text("Xmp.drone-dji.DewarpData", &dewarp)) {
+      p.has_dji_dewarp = parse_dewarp_data(dewarp, &p.dji_dewarp);
+      if (!p.has_dji_dewarp) {
+        throw std::runtime_error(path + ": Xmp.drone-dji.DewarpData '" + dewarp +
+                                 "' is not DATE;fx,fy,cx,cy,k1,k2,p1,p2,k3 with fx, fy > 0");
+      }
+    }
+    double flag = 0;
+    if (r.xmp_number("Xmp.drone-dji.DewarpFlag", &flag)) p.dji_dewarp_flag = static_cast<int>(flag);
     p.has_dji_gimbal = r.xmp_triple("Xmp.drone-dji.", "GimbalRollDegree", "GimbalPitchDegree", "GimbalYawDegree",
                                     &p.gimbal_roll_deg, &p.gimbal_pitch_deg, &p.gimbal_yaw_deg);
     p.has_dji_flight = r.xmp_triple("Xmp.drone-dji.", "FlightRollDegree", "FlightPitchDegree", "FlightYawDegree",

@@ -4,6 +4,7 @@
 // (`sensefly:`). Values are raw (vendor units and conventions); flight_import.h
 // turns them into nadir's frames.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,12 @@ struct PhotoMetadata {
   double dji_calibrated_focal_px = 0;    // CalibratedFocalLength
   bool has_dji_optical_center = false;
   double dji_optical_center_x = 0, dji_optical_center_y = 0;  // CalibratedOpticalCenterX/Y
+  // DewarpData "DATE;fx,fy,cx,cy,k1,k2,p1,p2,k3" (cx, cy from the photo's
+  // centre) and DewarpFlag (1: the image was already dewarped), as DJI
+  // documents them for its enterprise cameras
+  bool has_dji_dewarp = false;
+  std::array<double, 9> dji_dewarp{};
+  int dji_dewarp_flag = -1;  // -1: absent
   // DJI drone-dji:
   bool has_dji_gimbal = false;
   double gimbal_roll_deg = 0, gimbal_pitch_deg = 0, gimbal_yaw_deg = 0;
@@ -52,6 +59,11 @@ struct PhotoMetadata {
 // Reads one file's metadata; throws std::runtime_error naming the file when
 // exiv2 cannot read it or a present field is malformed.
 PhotoMetadata read_photo_metadata(const std::string& path);
+
+// DJI's DewarpData text "DATE;fx,fy,cx,cy,k1,k2,p1,p2,k3" (the date part
+// optional) -> the nine numbers; false unless exactly nine finite numbers
+// with fx, fy > 0.
+bool parse_dewarp_data(const std::string& text, std::array<double, 9>* values);
 
 // Makes `Xmp.drone-dji.*` and `Xmp.sensefly.*` keys known to exiv2 (for
 // writing; reading registers the namespaces a packet declares). Idempotent.

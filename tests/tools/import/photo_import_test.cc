@@ -628,6 +628,23 @@ TEST(PhotoCamera, DjiXmpCalibrationUsedAsWritten) {
   EXPECT_NE(h.focal_rule.find("scaled by 0.5"), std::string::npos) << h.focal_rule;
 }
 
+// DJI's DewarpData as its manuals give it (a Phantom 4 RTK's, spaces and all), and text that is not it.
+TEST(PhotoCamera, DewarpDataParsedOrRefused) {
+  std::array<double, 9> d{};
+  ASSERT_TRUE(parse_dewarp_data(" 2018-03-13;3659.780000000000,3653.170000000000,-7.710000000000,45.900000000000,"
+                                "-0.269478000000,0.115681000000,-0.000087561900,-0.000306177000,-0.035762800000",
+                                &d));
+  const std::array<double, 9> expected{3659.78, 3653.17, -7.71, 45.9, -0.269478, 0.115681, -0.0000875619,
+                                       -0.000306177, -0.0357628};
+  for (size_t k = 0; k < 9; ++k) EXPECT_DOUBLE_EQ(d[k], expected[k]) << k;
+  EXPECT_TRUE(parse_dewarp_data("100,100,0,0,0,0,0,0,0", &d));  // no date
+  EXPECT_FALSE(parse_dewarp_data("2018-03-13;3659.78,3653.17,-7.71,45.9,-0.27,0.11,0,0", &d));      // 8 numbers
+  EXPECT_FALSE(parse_dewarp_data("2018-03-13;3659.78,3653.17,-7.71,45.9,-0.27,0.11,0,0,0,1", &d));  // 10
+  EXPECT_FALSE(parse_dewarp_data("2018-03-13;0,3653.17,-7.71,45.9,-0.27,0.11,0,0,0", &d));          // fx 0
+  EXPECT_FALSE(parse_dewarp_data("2018-03-13;3659.78,x,-7.71,45.9,-0.27,0.11,0,0,0", &d));
+  EXPECT_FALSE(parse_dewarp_data("2018-03-13;3659.78,nan,-7.71,45.9,-0.27,0.11,0,0,0", &d));
+}
+
 // No focal length in the file: the error names the file and the model, says how to give one, and
 // what the camera table knows of the model.
 TEST(PhotoCamera, NoFocalLengthNamesFileModelAndTheWayOut) {
