@@ -12,6 +12,7 @@ inline constexpr const char* kAltimeter = "ALTIMETER";         // nadir.altimete
 inline constexpr const char* kTracks = "TRACKS";               // nadir.tracks_t
 inline constexpr const char* kVoDelta = "VO_DELTA";            // nadir.vo_delta_t
 inline constexpr const char* kPose = "POSE";                   // nadir.pose_t
+inline constexpr const char* kMapFix = "MAP_FIX";              // nadir.map_fix_t
 inline constexpr const char* kGroundTruth = "GROUND_TRUTH";    // nadir.ground_truth_t
 inline constexpr const char* kStatus = "STATUS";               // nadir.status_t
 inline constexpr const char* kConfig = "CONFIG";               // nadir.config_t

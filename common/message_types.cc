@@ -7,6 +7,7 @@
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/image_t.hpp"
 #include "nadir/ins_t.hpp"
+#include "nadir/map_fix_t.hpp"
 #include "nadir/pose_t.hpp"
 #include "nadir/status_t.hpp"
 #include "nadir/tracks_t.hpp"
@@ -34,6 +35,7 @@ std::string message_type_name(const uint8_t* data, size_t size) {
   if (is<tracks_t>(hash)) return "nadir.tracks_t";
   if (is<vo_delta_t>(hash)) return "nadir.vo_delta_t";
   if (is<pose_t>(hash)) return "nadir.pose_t";
+  if (is<map_fix_t>(hash)) return "nadir.map_fix_t";
   if (is<ground_truth_t>(hash)) return "nadir.ground_truth_t";
   if (is<status_t>(hash)) return "nadir.status_t";
   if (is<config_t>(hash)) return "nadir.config_t";

@@ -1,5 +1,7 @@
 #include "processes/yaw_fusion/pose_filter.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 
@@ -165,6 +167,23 @@ void PoseFilter::set_down(double down, double variance) {
   p_.row(kDown).setZero();
   p_.col(kDown).setZero();
   p_(kDown, kDown) = variance;
+}
+
+void PoseFilter::apply_horizontal_fix(const Eigen::Vector2d& correction, const Eigen::Matrix2d& covariance) {
+  x_.head<2>() += correction;
+  origin_levelling_variance_ = 0.0;
+  displacement_.head<2>().setZero();
+  yaw_bias_.topRows<2>().setZero();
+  yaw_bias_.leftCols<2>().setZero();
+  // What the filter itself must hold so that the reported covariance is `covariance`.
+  const Eigen::Matrix2d wanted = 0.5 * (covariance + covariance.transpose()) -
+                                 frame_levelling_variance_ * Eigen::Matrix2d::Identity();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(wanted);
+  const Eigen::Vector2d values = eigen.eigenvalues().cwiseMax(1e-6);
+  const Eigen::Matrix2d block = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
+  p_.topRows<2>().setZero();
+  p_.leftCols<2>().setZero();
+  p_.topLeftCorner<2, 2>() = block;
 }
 
 void PoseFilter::reset_yaw(double yaw, double variance) {

@@ -81,6 +81,16 @@ class PoseFilter {
   // variance, dropping its correlation with the other states.
   void set_down(double down, double variance);
 
+  // An absolute horizontal fix (a map match) applied as the estimator
+  // computed it (yaw_fusion_estimator.h): the position moves by `correction`
+  // (north, east) and its reported horizontal covariance becomes `covariance`.
+  // What the shared errors had put into the horizontal position up to now is
+  // in that covariance: they restart from here (the origin frame's levelling,
+  // the horizontal displacement the range scale multiplies, the position
+  // part of the yaw bias). The horizontal position's correlation with the
+  // other states is dropped, as in set_down.
+  void apply_horizontal_fix(const Eigen::Vector2d& correction, const Eigen::Matrix2d& covariance);
+
   // Yaw measurement (rad) with its variance. Rejected when the squared
   // innovation exceeds gate_sigma^2 times its variance.
   UpdateResult update_yaw(double measured_yaw, double variance, double gate_sigma);

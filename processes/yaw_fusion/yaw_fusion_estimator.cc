@@ -1,9 +1,11 @@
 #include "processes/yaw_fusion/yaw_fusion_estimator.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 
@@ -192,6 +194,7 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
   };
   auto emit_gap_pose = [&](int64_t t) {
     int32_t flags = pose_t::FLAG_VO_GAP | advance_without_vo(t);
+    flags |= apply_due_map_fixes(t);
     const double fallback = have_height_ ? height_agl_ : std::numeric_limits<double>::quiet_NaN();
     flags |= update_height(t, fallback);
     out->push_back(make_pose(t, flags));
@@ -232,7 +235,10 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
           }
           start(delta, out);
         }
+        const int32_t fix_flags = apply_due_map_fixes(delta.utime);
+        const size_t before = out->size();
         process_delta(delta, out);
+        if (fix_flags != 0 && out->size() > before) out->back().flags |= fix_flags;
         continue;
       }
       if (!started_) break;
@@ -247,6 +253,7 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
     break;
   }
   counters_.poses += static_cast<int64_t>(out->size() - poses_before);
+  remember_poses(*out, poses_before);
   if (started_) {
     // Keep what any later query can touch (queries are at or after the last
     // frame's exposure), so how many frames one call processes -- which depends on
@@ -766,6 +773,95 @@ void YawFusionEstimator::update_barometric(int64_t utime, double height) {
   filter_.set_down(down, variance + terrain_variance);
   ++counters_.altimeter_down_resets;
   consecutive_altimeter_rejections_ = 0;
+}
+
+void YawFusionEstimator::add_map_fix(const map_fix_t& fix) {
+  ++counters_.map_fixes_received;
+  Eigen::Matrix2d r;
+  r << fix.covariance_ne[0][0], fix.covariance_ne[0][1], fix.covariance_ne[1][0], fix.covariance_ne[1][1];
+  const bool finite = std::isfinite(fix.position_ne[0]) && std::isfinite(fix.position_ne[1]) && r.allFinite();
+  if (!options_.map_fix_enabled || !finite || !(r(0, 0) > 0.0) || !(r.determinant() > 0.0) ||
+      std::abs(r(0, 1) - r(1, 0)) > 1e-9 * (r(0, 0) + r(1, 1))) {
+    ++counters_.map_fixes_invalid;
+    note_problem(utime_label("MAP_FIX", fix.utime) +
+                 (options_.map_fix_enabled ? "non-finite, or a covariance not symmetric positive definite"
+                                           : "map fixes are disabled (yaw_fusion.map_fix.enabled)"));
+    return;
+  }
+  if (started_ && fix.utime + static_cast<int64_t>(options_.map_fix_apply_delay_s * 1e6) < last_frame_utime_) {
+    ++counters_.map_fixes_late;
+  }
+  pending_fixes_.emplace(fix.utime, fix);
+  while (pending_fixes_.size() > 64) {
+    ++counters_.map_fixes_unmatched;
+    pending_fixes_.erase(pending_fixes_.begin());
+  }
+}
+
+int32_t YawFusionEstimator::apply_due_map_fixes(int64_t utime) {
+  const int64_t delay = static_cast<int64_t>(options_.map_fix_apply_delay_s * 1e6);
+  int32_t flags = 0;
+  while (started_ && !pending_fixes_.empty() && pending_fixes_.begin()->first + delay <= utime) {
+    const map_fix_t fix = pending_fixes_.begin()->second;
+    pending_fixes_.erase(pending_fixes_.begin());
+    flags |= apply_map_fix(fix);
+  }
+  return flags;
+}
+
+int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
+  auto at = std::find_if(published_.begin(), published_.end(),
+                         [&](const PublishedPose& p) { return p.utime == fix.utime; });
+  if (at == published_.end()) {
+    ++counters_.map_fixes_unmatched;
+    note_problem(utime_label("MAP_FIX", fix.utime) + "no pose of that frame (a gap, or older than kept), not used");
+    return 0;
+  }
+  const Eigen::Vector2d z(fix.position_ne[0], fix.position_ne[1]);
+  Eigen::Matrix2d r;
+  r << fix.covariance_ne[0][0], fix.covariance_ne[0][1], fix.covariance_ne[1][0], fix.covariance_ne[1][1];
+  const Eigen::Vector2d innovation = z - at->position;
+  const Eigen::Matrix2d prior = at->covariance;
+  const Eigen::Matrix2d s = prior + r;
+  const Eigen::Matrix2d s_inverse = s.inverse();
+  const double distance = std::sqrt(std::max(0.0, innovation.dot(s_inverse * innovation)));
+  if (!(distance <= options_.map_fix_gate_sigma)) {
+    ++counters_.map_fixes_rejected;
+    char text[160];
+    std::snprintf(text, sizeof(text), "innovation (%.2f, %.2f) m is %.1f sigma (map_fix.gate_sigma %.1f), rejected",
+                  innovation.x(), innovation.y(), distance, options_.map_fix_gate_sigma);
+    note_problem(utime_label("MAP_FIX", fix.utime) + text);
+    return pose_t::FLAG_MAP_FIX_REJECTED;
+  }
+  const Eigen::Vector2d correction = prior * s_inverse * innovation;
+  const Eigen::Matrix2d now = filter_.reported_position_covariance().topLeftCorner<2, 2>();
+  Eigen::Matrix2d after = now - prior * s_inverse * prior;
+  // The motion since the frame is independent of the error at it, so
+  // `now` >= `prior` and `after` stays positive; guard against rounding.
+  if (!(after.determinant() > 0.0 && after(0, 0) > 0.0)) after = (now.inverse() + r.inverse()).inverse();
+  filter_.apply_horizontal_fix(correction, after);
+  const Eigen::Vector3d shift(correction.x(), correction.y(), 0.0);
+  for (PublishedPose& p : published_) {
+    if (p.utime >= fix.utime) p.position += correction;
+  }
+  for (auto& p : recent_positions_) p.second += shift;
+  for (auto& p : coast_positions_) p.second += shift;
+  ++counters_.map_fixes_applied;
+  return pose_t::FLAG_MAP_FIX_APPLIED;
+}
+
+void YawFusionEstimator::remember_poses(const std::vector<pose_t>& poses, size_t from) {
+  for (size_t i = from; i < poses.size(); ++i) {
+    const pose_t& p = poses[i];
+    PublishedPose entry;
+    entry.utime = p.utime;
+    entry.position = {p.position_ned[0], p.position_ned[1]};
+    entry.covariance << p.position_covariance[0][0], p.position_covariance[0][1], p.position_covariance[1][0],
+        p.position_covariance[1][1];
+    published_.push_back(entry);
+  }
+  const int64_t keep = static_cast<int64_t>((options_.map_fix_apply_delay_s + 10.0) * 1e6);
+  while (!published_.empty() && published_.back().utime - published_.front().utime > keep) published_.pop_front();
 }
 
 pose_t YawFusionEstimator::make_pose(int64_t utime, int32_t flags) const {

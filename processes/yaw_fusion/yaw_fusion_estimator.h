@@ -25,6 +25,15 @@
 // last velocity held in the level vehicle frame, flagged FLAG_COASTING, its
 // covariance grown by the coast model, for up to coast.max_duration_s.
 //
+// Map fixes (MAP_FIX): a fix z of the frame at t_f, whose pose had position
+// x_f and reported horizontal covariance P_f, is applied at the first pose at
+// or after t_f + map_fix.apply_delay_s as a delayed measurement: with the
+// motion since t_f independent of the error at t_f, the position now moves by
+// P_f S^-1 (z - x_f) and its covariance loses P_f S^-1 P_f, S = P_f + R
+// (R the fix's covariance). A fix whose innovation is beyond
+// map_fix.gate_sigma (Mahalanobis) is rejected. The pose it is applied at
+// (or rejected at) carries FLAG_MAP_FIX_APPLIED (FLAG_MAP_FIX_REJECTED).
+//
 // Start: the pose origin is the first frame of the first usable delta. Deltas
 // before it that cannot be used (flagged, e.g. no altimeter yet) publish no
 // pose: there is no motion to dead-reckon yet, and an origin set there would
@@ -42,6 +51,7 @@
 
 #include "nadir/altimeter_t.hpp"
 #include "nadir/ins_t.hpp"
+#include "nadir/map_fix_t.hpp"
 #include "nadir/pose_t.hpp"
 #include "nadir/vo_delta_t.hpp"
 #include "processes/yaw_fusion/coast_terrain.h"
@@ -86,6 +96,12 @@ struct YawFusionCounters {
   int64_t coast_expired = 0;               // deltas after coast.max_duration_s (VO gap instead)
   int64_t coast_ground_steps = 0;          // coasting on the altimeter: range jumps taken as the ground's
   int64_t deltas_reverted = 0;             // integrating would have made the state non-finite
+  int64_t map_fixes_received = 0;
+  int64_t map_fixes_invalid = 0;           // non-finite, a covariance not positive definite, or disabled
+  int64_t map_fixes_applied = 0;
+  int64_t map_fixes_rejected = 0;          // gated
+  int64_t map_fixes_unmatched = 0;         // no pose at the fix's frame (or too old)
+  int64_t map_fixes_late = 0;              // came after the pose it was due at
   int64_t poses = 0;
   std::string last_problem;                // names the channel, utime and reason
 };
@@ -98,6 +114,8 @@ class YawFusionEstimator {
   std::vector<pose_t> add_vo_delta(const vo_delta_t& delta);
   std::vector<pose_t> add_ins(const ins_t& ins);
   std::vector<pose_t> add_altimeter(const altimeter_t& altimeter);
+  // Queues a fix; it is applied with the pose it is due at (see above).
+  void add_map_fix(const map_fix_t& fix);
 
   // Continue from `last` (the POSE a previous run published last, from its
   // checkpoint) instead of a new origin: at the first usable delta the
@@ -154,6 +172,10 @@ class YawFusionEstimator {
   // updates down, gated; altimeter_max_consecutive_rejections in a row reset it.
   void update_barometric(int64_t utime, double height);
   pose_t make_pose(int64_t utime, int32_t flags) const;
+  // Applies (or gates out) the queued fixes due at a pose at `utime`; returns pose flags.
+  int32_t apply_due_map_fixes(int64_t utime);
+  int32_t apply_map_fix(const map_fix_t& fix);
+  void remember_poses(const std::vector<pose_t>& poses, size_t from);
   bool delta_values_valid(const vo_delta_t& delta, std::string* why) const;
   bool delta_quality_ok(const vo_delta_t& delta) const { return (delta.quality & options_.reject_quality_mask) == 0; }
   // Usable to start from: not rejected, and not one coasting would skip.
@@ -211,6 +233,15 @@ class YawFusionEstimator {
   // ground points and patch tilts, anchored when a coast starts.
   CoastTerrain coast_terrain_;
   double coast_held_down_ = 0.0;  // down with the climb rate held since the coast started
+  // Map fixes waiting for their pose, by frame time; the poses published over
+  // the last few seconds (utime, horizontal position, reported covariance).
+  std::multimap<int64_t, map_fix_t> pending_fixes_;
+  struct PublishedPose {
+    int64_t utime;
+    Eigen::Vector2d position;
+    Eigen::Matrix2d covariance;
+  };
+  std::deque<PublishedPose> published_;
 };
 
 }  // namespace nadir

@@ -35,6 +35,7 @@ class YawFusionNode : public Node {
     bus_.subscribe<altimeter_t>(channels::kAltimeter, [this](const altimeter_t& msg) {
       if (gate_.admit(channels::kAltimeter, msg)) publish(estimator_.add_altimeter(msg));
     });
+    bus_.subscribe<map_fix_t>(channels::kMapFix, [this](const map_fix_t& msg) { estimator_.add_map_fix(msg); });
   }
 
   std::string name() const override { return "yaw_fusion"; }
@@ -46,7 +47,7 @@ class YawFusionNode : public Node {
     report.received = c.vo_deltas_received + c.ins_received + c.altimeter_received + gate_.rejected();
     report.published = published_;
     report.dropped = c.vo_deltas_late + c.vo_deltas_duplicate;
-    report.errors = c.vo_deltas_invalid + c.ins_invalid + c.time_jumps_dropped;
+    report.errors = c.vo_deltas_invalid + c.ins_invalid + c.time_jumps_dropped + c.map_fixes_invalid;
     if (!estimator_.started()) {
       report.state = status_t::STATE_STARTING;
       report.detail = "waiting for the first VO_DELTA with INS covering it";
@@ -91,6 +92,12 @@ class YawFusionNode : public Node {
     report.counters.emplace_back("coast_expired", static_cast<double>(c.coast_expired));
     report.counters.emplace_back("coast_ground_steps", static_cast<double>(c.coast_ground_steps));
     report.counters.emplace_back("deltas_reverted", static_cast<double>(c.deltas_reverted));
+    report.counters.emplace_back("map_fixes_received", static_cast<double>(c.map_fixes_received));
+    report.counters.emplace_back("map_fixes_applied", static_cast<double>(c.map_fixes_applied));
+    report.counters.emplace_back("map_fixes_rejected", static_cast<double>(c.map_fixes_rejected));
+    report.counters.emplace_back("map_fixes_invalid", static_cast<double>(c.map_fixes_invalid));
+    report.counters.emplace_back("map_fixes_unmatched", static_cast<double>(c.map_fixes_unmatched));
+    report.counters.emplace_back("map_fixes_late", static_cast<double>(c.map_fixes_late));
     for (int bit = 0; bit < kCoastReasons; ++bit) {
       report.counters.emplace_back(std::string("coast_") + coast_reason_name(bit),
                                    static_cast<double>(c.coast_reasons[bit]));

@@ -96,6 +96,12 @@ const OptionsSchema<YawFusionOptions>& YawFusionOptions::schema() {
         .number("protection_level.flagged_inflation", 1.0, 1000.0, "", "protection level factor on flagged poses",
                 &O::protection_level, &P::flagged_inflation)
         .include("coast", CoastOptions::schema(), &O::coast)
+        .flag("map_fix.enabled", "use MAP_FIX fixes from the map matcher when they come", &O::map_fix_enabled)
+        .number("map_fix.apply_delay_s", 0.0, 10.0, "s",
+                "a fix of the frame at t is applied at the first pose at or after t + this (sensor time)",
+                &O::map_fix_apply_delay_s)
+        .number("map_fix.gate_sigma", 1.0, 100.0, "",
+                "reject a fix whose innovation exceeds this Mahalanobis distance", &O::map_fix_gate_sigma)
         .rule("frame_time_tolerance_s", [](const O& o) { return o.frame_time_tolerance_s < 0.5 / o.frame_rate_hz; },
               "must be below half a frame period (camera.rate_hz)")
         .rule("max_time_jump_s",

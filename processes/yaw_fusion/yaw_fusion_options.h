@@ -94,6 +94,15 @@ struct YawFusionOptions {
   ProtectionLevelOptions protection_level;
   // Coasting over deltas whose translation is not trusted (coast: section; coasting.h).
   CoastOptions coast;
+  // Absolute horizontal fixes on MAP_FIX (map_matcher), applied as delayed
+  // measurements (yaw_fusion_estimator.h): a fix of the frame at t is applied
+  // at the first pose at or after t + map_fix_apply_delay_s (a fixed point in
+  // sensor time, so that a replay equals the live run whenever the fix came
+  // in time), gated at map_fix_gate_sigma (Mahalanobis distance of its
+  // innovation against the pose of that frame and the fix's covariance).
+  bool map_fix_enabled = true;
+  double map_fix_apply_delay_s = 0.5;
+  double map_fix_gate_sigma = 4.0;
 
   // camera.time_offset_us (INS and altimeter read at a frame's exposure time,
   // stamp + offset; poses keep the stamp), altimeter.range_scale/range_bias_m

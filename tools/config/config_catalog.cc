@@ -6,6 +6,7 @@
 #include "processes/camera_capture/capture_options.h"
 #include "processes/foxglove/foxglove_options.h"
 #include "processes/ins_bridge/bridge_options.h"
+#include "processes/map_matcher/map_matcher_options.h"
 #include "processes/mavlink_bridge/bridge_options.h"
 #include "processes/sim/sim_camera.h"
 #include "processes/sim/sensor_options.h"
@@ -20,6 +21,7 @@ std::vector<SectionDoc> all_section_docs() {
       TrackerOptions::schema().describe(),
       VoSolverOptions::schema().describe(),
       YawFusionOptions::schema().describe(),
+      MapMatcherOptions::schema().describe(),
       InputCheckOptions::schema().describe(),
       ins_bridge::BridgeOptions::schema().describe(ins_bridge::BridgeOptions::defaults()),
       mavlink_bridge::BridgeOptions::schema().describe(),
@@ -52,7 +54,7 @@ std::string configuration_reference() {
 
 void check_every_section(const Config& root) {
   // The sections of the shared file; another top-level key is a misspelt one.
-  root.require_known_keys({"camera", "altimeter", "tracker", "vo_solver", "yaw_fusion", "camera_capture",
+  root.require_known_keys({"camera", "altimeter", "tracker", "vo_solver", "yaw_fusion", "map_matcher", "camera_capture",
                            "ins_bridge", "input_checks", "mavlink_bridge", "foxglove"});
   CameraModel::from_config(root);
   sim::SimCamera::from_config(root);
@@ -61,6 +63,7 @@ void check_every_section(const Config& root) {
   TrackerOptions::from_config(root);
   VoSolverOptions::from_config(root);
   YawFusionOptions::from_config(root);
+  MapMatcherOptions::from_config(root);
   CaptureOptions::FromConfig(root.section_or_empty("camera_capture"));
   ins_bridge::BridgeOptions::from_config(root);
   mavlink_bridge::BridgeOptions::from_config(root);

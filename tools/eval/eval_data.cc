@@ -63,6 +63,9 @@ EvalData load_eval_data(const std::string& log_path, const std::string& truth_pa
         data.pose_log_timestamps.push_back(e.timestamp);
         pipeline.add_pose(p.utime, e.timestamp);
       }
+    } else if (e.channel == channels::kMapFix) {
+      map_fix_t f;
+      if (decode(e, &f)) data.map_fixes.push_back(f);
     } else if (e.channel == channels::kCameraImage) {
       image_t image;
       if (decode(e, &image)) pipeline.add_image(image.utime, image.frame_counter, e.timestamp);

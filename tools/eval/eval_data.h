@@ -11,6 +11,7 @@
 #include "tools/eval/pipeline_records.h"
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/ins_t.hpp"
+#include "nadir/map_fix_t.hpp"
 #include "nadir/pose_t.hpp"
 #include "nadir/status_t.hpp"
 #include "nadir/vo_delta_t.hpp"
@@ -22,6 +23,7 @@ struct EvalData {
   std::vector<int64_t> pose_log_timestamps; // logger receive time of each pose
   std::vector<ground_truth_t> truth;        // sorted by utime, all kinds
   std::vector<ins_t> ins;                   // first few, for the geographic reference
+  std::vector<map_fix_t> map_fixes;         // the map matcher's accepted fixes, log order
   int64_t triggers = 0;
   // The pipeline's own frames, TRACKS and VO_DELTA, and the records on those
   // channels that are not (tools/eval/pipeline_records.h).

@@ -95,6 +95,16 @@ int main(int argc, char** argv) {
                   m.final_error_h_m, m.final_error_v_m);
       std::printf("error / distance    %10.3f %% (horizontal %.3f %%, vertical %.3f %%)\n", m.error_pct_3d,
                   m.error_pct_h, m.error_pct_v);
+      std::printf("horizontal error    %10.2f m at the 95th percentile over the flight, %.2f m max\n",
+                  m.p95_error_h_m, m.max_error_h_m);
+      const nadir::MapFixMetrics& f = m.map_fixes;
+      if (f.fixes > 0 || f.applied > 0 || f.rejected > 0) {
+        std::printf("map fixes           %10lld on MAP_FIX, %lld applied, %lld rejected by the gate; error %.2f m "
+                    "median, %.2f m p95, %.2f m max (sigma %.2f m median); %lld beyond 3 sigma (max %.2f)\n",
+                    static_cast<long long>(f.fixes), static_cast<long long>(f.applied),
+                    static_cast<long long>(f.rejected), f.error_median_m, f.error_p95_m, f.error_max_m,
+                    f.sigma_median_m, static_cast<long long>(f.beyond_3_sigma), f.mahalanobis_max);
+      }
       std::printf("velocity error      %10.3f m/s rms horizontal\n", m.rms_velocity_error_h);
       std::printf("yaw error           %10.3f deg rms (fused yaw vs truth yaw at each pose%s)\n", m.rms_yaw_error_deg,
                   m.imported ? "; imported: the truth is the recorded yaw, the estimator's INS input" : "");

@@ -96,6 +96,10 @@ EvalResult evaluate(const EvalData& data) {
     throw std::runtime_error("POSE and GROUND_TRUTH do not overlap in sensor time (" +
                              std::to_string(result.samples.size()) + " aligned poses)");
   }
+  std::vector<float> errors_h;
+  for (const EvalSample& s : result.samples) errors_h.push_back(static_cast<float>(s.error_h_m));
+  m.p95_error_h_m = percentile(errors_h, 95);
+  m.map_fixes = map_fix_metrics(data.map_fixes, data.poses, data.truth, *first, truth0);
   const EvalSample& last = result.samples.back();
   const double n = static_cast<double>(result.samples.size());
   m.poses = static_cast<int64_t>(result.samples.size());
@@ -200,7 +204,15 @@ std::string metrics_json(const EvalMetrics& m) {
   j.field("error_pct_v", m.error_pct_v).field("error_pct_3d", m.error_pct_3d);
   j.field("rms_error_h_m", m.rms_error_h_m).field("rms_error_3d_m", m.rms_error_3d_m);
   j.field("rms_error_pct_3d", m.rms_error_pct_3d);
-  j.field("max_error_h_m", m.max_error_h_m).field("rms_velocity_error_h", m.rms_velocity_error_h);
+  j.field("max_error_h_m", m.max_error_h_m).field("p95_error_h_m", m.p95_error_h_m);
+  j.field("rms_velocity_error_h", m.rms_velocity_error_h);
+  const MapFixMetrics& f = m.map_fixes;
+  j.key("map_fixes").begin_object();
+  j.field("fixes", f.fixes).field("applied", f.applied).field("rejected", f.rejected);
+  j.field("error_median_m", f.error_median_m).field("error_p95_m", f.error_p95_m).field("error_max_m", f.error_max_m);
+  j.field("sigma_median_m", f.sigma_median_m).field("mahalanobis_max", f.mahalanobis_max);
+  j.field("beyond_3_sigma", f.beyond_3_sigma);
+  j.end_object();
   j.field("max_velocity_error_h", m.max_velocity_error_h).field("rms_yaw_error_deg", m.rms_yaw_error_deg);
   j.field("poses", m.poses).field("poses_flagged", m.poses_flagged).field("images", m.images);
   j.field("triggers", m.triggers).field("frames_dropped", m.frames_dropped).field("tracks", m.tracks);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tools/eval/eval_data.h"
+#include "tools/eval/map_fix_metrics.h"
 #include "tools/eval/pair_metrics.h"
 
 namespace nadir {
@@ -43,6 +44,8 @@ struct EvalMetrics {
   double error_pct_v = 0;
   double error_pct_3d = 0;    // the paper's "accuracy" column
   double max_error_h_m = 0;
+  double p95_error_h_m = 0;    // 95th percentile of the horizontal error over every aligned pose
+  MapFixMetrics map_fixes;     // the map matcher's fixes; fixes == 0 and applied == 0: none in the log
   double rms_error_h_m = 0;    // over every aligned pose: the whole flight, not only its end
   double rms_error_3d_m = 0;
   double rms_error_pct_3d = 0; // rms_error_3d_m as % of the distance flown

@@ -36,7 +36,11 @@ int main(int argc, char** argv) {
       "Same input + same config => byte-identical output. The config is written into the output log (CONFIG).",
       "nadir_replay"};
   nadir::ReplayOptions options;
-  std::string nodes = known;
+  // The map matcher runs only when named: it needs a map (map_matcher.orthophoto, .dem).
+  std::string nodes;
+  for (const auto& n : registry.names()) {
+    if (n != "map_matcher") nodes += (nodes.empty() ? "" : ",") + n;
+  }
   bool json = false;
   bool no_passthrough = false;
   app.add_option("--in", options.in_path, "input log")->required();

@@ -1,0 +1,78 @@
+#pragma once
+// One fix attempt, without a bus: a camera frame, the POSE of that frame as
+// the prior, the reference map -> an absolute horizontal fix, or the reason
+// it is refused.
+//
+// The frame is orthorectified (frame_ortho.h) over a north-up square below
+// the prior position, using the pose's attitude, its height above ground
+// and the map's DEM for the relief; the square is searched for in the map's
+// orthophoto within search_sigmas horizontal prior sigmas
+// (map_registration.h). A fix is refused, never guessed, when:
+//   no_height        the pose has no height above ground
+//   tilted           the frame looks further than max_tilt_deg from nadir
+//   prior_uncertain  the search would need a radius over max_search_radius_m
+//   template_small   the square is under min_template_px at gsd_m (flying low)
+//   outside_map      the prior's window reaches beyond the orthophoto or the DEM
+//   map_no_data      NoData (or NaN) in the window or under the frame
+//   frame_partial    the frame does not see the whole square
+//   featureless      the map window or the frame has a grey stddev under min_texture
+//   low_score        the correlation peak is under min_score
+//   ambiguous        another shift fits nearly as well (peak_ratio under
+//                    min_peak_ratio: repetitive ground) or the peak is flat
+//   peak_at_edge     the best shift is on the border of the search
+// The fix's covariance: map_fix_covariance.h.
+
+#include <memory>
+#include <string>
+
+#include "common/camera_model.h"
+#include "nadir/image_t.hpp"
+#include "nadir/map_fix_t.hpp"
+#include "nadir/pose_t.hpp"
+#include "processes/map_matcher/map_matcher_options.h"
+#include "tools/map/map_grid.h"
+#include "tools/map/reference_map.h"
+
+namespace nadir {
+
+enum class FixRefusal {
+  kNone = 0,
+  kNoHeight,
+  kTilted,
+  kPriorUncertain,
+  kTemplateSmall,
+  kOutsideMap,
+  kMapNoData,
+  kFramePartial,
+  kFeatureless,
+  kLowScore,
+  kAmbiguous,
+  kPeakAtEdge,
+  kFrameDropped,  // the node's: the frame's POSE did not come in time, or a bad image
+};
+constexpr int kFixRefusals = 13;
+const char* fix_refusal_name(FixRefusal refusal);
+
+struct FixAttempt {
+  FixRefusal refusal = FixRefusal::kNone;
+  std::string why;  // names the figure and its limit when refused
+  map_fix_t fix{};  // filled when accepted (and its diagnostics as far as they got when refused)
+};
+
+class MapMatcher {
+ public:
+  // Checks the options (ConfigError naming the key).
+  MapMatcher(const MapMatcherOptions& options, const CameraModel& camera, map::ReferenceMap map);
+
+  // `origin`: where the POSE origin (local north/east 0, 0) lies on the Earth.
+  FixAttempt attempt(const image_t& image, const pose_t& pose, const map::LocalProjection& origin) const;
+
+  const map::ReferenceMap& map() const { return map_; }
+
+ private:
+  MapMatcherOptions options_;
+  CameraModel camera_;
+  map::ReferenceMap map_;
+};
+
+}  // namespace nadir

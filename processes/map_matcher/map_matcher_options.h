@@ -1,0 +1,47 @@
+#pragma once
+// Options of the map matcher (the `map_matcher:` section of the config),
+// documented where they are read (map_matcher_options.cc). Check() throws
+// ConfigError naming the key.
+
+#include <string>
+
+#include "common/config.h"
+#include "common/options_schema.h"
+
+namespace nadir {
+
+struct MapMatcherOptions {
+  // The reference map: an orthophoto and a DEM (GeoTIFF or any raster GDAL
+  // reads, any CRS; tools/map/reference_map.h). Relative paths resolve from
+  // the checkout. Both are required to run the matcher.
+  std::string orthophoto;
+  std::string dem;
+  double gsd_m = 1.0;             // the frames and the map are compared at this ground sample distance
+  double interval_s = 1.0;        // at most one fix attempt per this much sensor time
+  double max_frame_age_s = 1.0;   // a frame whose POSE has not come within this is dropped
+  double template_fraction = 0.9; // of the largest north-up square the frame's footprint holds at any heading
+  int min_template_px = 32;       // a smaller template (low flight, coarse gsd) is not matched
+  double search_sigmas = 3.0;     // search radius: this many horizontal prior sigmas ...
+  double min_search_radius_m = 10.0;   // ... but at least this ...
+  double max_search_radius_m = 200.0;  // ... and a prior needing more is refused (too uncertain)
+  double min_texture = 6.0;       // grey-level stddev of the map window and of the frame; below: featureless
+  double min_score = 0.25;        // normalised cross-correlation of the edge pictures at the peak; below: no match
+  double min_peak_ratio = 1.25;   // best peak over the best one outside its lobe; below: ambiguous
+  // Covariance of a fix (map_fix_covariance.h): the peak's shape, the
+  // inverse Hessian of the correlation surface, times (1 - score) / score
+  // over the number of independent peak-sized cells in the template, times
+  // peak_stddev_scale^2 (the misfit between map and frame is not white
+  // noise), at least min_stddev_px; plus the map's own georeferencing error
+  // and the attitude error projected on the ground (height x attitude_stddev_deg).
+  double peak_stddev_scale = 6.0;
+  double min_stddev_px = 0.15;
+  double map_stddev_m = 0.3;
+  double attitude_stddev_deg = 0.05;
+  double max_tilt_deg = 20.0;     // frames tilted further from nadir are not matched
+
+  static MapMatcherOptions from_config(const Config& root);
+  void Check() const;  // throws ConfigError naming the key and allowed range
+  static const OptionsSchema<MapMatcherOptions>& schema();
+};
+
+}  // namespace nadir

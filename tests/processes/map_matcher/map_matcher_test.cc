@@ -1,0 +1,191 @@
+// The map matcher against a simulated world and its simulated map (another
+// season, coarser, changed patches): a frame rendered by the simulator's
+// renderer at a known pose, a prior off by metres -> the fix lands on the
+// truth within its covariance; maps and frames it must not trust are refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "common/camera_model.h"
+#include "common/config.h"
+#include "common/geometry.h"
+#include "common/paths.h"
+#include "processes/map_matcher/map_matcher.h"
+#include "processes/sim/renderer.h"
+#include "processes/sim/sim_camera.h"
+#include "processes/sim/terrain.h"
+#include "tests/common/test_support.h"
+#include "tools/map/geotiff_writer.h"
+#include "tools/map/simulated_map.h"
+
+namespace nadir {
+namespace {
+
+constexpr uint64_t kSeed = 7;
+constexpr double kHeight = 200.0;
+
+const char* kProfile = R"(
+name: matcher_test
+distance_m: 600
+speed_mps: 20
+altitude_agl_m: 200
+initial_heading_deg: 30
+reference: {latitude_deg: 40.4406, longitude_deg: -79.9959, height_m: 300.0}
+terrain: {relief_scale: 1.0}
+legs:
+  - {type: straight}
+)";
+
+struct World {
+  sim::FlightProfile profile = sim::FlightProfile::parse(kProfile, "matcher_test");
+  std::unique_ptr<sim::Terrain> terrain;
+  Config config = Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml");
+};
+
+void write_map(const std::string& dir, const sim::FlightProfile& profile, uint64_t seed) {
+  map::SimulatedMapOptions options;
+  options.margin_m = 250.0;
+  const map::SimulatedMap m = map::simulate_map(profile, seed, options);
+  map::write_geotiff_byte(dir + "/orthophoto.tif", m.grid, m.orthophoto);
+  map::write_geotiff_float(dir + "/dem.tif", m.grid, m.dem, -9999.0);
+}
+
+class MapMatcherTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    world_ = new World;
+    sim::TerrainOptions t = world_->profile.terrain;
+    t.seed = kSeed;
+    world_->terrain = std::make_unique<sim::Terrain>(t);
+    dir_ = new testing::TempDir("map_matcher");
+    write_map(dir_->path(), world_->profile, kSeed);
+    other_dir_ = new testing::TempDir("map_matcher_other");
+    write_map(other_dir_->path(), world_->profile, kSeed + 1);  // the same flight over another world
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    delete other_dir_;
+    delete world_;
+  }
+
+  static MapMatcher matcher(const std::string& dir, MapMatcherOptions options = {}) {
+    return MapMatcher(options, CameraModel::from_config(world_->config),
+                      map::ReferenceMap::open(dir + "/orthophoto.tif", dir + "/dem.tif"));
+  }
+  static map::LocalProjection origin() {
+    GeodeticPoint p;
+    p.latitude_deg = world_->profile.reference_latitude_deg;
+    p.longitude_deg = world_->profile.reference_longitude_deg;
+    return map::LocalProjection(p);
+  }
+
+  // The frame the simulator's camera takes at (north, east), kHeight above
+  // the ground there, with this attitude; and the POSE of it with the
+  // horizontal position off by (dn, de) and a prior sigma.
+  static image_t render(double north, double east, const Eigen::Vector3d& rpy_deg) {
+    const sim::SimCamera camera = sim::SimCamera::from_config(world_->config);
+    sim::Renderer renderer(camera, *world_->terrain, sim::RendererOptions{});
+    const double down = -(world_->terrain->height(north, east) + kHeight);
+    const Eigen::Matrix3d world_from_body =
+        rotation_from_rpy(deg_to_rad(rpy_deg.x()), deg_to_rad(rpy_deg.y()), deg_to_rad(rpy_deg.z()));
+    std::vector<uint8_t> pixels;
+    renderer.render({north, east, down}, world_from_body * camera.body_from_camera, 11, &pixels);
+    image_t image{};
+    image.utime = 1'000'000;
+    image.width = camera.width;
+    image.height = camera.height;
+    image.stride = camera.width;
+    image.pixel_format = image_t::PIXEL_MONO8;
+    image.size = static_cast<int32_t>(pixels.size());
+    image.data = pixels;
+    return image;
+  }
+  static pose_t pose(double north, double east, const Eigen::Vector3d& rpy_deg, double dn, double de, double sigma) {
+    pose_t p{};
+    p.utime = 1'000'000;
+    p.position_ned[0] = north + dn;
+    p.position_ned[1] = east + de;
+    p.roll = deg_to_rad(rpy_deg.x());
+    p.pitch = deg_to_rad(rpy_deg.y());
+    p.yaw = deg_to_rad(rpy_deg.z());
+    p.height_agl_m = kHeight;
+    p.position_covariance[0][0] = p.position_covariance[1][1] = sigma * sigma;
+    p.position_covariance[2][2] = 1.0;
+    return p;
+  }
+
+  static World* world_;
+  static testing::TempDir* dir_;
+  static testing::TempDir* other_dir_;
+};
+World* MapMatcherTest::world_ = nullptr;
+testing::TempDir* MapMatcherTest::dir_ = nullptr;
+testing::TempDir* MapMatcherTest::other_dir_ = nullptr;
+
+TEST_F(MapMatcherTest, FixLandsOnTheTruthWithinItsCovariance) {
+  const MapMatcher m = matcher(dir_->path());
+  const struct {
+    double north, east, dn, de;
+    Eigen::Vector3d rpy;
+  } cases[] = {
+      {150.0, 80.0, 6.0, -4.0, {1.0, -2.0, 30.0}},
+      {300.0, 200.0, -9.0, 3.0, {-2.0, 1.5, 210.0}},
+      {420.0, 260.0, 2.0, 8.0, {0.5, 0.5, 95.0}},
+  };
+  for (const auto& c : cases) {
+    const FixAttempt a = m.attempt(render(c.north, c.east, c.rpy), pose(c.north, c.east, c.rpy, c.dn, c.de, 5.0),
+                                   origin());
+    ASSERT_EQ(a.refusal, FixRefusal::kNone) << a.why;
+    const Eigen::Vector2d error(a.fix.position_ne[0] - c.north, a.fix.position_ne[1] - c.east);
+    Eigen::Matrix2d cov;
+    cov << a.fix.covariance_ne[0][0], a.fix.covariance_ne[0][1], a.fix.covariance_ne[1][0], a.fix.covariance_ne[1][1];
+    EXPECT_LT(error.norm(), 1.5) << "at " << c.north << ", " << c.east;
+    EXPECT_LT(std::sqrt(error.dot(cov.inverse() * error)), 3.0) << "error " << error.transpose();
+    EXPECT_GT(a.fix.score, 0.35);
+    EXPECT_NEAR(a.fix.search_radius_m, 15.0, 1e-9);
+  }
+}
+
+TEST_F(MapMatcherTest, MapOfAnotherWorldIsRefused) {
+  const MapMatcher m = matcher(other_dir_->path());
+  const Eigen::Vector3d rpy(1.0, -2.0, 30.0);
+  for (const double north : {120.0, 250.0, 380.0}) {
+    const FixAttempt a = m.attempt(render(north, 100.0, rpy), pose(north, 100.0, rpy, 0.0, 0.0, 5.0), origin());
+    EXPECT_NE(a.refusal, FixRefusal::kNone) << "score " << a.fix.score << " ratio " << a.fix.peak_ratio;
+  }
+}
+
+TEST_F(MapMatcherTest, RefusesWhatItCannotTrust) {
+  const MapMatcher m = matcher(dir_->path());
+  const Eigen::Vector3d rpy(1.0, -2.0, 30.0);
+  const image_t frame = render(200.0, 100.0, rpy);
+  // A prior too uncertain for the search.
+  EXPECT_EQ(m.attempt(frame, pose(200.0, 100.0, rpy, 0, 0, 100.0), origin()).refusal, FixRefusal::kPriorUncertain);
+  // Beyond the map.
+  EXPECT_EQ(m.attempt(frame, pose(200.0, 100.0, rpy, 5000.0, 0, 5.0), origin()).refusal, FixRefusal::kOutsideMap);
+  // No height.
+  pose_t no_height = pose(200.0, 100.0, rpy, 0, 0, 5.0);
+  no_height.height_agl_m = -1.0;
+  EXPECT_EQ(m.attempt(frame, no_height, origin()).refusal, FixRefusal::kNoHeight);
+  // Tilted far from nadir.
+  const Eigen::Vector3d banked(35.0, 0.0, 30.0);
+  EXPECT_EQ(m.attempt(frame, pose(200.0, 100.0, banked, 0, 0, 5.0), origin()).refusal, FixRefusal::kTilted);
+  // A featureless frame (fog, a lens cap).
+  image_t grey = frame;
+  std::fill(grey.data.begin(), grey.data.end(), uint8_t{90});
+  const FixAttempt a = m.attempt(grey, pose(200.0, 100.0, rpy, 0, 0, 5.0), origin());
+  EXPECT_EQ(a.refusal, FixRefusal::kFeatureless);
+  EXPECT_NE(a.why.find("min_texture"), std::string::npos) << a.why;
+}
+
+TEST_F(MapMatcherTest, OptionsChecked) {
+  MapMatcherOptions o;
+  o.min_search_radius_m = 50.0;
+  o.max_search_radius_m = 20.0;
+  EXPECT_THROW(matcher(dir_->path(), o), ConfigError);
+}
+
+}  // namespace
+}  // namespace nadir

@@ -1,0 +1,217 @@
+// Map fixes (MAP_FIX) in yaw fusion: a delayed measurement at its frame's
+// time that bounds the drift, gated, flagged, the covariance honest, and the
+// same poses whenever the fix arrives before it is due.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "processes/yaw_fusion/yaw_fusion_estimator.h"
+#include "estimator_runner.h"
+#include "synthetic_flight.h"
+
+namespace nadir {
+namespace {
+
+using test::FlightSpec;
+using test::SyntheticFlight;
+using test::TimedMessage;
+
+FlightSpec drifting_flight() {
+  FlightSpec spec;
+  spec.frames = 1400;  // 100 s at 14 Hz
+  // VO noise: the position drifts by about the sigma yaw fusion's own
+  // uncertainty model gives (0.5-1.3 m over the flight; it does not take the
+  // delta's covariance as it is).
+  spec.translation_stddev_m = 0.02;
+  spec.covariance_translation_stddev_m = 0.02;
+  spec.dyaw_stddev_deg = 0.02;
+  spec.covariance_dyaw_stddev_deg = 0.02;
+  return spec;
+}
+
+// A fix of frame k: the truth (from the first frame) + noise of `stddev`, covariance stddev^2.
+map_fix_t fix_at(const SyntheticFlight& flight, size_t k, double stddev, std::mt19937* rng, double offset_m = 0.0) {
+  std::normal_distribution<double> noise(0.0, stddev);
+  map_fix_t f{};
+  f.utime = flight.truth[k].utime;
+  const Eigen::Vector3d p = flight.truth[k].position - flight.truth.front().position;
+  f.position_ne[0] = p.x() + noise(*rng) + offset_m;
+  f.position_ne[1] = p.y() + noise(*rng);
+  f.covariance_ne[0][0] = f.covariance_ne[1][1] = stddev * stddev;
+  f.gsd_m = 1.0;
+  f.score = 0.8;
+  return f;
+}
+
+// The flight's messages with `fixes` arriving `latency_us` after their frame
+// (VO deltas arrive 80 ms after theirs).
+std::vector<TimedMessage> with_fixes(const SyntheticFlight& flight, const std::vector<map_fix_t>& fixes,
+                                     int64_t latency_us) {
+  const std::vector<TimedMessage> base = test::arrival_order(flight, 80'000, 2'000, 5'000);
+  std::vector<TimedMessage> out;
+  size_t next = 0;
+  for (const TimedMessage& m : base) {
+    while (next < fixes.size() && m.channel == channels::kVoDelta && fixes[next].utime + latency_us <= m.utime + 80'000) {
+      out.push_back(TimedMessage{channels::kMapFix, fixes[next].utime, test::encode(fixes[next])});
+      ++next;
+    }
+    out.push_back(m);
+  }
+  return out;
+}
+
+std::vector<pose_t> run(const SyntheticFlight& flight, const std::vector<map_fix_t>& fixes, int64_t latency_us,
+                        YawFusionCounters* counters = nullptr) {
+  YawFusionEstimator estimator{YawFusionOptions{}};
+  const auto poses = test::run(estimator, with_fixes(flight, fixes, latency_us));
+  if (counters) *counters = estimator.counters();
+  return poses;
+}
+
+Eigen::Vector2d horizontal_error(const SyntheticFlight& flight, const pose_t& pose) {
+  for (const auto& t : flight.truth) {
+    if (t.utime == pose.utime) {
+      const Eigen::Vector3d p = t.position - flight.truth.front().position;
+      return {pose.position_ned[0] - p.x(), pose.position_ned[1] - p.y()};
+    }
+  }
+  ADD_FAILURE() << "no truth at " << pose.utime;
+  return {0, 0};
+}
+
+double nees(const SyntheticFlight& flight, const pose_t& pose) {
+  const Eigen::Vector2d e = horizontal_error(flight, pose);
+  Eigen::Matrix2d c;
+  c << pose.position_covariance[0][0], pose.position_covariance[0][1], pose.position_covariance[1][0],
+      pose.position_covariance[1][1];
+  return e.dot(c.inverse() * e);
+}
+
+std::vector<map_fix_t> fixes_every(const SyntheticFlight& flight, size_t every, double stddev, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<map_fix_t> fixes;
+  for (size_t k = every; k + 20 < flight.truth.size(); k += every) fixes.push_back(fix_at(flight, k, stddev, &rng));
+  return fixes;
+}
+
+TEST(YawFusionMapFix, FixesBoundTheDriftWithAnHonestCovariance) {
+  const SyntheticFlight flight = test::make_flight(drifting_flight());
+  const auto free = run(flight, {}, 0);
+  YawFusionCounters c;
+  const std::vector<map_fix_t> fixes = fixes_every(flight, 14, 0.3, 3);
+  const auto fixed = run(flight, fixes, 150'000, &c);
+  ASSERT_EQ(free.size(), fixed.size());
+  EXPECT_EQ(c.map_fixes_applied, static_cast<int64_t>(fixes.size()));
+  EXPECT_EQ(c.map_fixes_rejected, 0);
+  int flagged = 0;
+  double worst_fixed = 0.0, mean_nees = 0.0;
+  for (const pose_t& p : fixed) {
+    if (p.flags & pose_t::FLAG_MAP_FIX_APPLIED) ++flagged;
+    if (p.utime > fixed.front().utime + 10'000'000) {
+      worst_fixed = std::max(worst_fixed, horizontal_error(flight, p).norm());
+      mean_nees += nees(flight, p);
+    }
+  }
+  mean_nees /= static_cast<double>(fixed.size());
+  EXPECT_EQ(flagged, static_cast<int>(fixes.size()));
+  const double free_error = horizontal_error(flight, free.back()).norm();
+  const double fixed_error = horizontal_error(flight, fixed.back()).norm();
+  const double free_sigma = std::sqrt(free.back().position_covariance[0][0] + free.back().position_covariance[1][1]);
+  const double fixed_sigma =
+      std::sqrt(fixed.back().position_covariance[0][0] + fixed.back().position_covariance[1][1]);
+  // A fix of 0.3 m every second: the error and the sigma stay under a metre.
+  EXPECT_LT(worst_fixed, 1.0);
+  EXPECT_LT(fixed_sigma, 0.6);
+  EXPECT_LT(fixed_sigma, 0.5 * free_sigma) << "free error " << free_error << " fixed " << fixed_error;
+  // Consistent: horizontal NEES (2 degrees of freedom) near 2, not far below or above.
+  EXPECT_GT(mean_nees, 0.3);
+  EXPECT_LT(mean_nees, 4.0);
+}
+
+TEST(YawFusionMapFix, AppliedAsTheDelayedMeasurementAtItsFrame) {
+  // One fix, with the filter's variance and the fix's equal: the position
+  // at the next pose moves by half the innovation (the motion since the
+  // frame is independent of the error at it), the variance by about half
+  // the frame's.
+  const SyntheticFlight flight = test::make_flight(drifting_flight());
+  const auto free = run(flight, {}, 0);
+  const size_t k = 700;
+  const pose_t& at_frame = free[k];
+  ASSERT_EQ(at_frame.utime, flight.truth[k].utime);
+  map_fix_t fix{};
+  fix.utime = at_frame.utime;
+  const double sigma = std::sqrt(at_frame.position_covariance[0][0]);
+  fix.position_ne[0] = at_frame.position_ned[0] + 1.0 * sigma;
+  fix.position_ne[1] = at_frame.position_ned[1] - 0.7 * sigma;
+  fix.covariance_ne[0][0] = at_frame.position_covariance[0][0];
+  fix.covariance_ne[1][1] = at_frame.position_covariance[1][1];
+  fix.covariance_ne[0][1] = fix.covariance_ne[1][0] = at_frame.position_covariance[0][1];
+  YawFusionCounters c;
+  const auto fixed = run(flight, {fix}, 100'000, &c);
+  EXPECT_EQ(c.map_fixes_applied, 1) << c.last_problem << " unmatched " << c.map_fixes_unmatched << " rejected "
+                                    << c.map_fixes_rejected;
+  size_t applied = 0;
+  for (size_t i = 0; i < fixed.size(); ++i) {
+    if (fixed[i].flags & pose_t::FLAG_MAP_FIX_APPLIED) applied = i;
+  }
+  ASSERT_GT(applied, k);
+  // Due 0.5 s after its frame: the first pose at or after that.
+  EXPECT_GE(fixed[applied].utime, fix.utime + 500'000);
+  EXPECT_LT(fixed[applied - 1].utime, fix.utime + 500'000);
+  // (P_f = R and P_f nearly isotropic: half of the innovation.)
+  EXPECT_NEAR(fixed[applied].position_ned[0] - free[applied].position_ned[0], 0.5 * sigma, 0.02 * sigma);
+  EXPECT_NEAR(fixed[applied].position_ned[1] - free[applied].position_ned[1], -0.35 * sigma, 0.02 * sigma);
+  // The variance loses half the frame's (one delta's growth after the fix
+  // differs a little: the fix drops the position's correlation with the yaw).
+  const double p_frame = at_frame.position_covariance[0][0];
+  EXPECT_NEAR(fixed[applied].position_covariance[0][0] - free[applied].position_covariance[0][0], -0.5 * p_frame,
+              0.05 * p_frame);
+  // Poses before it are untouched.
+  for (size_t i = 0; i < applied; ++i) EXPECT_EQ(fixed[i].position_ned[0], free[i].position_ned[0]);
+}
+
+TEST(YawFusionMapFix, AWrongFixIsGatedAndChangesNothing) {
+  const SyntheticFlight flight = test::make_flight(drifting_flight());
+  std::mt19937 rng(5);
+  const map_fix_t wrong = fix_at(flight, 600, 0.3, &rng, 30.0);  // 30 m north of the truth, claiming 0.3 m
+  map_fix_t broken = fix_at(flight, 900, 1.0, &rng);
+  broken.position_ne[1] = std::nan("");
+  YawFusionCounters c;
+  const auto free = run(flight, {}, 0);
+  const auto with_wrong = run(flight, {wrong, broken}, 200'000, &c);
+  EXPECT_EQ(c.map_fixes_rejected, 1);
+  EXPECT_EQ(c.map_fixes_invalid, 1);
+  EXPECT_EQ(c.map_fixes_applied, 0);
+  ASSERT_EQ(free.size(), with_wrong.size());
+  int rejected_flags = 0;
+  for (size_t i = 0; i < free.size(); ++i) {
+    EXPECT_EQ(free[i].position_ned[0], with_wrong[i].position_ned[0]);
+    EXPECT_EQ(free[i].position_covariance[0][0], with_wrong[i].position_covariance[0][0]);
+    if (with_wrong[i].flags & pose_t::FLAG_MAP_FIX_REJECTED) ++rejected_flags;
+  }
+  EXPECT_EQ(rejected_flags, 1);
+}
+
+TEST(YawFusionMapFix, SamePosesWhenTheFixComesAnyTimeBeforeItIsDue) {
+  // Live, a fix comes ~0.1-0.3 s after its frame; in a lockstep replay right
+  // after its pose. Applied at a fixed sensor time, both give the same poses.
+  const SyntheticFlight flight = test::make_flight(drifting_flight());
+  const std::vector<map_fix_t> fixes = fixes_every(flight, 14, 0.3, 9);
+  const auto early = run(flight, fixes, 0);
+  const auto late = run(flight, fixes, 350'000);
+  ASSERT_EQ(early.size(), late.size());
+  for (size_t i = 0; i < early.size(); ++i) {
+    ASSERT_EQ(early[i].utime, late[i].utime);
+    EXPECT_EQ(early[i].position_ned[0], late[i].position_ned[0]) << i;
+    EXPECT_EQ(early[i].position_ned[1], late[i].position_ned[1]) << i;
+    EXPECT_EQ(early[i].flags, late[i].flags) << i;
+  }
+}
+
+}  // namespace
+}  // namespace nadir
