@@ -4,6 +4,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
 
@@ -39,6 +40,36 @@ FlightLeg parse_leg(const Config& c) {
     throw c.error("type", "= '" + type + "' is not one of straight, turn, climb");
   }
   return leg;
+}
+
+// terrain.featureless: a list of boxes; the ranges are checked by
+// FeaturelessArea::Check (one place for the rules).
+std::vector<FeaturelessArea> parse_featureless(const Config& terrain) {
+  std::vector<FeaturelessArea> areas;
+  const YAML::Node list = terrain.node()["featureless"];
+  if (!list || list.IsNull()) return areas;
+  if (!list.IsSequence())
+    throw terrain.error("featureless", "must be a list of {north_m: [min, max], east_m: [min, max], contrast: C}");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const Config a(list[i], terrain.source(), terrain.key_path("featureless") + "[" + std::to_string(i) + "]");
+    a.require_known_keys({"north_m", "east_m", "contrast", "shore_m", "albedo"});
+    auto min_max = [&](const std::string& key) {
+      const std::vector<double> v = a.get<std::vector<double>>(key);
+      if (v.size() != 2) throw a.error(key, "must be [min, max] (two numbers)");
+      return v;
+    };
+    FeaturelessArea area;
+    const std::vector<double> north = min_max("north_m"), east = min_max("east_m");
+    area.north_min_m = north[0];
+    area.north_max_m = north[1];
+    area.east_min_m = east[0];
+    area.east_max_m = east[1];
+    area.contrast = a.get<double>("contrast");
+    area.shore_m = a.get<double>("shore_m", area.shore_m);
+    area.albedo = a.get<double>("albedo", area.albedo);
+    areas.push_back(area);
+  }
+  return areas;
 }
 
 }  // namespace
@@ -120,8 +151,14 @@ FlightProfile FlightProfile::parse(const std::string& yaml_text, const std::stri
   p.reference_longitude_deg = ref.get_in_range<double>("longitude_deg", p.reference_longitude_deg, -180.0, 180.0);
   p.reference_height_m = ref.get_in_range<double>("height_m", p.reference_height_m, -500.0, 9000.0);
   const Config terrain = c.section_or_empty("terrain");
-  terrain.require_known_keys({"relief_scale"});
+  terrain.require_known_keys({"relief_scale", "featureless"});
   p.terrain.relief_scale = terrain.get_in_range<double>("relief_scale", 1.0, 0.0, 3.0);
+  p.terrain.featureless = parse_featureless(terrain);
+  try {
+    p.terrain.Check();
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(source + ": " + e.what());
+  }
 
   const YAML::Node legs = c.node()["legs"];
   if (!legs || !legs.IsSequence() || legs.size() == 0) throw c.error("legs", "must be a non-empty list of legs");

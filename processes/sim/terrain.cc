@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "processes/sim/procedural_noise.h"
 
@@ -57,9 +58,11 @@ float clamp_albedo(double v) { return static_cast<float>(std::min(250.0, std::ma
 void TerrainOptions::Check() const {
   if (!(relief_scale >= 0.0 && relief_scale <= 3.0))
     throw std::invalid_argument("terrain.relief_scale must be in [0, 3]");
+  for (size_t i = 0; i < featureless.size(); ++i)
+    featureless[i].Check("terrain.featureless[" + std::to_string(i) + "]");
 }
 
-Terrain::Terrain(const TerrainOptions& options) : options_(options) {
+Terrain::Terrain(const TerrainOptions& options) : options_(options), featureless_(options.featureless) {
   options_.Check();
   for (uint32_t i = 0; i < 16; ++i) salt_[i] = mix_salt(options.seed, i);
   double slope = 0.0, amp = 0.0;
@@ -139,7 +142,7 @@ HeightBounds Terrain::bounds(double north0, double north1, double east0, double 
   return b;
 }
 
-float Terrain::albedo(double north, double east) const {
+float Terrain::ground_albedo(double north, double east) const {
   // Fields: Voronoi cells of ~110 m, each with its own albedo and pattern;
   // hedges along cell borders give long edges and corners where they meet.
   constexpr double kFieldCell = 110.0;

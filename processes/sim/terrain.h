@@ -4,7 +4,8 @@
 // and fine grain. Everything is a pure function of (seed, north, east), so any
 // position is computable and the terrain extends as far as any profile flies.
 // Heights are relative to the terrain at the world origin (the start point),
-// which is the altitude datum: height(0, 0) == 0.
+// which is the altitude datum: height(0, 0) == 0. Featureless areas
+// (featureless_area.h) weaken the albedo's texture in boxes of the map.
 //
 // The surface everyone uses (renderer, altimeter, ground truth) is the
 // analytic height sampled on a 1 m grid and interpolated bilinearly: cheap
@@ -17,6 +18,8 @@
 #include <memory>
 #include <unordered_map>
 #include <vector>
+
+#include "processes/sim/featureless_area.h"
 
 namespace nadir::sim {
 
@@ -31,6 +34,8 @@ struct HeightBounds {
 struct TerrainOptions {
   uint64_t seed = 1;
   double relief_scale = 1.0;   // multiplies every height octave; 0 = flat
+  std::vector<FeaturelessArea> featureless;  // low-texture areas (water, snow); none by default
+  // Throws std::invalid_argument naming the key (terrain.featureless[1].contrast).
   void Check() const;
 };
 
@@ -73,13 +78,15 @@ class Terrain {
   HeightBounds bounds(double north0, double north1, double east0, double east1) const;
 
   // Ground albedo 0..255 at a point (point-sampled; the texture cache
-  // prefilters it for the renderer).
-  float albedo(double north, double east) const;
+  // prefilters it for the renderer), with the featureless areas applied.
+  float albedo(double north, double east) const { return featureless_.apply(north, east, ground_albedo(north, east)); }
 
   const TerrainOptions& options() const { return options_; }
 
  private:
   double raw_height(double north, double east, double* dh_dn, double* dh_de) const;
+  // Fields, hedges, roads, trees and rocks, before the featureless areas.
+  float ground_albedo(double north, double east) const;
 
   static constexpr int kHeightTileLog2 = 6;
   static constexpr int kHeightTile = 1 << kHeightTileLog2;  // samples per tile side (1 m spacing), plus one shared edge
@@ -91,6 +98,7 @@ class Terrain {
   const HeightTile* height_tile(int32_t tx, int32_t ty) const;
 
   TerrainOptions options_;
+  FeaturelessGround featureless_;
   mutable std::unordered_map<int64_t, std::unique_ptr<HeightTile>> height_tiles_;
   mutable int64_t last_key_ = INT64_MIN;
   mutable const HeightTile* last_tile_ = nullptr;
