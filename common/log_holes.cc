@@ -42,8 +42,11 @@ void LogHoleFinder::add(const LogEvent& event) {
 template <class Visit>
 void LogHoleFinder::for_each_judged(Visit visit) const {
   for (const auto& [channel, recorded] : timestamps_) {
-    // CONFIG comes once per process start: never a regular stream.
-    if (channel == channels::kConfig || static_cast<int>(recorded.size()) < options_.min_messages) continue;
+    // CONFIG comes once per process start, MAP_FIX only where the map
+    // matcher trusts a match: never regular streams.
+    if (channel == channels::kConfig || channel == channels::kMapFix ||
+        static_cast<int>(recorded.size()) < options_.min_messages)
+      continue;
     // Sorted: lcm-logger writes in arrival order, which several publishers
     // on one channel may interleave a little. The mean interval, not the
     // median: a channel with several publishers has bursts of short

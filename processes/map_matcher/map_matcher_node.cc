@@ -82,10 +82,30 @@ class MapMatcherNode : public Node {
       refuse(image.utime, FixRefusal::kFrameDropped, "only MONO8 frames are matched");
       return;
     }
-    candidates_.push_back(image);
-    while (candidates_.size() > 4) drop_oldest("more than 4 frames waiting for their POSE");
     have_candidate_time_ = true;
     next_candidate_utime_ = image.utime + static_cast<int64_t>(options_.interval_s * 1e6);
+    // Its POSE may be here already: a lockstep replay delivers the frame to
+    // the estimator nodes first, and they can publish its pose before this
+    // node sees the frame.
+    for (const pose_t& pose : recent_poses_) {
+      if (pose.utime == image.utime) {
+        match(image, pose);
+        return;
+      }
+    }
+    candidates_.push_back(image);
+    while (candidates_.size() > 4) drop_oldest("more than 4 frames waiting for their POSE");
+  }
+
+  void match(const image_t& image, const pose_t& pose) {
+    ++attempts_;
+    const FixAttempt attempt = matcher_.attempt(image, pose, *origin_);
+    if (attempt.refusal == FixRefusal::kNone) {
+      bus_.publish(channels::kMapFix, attempt.fix);
+      ++published_;
+    } else {
+      refuse(pose.utime, attempt.refusal, attempt.why);
+    }
   }
 
   void on_pose(const pose_t& pose) {
@@ -97,20 +117,16 @@ class MapMatcherNode : public Node {
     }
     if (!origin_ && !set_origin(pose)) return;
     const int64_t max_age = static_cast<int64_t>(options_.max_frame_age_s * 1e6);
+    recent_poses_.push_back(pose);
+    while (recent_poses_.size() > 2 && recent_poses_.front().utime < pose.utime - max_age) recent_poses_.pop_front();
     while (!candidates_.empty() && candidates_.front().utime < pose.utime - max_age) {
       drop_oldest("its POSE did not come within max_frame_age_s");
     }
     for (auto it = candidates_.begin(); it != candidates_.end(); ++it) {
       if (it->utime != pose.utime) continue;
-      ++attempts_;
-      const FixAttempt attempt = matcher_.attempt(*it, pose, *origin_);
+      const image_t image = std::move(*it);
       candidates_.erase(it);
-      if (attempt.refusal == FixRefusal::kNone) {
-        bus_.publish(channels::kMapFix, attempt.fix);
-        ++published_;
-      } else {
-        refuse(pose.utime, attempt.refusal, attempt.why);
-      }
+      match(image, pose);
       return;
     }
   }
@@ -153,6 +169,7 @@ class MapMatcherNode : public Node {
   Bus& bus_;
   std::deque<image_t> candidates_;
   std::deque<ins_t> ins_;
+  std::deque<pose_t> recent_poses_;  // the last max_frame_age_s of POSE
   std::optional<map::LocalProjection> origin_;
   bool have_candidate_time_ = false;
   int64_t next_candidate_utime_ = 0;

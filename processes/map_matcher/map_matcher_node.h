@@ -2,9 +2,9 @@
 // The map matcher process: CAMERA_IMAGE + POSE + INS in, MAP_FIX out.
 //
 // At most one frame per interval_s of sensor time is kept as a candidate;
-// when the POSE of that frame comes (same utime), the frame is matched with
-// that pose as the prior (map_matcher.h) and an accepted fix is published on
-// MAP_FIX. A candidate whose POSE has not come within max_frame_age_s is
+// when the POSE of that frame comes (same utime; or at once when it came
+// first, as in a lockstep replay), the frame is matched with that pose as the
+// prior (map_matcher.h) and an accepted fix is published on MAP_FIX. A candidate whose POSE has not come within max_frame_age_s is
 // dropped. Where the local frame of POSE lies on the Earth: the INS position
 // at the first POSE (the GNSS-aided solution at the start), read once; no
 // later INS position is used. Refusals are counted per reason in STATUS,

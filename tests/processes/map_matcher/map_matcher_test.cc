@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <string>
 
@@ -12,7 +13,11 @@
 #include "common/config.h"
 #include "common/geometry.h"
 #include "common/paths.h"
+#include "common/channels.h"
+#include "common/lcm_bus.h"
+#include "nadir/ins_t.hpp"
 #include "processes/map_matcher/map_matcher.h"
+#include "processes/map_matcher/map_matcher_node.h"
 #include "processes/sim/renderer.h"
 #include "processes/sim/sim_camera.h"
 #include "processes/sim/terrain.h"
@@ -178,6 +183,100 @@ TEST_F(MapMatcherTest, RefusesWhatItCannotTrust) {
   const FixAttempt a = m.attempt(grey, pose(200.0, 100.0, rpy, 0, 0, 5.0), origin());
   EXPECT_EQ(a.refusal, FixRefusal::kFeatureless);
   EXPECT_NE(a.why.find("min_texture"), std::string::npos) << a.why;
+}
+
+TEST_F(MapMatcherTest, MapHolesAreRefusedNeverMatched) {
+  // The map with a NaN hole in the DEM under the frame and NoData in the orthophoto.
+  testing::TempDir holes("map_matcher_holes");
+  map::SimulatedMapOptions options;
+  options.margin_m = 250.0;
+  map::SimulatedMap m = map::simulate_map(world_->profile, kSeed, options);
+  const Eigen::Vector2d at = map::LocalProjection({world_->profile.reference_latitude_deg,
+                                                   world_->profile.reference_longitude_deg, 0.0})
+                                 .utm(200.0, 100.0);
+  const int row = static_cast<int>((m.grid.y0 - at.y()) / m.grid.gsd_m);
+  const int col = static_cast<int>((at.x() - m.grid.x0) / m.grid.gsd_m);
+  for (int r = row - 20; r < row + 20; ++r)
+    for (int c = col - 20; c < col + 20; ++c) m.dem[static_cast<size_t>(r) * m.grid.width + c] = std::nanf("");
+  map::write_geotiff_byte(holes.file("orthophoto.tif"), m.grid, m.orthophoto);
+  map::write_geotiff_float(holes.file("dem.tif"), m.grid, m.dem, -9999.0);
+  const MapMatcher matcher_with_holes(MapMatcherOptions{}, CameraModel::from_config(world_->config),
+                                      map::ReferenceMap::open(holes.file("orthophoto.tif"), holes.file("dem.tif")));
+  const Eigen::Vector3d rpy(0.5, 0.5, 60.0);
+  const FixAttempt a = matcher_with_holes.attempt(render(200.0, 100.0, rpy), pose(200.0, 100.0, rpy, 2.0, 2.0, 3.0),
+                                                  origin());
+  EXPECT_EQ(a.refusal, FixRefusal::kMapNoData) << a.why;
+}
+
+// The process logic on a bus: INS places the local frame, a frame and its
+// POSE give a MAP_FIX; a malformed POSE is counted, not used; a config
+// without a map or with a file that is not a map is refused by name.
+TEST_F(MapMatcherTest, NodePublishesFixesAndRefusesBadInput) {
+  // (Config copies share their YAML tree: each gets its own load.)
+  auto fresh = []() { return Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml"); };
+  Config config = fresh();
+  config.apply_override("map_matcher.orthophoto=" + dir_->file("orthophoto.tif"));
+  config.apply_override("map_matcher.dem=" + dir_->file("dem.tif"));
+  LcmBusOptions bus_options;
+  bus_options.url = "memq://";
+  LcmBus bus(bus_options);
+  auto pump = [&bus]() {
+    while (bus.handle(0) > 0) {
+    }
+  };
+  std::vector<map_fix_t> fixes;
+  bus.subscribe<map_fix_t>(channels::kMapFix, [&](const map_fix_t& f) { fixes.push_back(f); });
+  const std::unique_ptr<Node> node = make_map_matcher_node(config, bus);
+  // The INS around the first pose: the reference point (the local origin).
+  for (int64_t t : {400'000, 1'400'000}) {
+    ins_t ins{};
+    ins.utime = t;
+    ins.latitude_deg = world_->profile.reference_latitude_deg;
+    ins.longitude_deg = world_->profile.reference_longitude_deg;
+    ins.flags = ins_t::FLAG_ALIGNED | ins_t::FLAG_SOLUTION_GOOD;
+    bus.publish(channels::kIns, ins);
+    pump();
+  }
+  const Eigen::Vector3d rpy(1.0, -1.0, 130.0);
+  pose_t first = pose(0.0, 0.0, rpy, 0.0, 0.0, 0.0);
+  first.utime = 500'000;
+  bus.publish(channels::kPose, first);
+  pump();
+  pose_t bad = pose(0.0, 0.0, rpy, 0.0, 0.0, 0.0);
+  bad.utime = 600'000;
+  bad.position_ned[0] = std::nan("");
+  bus.publish(channels::kPose, bad);
+  pump();
+  bus.publish(channels::kCameraImage, render(250.0, 150.0, rpy));  // utime 1 s
+  pump();
+  bus.publish(channels::kPose, pose(250.0, 150.0, rpy, 4.0, -3.0, 4.0));
+  pump();
+  ASSERT_EQ(fixes.size(), 1u) << node->status().detail;
+  EXPECT_NEAR(fixes[0].position_ne[0], 250.0, 1.5);
+  EXPECT_NEAR(fixes[0].position_ne[1], 150.0, 1.5);
+  const StatusReport status = node->status();
+  EXPECT_EQ(status.published, 1);
+  EXPECT_EQ(status.errors, 1);  // the NaN pose
+
+  Config no_map = fresh();
+  try {
+    make_map_matcher_node(no_map, bus);
+    ADD_FAILURE() << "a config without a map was taken";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("map_matcher.orthophoto"), std::string::npos) << e.what();
+  }
+  // A file that is not a georeferenced raster.
+  testing::TempDir bare("map_matcher_bare");
+  std::ofstream(bare.file("orthophoto.tif")) << "not a GeoTIFF";
+  Config not_a_map = fresh();
+  not_a_map.apply_override("map_matcher.orthophoto=" + bare.file("orthophoto.tif"));
+  not_a_map.apply_override("map_matcher.dem=" + dir_->file("dem.tif"));
+  try {
+    make_map_matcher_node(not_a_map, bus);
+    ADD_FAILURE() << "a file that is not a map was taken";
+  } catch (const map::MapError& e) {
+    EXPECT_NE(std::string(e.what()).find(bare.file("orthophoto.tif")), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(MapMatcherTest, OptionsChecked) {
