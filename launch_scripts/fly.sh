@@ -84,12 +84,18 @@ if [ -n "$map" ]; then
     fail "--map needs nadir_map and the map matcher, built with GDAL (run launch_scripts/setup.sh)"
   if [ "$map" = simulated ]; then
     echo "fly: writing the simulated world's reference map into $out/map" >&2
-    nadir_map simulate --profile "$profile" --seed "$seed" --out "$out/map" >"$out/map.txt" ||
+    # 1 m, or coarser (up to 2 m) for a flight over so much ground that 1 m would exceed 80 million pixels.
+    nadir_map simulate --profile "$profile" --seed "$seed" --out "$out/map" --max-megapixels 80 >"$out/map.txt" ||
       { tail -5 "$out/map.txt" >&2; fail "the simulated map failed (see $out/map.txt)"; }
     map="$out/map"
   fi
   nodes+=,map_matcher
   replay_args+=(--set "map_matcher.orthophoto=$map/orthophoto.tif" --set "map_matcher.dem=$map/dem.tif")
+  # A simulated map coarser than 1 m is matched at its own ground sample distance.
+  if [ -f "$map/map.json" ]; then
+    gsd="$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["gsd_m"])' "$map/map.json")"
+    replay_args+=(--set "map_matcher.gsd_m=$gsd")
+  fi
 fi
 nadir_replay --in "$sim_log" --out "$out/replay.lcmlog" --nodes "$nodes" "${replay_args[@]}" \
   >"$out/replay.txt" ||

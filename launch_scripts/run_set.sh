@@ -27,6 +27,8 @@
 #   capture  NAME                   lcm-logger into logs/<UTC>-NAME/capture.lcmlog
 #   realtime P                      ask for SCHED_FIFO priority P (1-98) where granted
 #   run      NAME  [delay=S] COMMAND...  long-running process, restarted if it dies
+#   background NAME [delay=S] COMMAND... the same, off the real-time path: never
+#                                   SCHED_FIFO, at nice 10 (the map matcher)
 #   finite   NAME  [delay=S] COMMAND...  runs to completion; when it ends the set stops
 # delay=S starts that process S seconds after the set (e.g. a source after
 # its subscribers are up). NADIR_CAPTURE_DIR overrides the capture folder.
@@ -36,7 +38,7 @@
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-usage() { sed -n '2,35p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,37p' "$0" | sed 's/^# \{0,1\}//'; }
 set_arg=""
 capture_enabled=1
 duration=""
@@ -64,7 +66,7 @@ set_file="$set_arg"
 set_name="$(basename "$set_file")"
 
 declare -a names=()
-declare -A cmd=() kind=() pid=() restarts=() restart_at=() gave_up=() delay_s=()
+declare -A cmd=() kind=() pid=() restarts=() restart_at=() gave_up=() delay_s=() background=()
 capture_name=""
 set_rt_priority=""
 line_no=0
@@ -80,9 +82,11 @@ while IFS= read -r raw || [ -n "$raw" ]; do
         exit 3
       fi ;;
     capture) capture_name="$(bash -c "echo $name")" ;;   # expands ${VAR:-default}
-    run|finite)
+    run|finite|background)
       [ -n "$rest" ] || { echo "run_set: error: $set_file:$line_no: '$word $name' has no command" >&2; exit 2; }
       names+=("$name"); kind[$name]="$word"; restarts[$name]=0; gave_up[$name]=0
+      # background: a `run` process off the real-time path (never SCHED_FIFO, nice 10).
+      if [ "$word" = background ]; then kind[$name]=run; background[$name]=1; fi
       if [[ "$rest" =~ ^delay=([0-9.]+)[[:space:]]+(.*)$ ]]; then
         delay_s[$name]="${BASH_REMATCH[1]}"; rest="${BASH_REMATCH[2]}"
       fi
@@ -91,7 +95,7 @@ while IFS= read -r raw || [ -n "$raw" ]; do
       nadir_valid_rt_priority "$name" ||
         { echo "run_set: error: $set_file:$line_no: 'realtime $name': a priority in [1, 98]" >&2; exit 2; }
       set_rt_priority="$name" ;;
-    *) echo "run_set: error: $set_file:$line_no: unknown word '$word' (require, capture, realtime, run, finite)" >&2; exit 2 ;;
+    *) echo "run_set: error: $set_file:$line_no: unknown word '$word' (require, capture, realtime, run, background, finite)" >&2; exit 2 ;;
   esac
 done <"$set_file"
 ((${#names[@]})) || { echo "run_set: error: $set_file starts no process" >&2; exit 2; }
@@ -156,6 +160,7 @@ start() {
   local n="$1" pre="" rt=""
   [ -n "${delay_s[$n]:-}" ] && [ "${restarts[$n]}" -eq 0 ] && pre="sleep ${delay_s[$n]}; "
   [ -n "$rt_priority" ] && [ "${kind[$n]}" = run ] && rt="chrt -f $rt_priority "
+  [ -n "${background[$n]:-}" ] && rt="nice -n 10 "
   bash -c "${pre}exec ${rt}${cmd[$n]}" > >(sed -u "s/^/[$n] /") 2>&1 &
   pid[$n]=$!
   echo "[run_set] started $n (pid ${pid[$n]}): ${cmd[$n]}"

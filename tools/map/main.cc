@@ -140,6 +140,9 @@ int main(int argc, char** argv) {
   sim->add_option("--gsd", args.options.gsd_m, "ground sample distance, m (0.5 .. 2)")->capture_default_str();
   sim->add_option("--margin", args.options.margin_m, "around the flight's horizontal extent, m (0 .. 5000)")
       ->capture_default_str();
+  sim->add_option("--max-megapixels", args.options.max_megapixels,
+                  "coarsen the gsd (up to 2 m) to keep the map within this many million pixels (0: no limit)")
+      ->capture_default_str();
   sim->add_flag("--json", args.json, "print the summary as JSON");
   CheckArgs check_args;
   CLI::App* check_cmd = app.add_subcommand(
