@@ -5,11 +5,12 @@
 //   true        the world's simulated map (another season, changed patches):
 //               the control, where fixes must land within their covariance;
 //   wrong_place the map of another world (another seed) under the same grid;
-//   tiled       the true map made repetitive: every TILE metres around the
-//               flight the same ground again (shifted copies of the truth
-//               within the search);
-//   shifted     the true map with a copy of the frame's own ground pasted at
-//               a random offset inside the search (one decoy as good as the truth).
+//   repetitive  ground that repeats every 25-70 m (a patch of the true map
+//               tiled), seen by the camera and in the map alike: every period
+//               fits as well as the truth;
+//   decoy       the true map with a copy of the frame's own ground pasted a
+//               template's width or more away, inside the search: two places
+//               fit equally (flights low enough, priors wide enough for it).
 // An accepted fix is wrong when its error against the truth exceeds 3 sigma
 // (Mahalanobis distance of its own covariance). Prints a JSON summary and
 // writes one CSV row per attempt.
@@ -21,6 +22,7 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -32,12 +34,14 @@
 #include "common/json_writer.h"
 #include "common/paths.h"
 #include "common/progress.h"
+#include "processes/map_matcher/frame_ortho.h"
 #include "processes/map_matcher/map_matcher.h"
 #include "processes/sim/renderer.h"
 #include "processes/sim/sim_camera.h"
 #include "processes/sim/terrain.h"
 #include "tools/map/geotiff_writer.h"
 #include "tools/map/simulated_map.h"
+#include "tests/processes/map_matcher/matcher_scene.h"
 
 namespace {
 
@@ -67,18 +71,65 @@ struct Tally {
   double match_ms = 0.0;
 };
 
-// The map made repetitive: pixel p takes the value of the pixel at
-// centre + ((p - centre + tile/2) mod tile - tile/2) (per axis).
-std::vector<uint8_t> tiled(const map::SimulatedMap& m, int tile_px) {
-  std::vector<uint8_t> out(m.orthophoto.size());
-  const int cr = m.grid.height / 2, cc = m.grid.width / 2;
-  auto wrap = [tile_px](int d) { return ((d + tile_px / 2) % tile_px + tile_px) % tile_px - tile_px / 2; };
-  for (int r = 0; r < m.grid.height; ++r)
-    for (int c = 0; c < m.grid.width; ++c) {
-      const int sr = cr + wrap(r - cr), sc = cc + wrap(c - cc);
-      out[static_cast<size_t>(r) * m.grid.width + c] = m.orthophoto[static_cast<size_t>(sr) * m.grid.width + sc];
+// A north-up crop of a simulated map around a local point, as its own grid.
+struct Crop {
+  map::MapGrid grid;
+  std::vector<uint8_t> ortho;
+  std::vector<float> dem;
+  int centre_row = 0, centre_col = 0;  // the point's pixel in the crop
+};
+
+Crop crop_around(const map::SimulatedMap& m, const map::LocalProjection& origin, double north, double east, int half) {
+  const map::MapGrid& g = m.grid;
+  const Eigen::Vector2d at = origin.utm(north, east);
+  const int cr = static_cast<int>((g.y0 - at.y()) / g.gsd_m), cc = static_cast<int>((at.x() - g.x0) / g.gsd_m);
+  const int r0 = std::max(0, cr - half), c0 = std::max(0, cc - half);
+  Crop out;
+  out.grid = g;
+  out.grid.width = std::min(g.width - c0, 2 * half);
+  out.grid.height = std::min(g.height - r0, 2 * half);
+  out.grid.x0 = g.x0 + c0 * g.gsd_m;
+  out.grid.y0 = g.y0 - r0 * g.gsd_m;
+  out.centre_row = cr - r0;
+  out.centre_col = cc - c0;
+  out.ortho.resize(static_cast<size_t>(out.grid.width) * out.grid.height);
+  out.dem.resize(out.ortho.size());
+  for (int r = 0; r < out.grid.height; ++r)
+    for (int c = 0; c < out.grid.width; ++c) {
+      const size_t from = static_cast<size_t>(r0 + r) * g.width + (c0 + c), to = static_cast<size_t>(r) * out.grid.width + c;
+      out.ortho[to] = m.orthophoto[from];
+      out.dem[to] = m.dem[from];
     }
   return out;
+}
+
+// A frame of level ground that looks like `ground` (a crop whose pixel
+// (centre_row, centre_col) is below the camera), seen from `height` with this
+// attitude: the camera's rays meet the plane, the crop is sampled there
+// (bilinear), plus 2 DN of noise.
+std::vector<uint8_t> render_flat(const CameraModel& camera, const Crop& ground, double height,
+                                 const Eigen::Matrix3d& world_from_body, std::mt19937_64* rng) {
+  std::vector<cv::Point2f> pixels;
+  for (int v = 0; v < camera.height; ++v)
+    for (int u = 0; u < camera.width; ++u) pixels.emplace_back(static_cast<float>(u), static_cast<float>(v));
+  const std::vector<cv::Point2d> rays = camera.undistort(pixels);
+  const Eigen::Matrix3d world_from_camera = world_from_body * camera.body_from_camera;
+  std::normal_distribution<double> noise(0.0, 2.0);
+  std::vector<uint8_t> image(pixels.size(), 0);
+  const double gsd = ground.grid.gsd_m;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Eigen::Vector3d w = world_from_camera * Eigen::Vector3d(rays[i].x, rays[i].y, 1.0);
+    if (w.z() <= 0.0) continue;
+    const double north = height * w.x() / w.z(), east = height * w.y() / w.z();
+    const double row = ground.centre_row + 0.5 - north / gsd - 0.5, col = ground.centre_col + 0.5 + east / gsd - 0.5;
+    const int r = static_cast<int>(std::floor(row)), c = static_cast<int>(std::floor(col));
+    if (r < 0 || c < 0 || r + 1 >= ground.grid.height || c + 1 >= ground.grid.width) continue;
+    const double a = row - r, b = col - c;
+    auto at = [&](int rr, int cc) { return double(ground.ortho[static_cast<size_t>(rr) * ground.grid.width + cc]); };
+    const double value = (1 - a) * ((1 - b) * at(r, c) + b * at(r, c + 1)) + a * ((1 - b) * at(r + 1, c) + b * at(r + 1, c + 1));
+    image[i] = static_cast<uint8_t>(std::clamp(value + noise(*rng), 0.0, 255.0));
+  }
+  return image;
 }
 
 }  // namespace
@@ -89,12 +140,10 @@ int main(int argc, char** argv) {
   int attempts = 10000;
   uint64_t seed = 21;
   std::string out = "logs/map_fooling";
-  double tile_m = 160.0;
   bool json_only = false;
   app.add_option("--attempts", attempts, "fix attempts in all (split over the four maps)")->capture_default_str();
   app.add_option("--seed", seed, "world seed (the wrong place is seed + 1000)")->capture_default_str();
   app.add_option("--out", out, "output folder (maps, attempts.csv, summary.json)")->capture_default_str();
-  app.add_option("--tile", tile_m, "tiled map: the period of its repetition, m")->capture_default_str();
   app.add_flag("--json", json_only, "no progress bar");
   CLI11_PARSE(app, argc, argv);
 
@@ -119,8 +168,6 @@ int main(int argc, char** argv) {
   std::vector<Case> cases = {
       {"true", write("true", truth_map.grid, truth_map.orthophoto, truth_map.dem)},
       {"wrong_place", write("wrong_place", other_map.grid, other_map.orthophoto, truth_map.dem)},
-      {"tiled", write("tiled", truth_map.grid, tiled(truth_map, static_cast<int>(tile_m / truth_map.grid.gsd_m)),
-                      truth_map.dem)},
   };
   const CameraModel camera_model = CameraModel::from_config(config);
   const sim::SimCamera camera = sim::SimCamera::from_config(config);
@@ -134,9 +181,9 @@ int main(int argc, char** argv) {
   for (const Case& c : cases) {
     matchers.emplace_back(options, camera_model, map::ReferenceMap::open(c.dir + "/orthophoto.tif", c.dir + "/dem.tif"));
   }
-  const int kinds = 4;  // the three maps above and "shifted" (a decoy pasted into the true map per attempt)
+  const int kinds = 4;  // the two maps above, then per attempt: repetitive ground, a decoy
   std::vector<Tally> tally(kinds);
-  const char* names[kinds] = {"true", "wrong_place", "tiled", "shifted"};
+  const char* names[kinds] = {"true", "wrong_place", "repetitive", "decoy"};
   std::mt19937_64 rng(seed * 7919 + 1);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -147,76 +194,68 @@ int main(int argc, char** argv) {
     const int kind = i % kinds;
     // A pose over the flight's ground: along the 1.6 km track, up to 250 m aside.
     const double north = 100.0 + 1400.0 * uniform(rng), east = -250.0 + 500.0 * uniform(rng);
-    const double height = 150.0 + 200.0 * uniform(rng);
-    const Eigen::Vector3d rpy(4.0 * (uniform(rng) - 0.5) * 2, 4.0 * (uniform(rng) - 0.5) * 2, 360.0 * uniform(rng));
-    const double sigma = 1.0 + 39.0 * uniform(rng);
+    double height = 150.0 + 200.0 * uniform(rng);
+    if (kind == 3) height = 120.0 + 80.0 * uniform(rng);  // low: a template narrower than the search
+    const double template_m = options.template_fraction * nadir_square_side_m(camera_model, height);
+    const Eigen::Vector3d rpy(8.0 * (uniform(rng) - 0.5), 8.0 * (uniform(rng) - 0.5), 360.0 * uniform(rng));
+    double sigma = 1.0 + 39.0 * uniform(rng);
+    // The decoy needs a search wider than the template: radius 1.15 template .. 200 m.
+    if (kind == 3) sigma = (1.15 * template_m + (200.0 - 1.15 * template_m) * uniform(rng)) / options.search_sigmas;
     const double dn = sigma * normal(rng), de = sigma * normal(rng);
     const Eigen::Matrix3d world_from_body =
         rotation_from_rpy(deg_to_rad(rpy.x()), deg_to_rad(rpy.y()), deg_to_rad(rpy.z()));
+    Crop crop;
     std::vector<uint8_t> pixels;
-    renderer.render({north, east, -(terrain.height(north, east) + height)}, world_from_body * camera.body_from_camera,
-                    static_cast<uint64_t>(i), &pixels);
-    image_t image{};
-    image.utime = 1'000'000 + i;
-    image.width = camera.width;
-    image.height = camera.height;
-    image.stride = camera.width;
-    image.pixel_format = image_t::PIXEL_MONO8;
-    image.size = static_cast<int32_t>(pixels.size());
-    image.data = std::move(pixels);
-    pose_t pose{};
-    pose.utime = image.utime;
-    pose.position_ned[0] = north + dn;
-    pose.position_ned[1] = east + de;
-    pose.roll = deg_to_rad(rpy.x());
-    pose.pitch = deg_to_rad(rpy.y());
-    pose.yaw = deg_to_rad(rpy.z());
-    pose.height_agl_m = height;
-    pose.position_covariance[0][0] = pose.position_covariance[1][1] = sigma * sigma;
-    pose.position_covariance[2][2] = 1.0;
-
-    const auto start = std::chrono::steady_clock::now();
-    FixAttempt a;
-    if (kind < 3) {
-      a = matchers[static_cast<size_t>(kind)].attempt(image, pose, origin);
-    } else {
-      // A decoy: the true map with the frame's own ground pasted at an offset
-      // inside the search radius (between 0.4 and 0.9 of it) around the prior.
-      const double radius = std::max(options.min_search_radius_m, options.search_sigmas * sigma);
-      const double angle = 2.0 * M_PI * uniform(rng), reach = radius * (0.4 + 0.5 * uniform(rng));
-      // On a crop of the map around the pose (written per attempt: small).
-      const map::MapGrid& g = truth_map.grid;
-      const Eigen::Vector2d at = origin.utm(north, east);
-      const int half = static_cast<int>(0.45 * height / g.gsd_m) + 2;
-      const int cr = static_cast<int>((g.y0 - at.y()) / g.gsd_m), cc = static_cast<int>((at.x() - g.x0) / g.gsd_m);
-      const int crop_half = half + static_cast<int>(2.0 * radius / g.gsd_m) + 40;
-      map::MapGrid crop = g;
-      const int r0 = std::max(0, cr - crop_half), c0 = std::max(0, cc - crop_half);
-      crop.width = std::min(g.width - c0, 2 * crop_half);
-      crop.height = std::min(g.height - r0, 2 * crop_half);
-      crop.x0 = g.x0 + c0 * g.gsd_m;
-      crop.y0 = g.y0 - r0 * g.gsd_m;
-      std::vector<uint8_t> ortho(static_cast<size_t>(crop.width) * crop.height);
-      std::vector<float> dem(ortho.size());
-      for (int r = 0; r < crop.height; ++r)
-        for (int c = 0; c < crop.width; ++c) {
-          const size_t from = static_cast<size_t>(r0 + r) * g.width + (c0 + c);
-          ortho[static_cast<size_t>(r) * crop.width + c] = truth_map.orthophoto[from];
-          dem[static_cast<size_t>(r) * crop.width + c] = truth_map.dem[from];
+    if (kind == 2) {
+      // Repetitive ground: a P x P patch of the true map tiled over the crop,
+      // the world and the map alike (level).
+      const int period = static_cast<int>(25.0 + 45.0 * uniform(rng));
+      crop = crop_around(truth_map, origin, north, east, static_cast<int>(1.2 * height + 3.0 * sigma * 4) + 60);
+      const std::vector<uint8_t> source = crop.ortho;
+      const float level = crop.dem[static_cast<size_t>(crop.centre_row) * crop.grid.width + crop.centre_col];
+      for (int r = 0; r < crop.grid.height; ++r)
+        for (int c = 0; c < crop.grid.width; ++c) {
+          const size_t to = static_cast<size_t>(r) * crop.grid.width + c;
+          crop.ortho[to] = source[static_cast<size_t>(r % period) * crop.grid.width + (c % period)];
+          crop.dem[to] = level;
         }
-      const int dr = static_cast<int>(std::lround(-reach * std::cos(angle) / g.gsd_m));
-      const int dc = static_cast<int>(std::lround(reach * std::sin(angle) / g.gsd_m));
+      pixels = render_flat(camera_model, crop, height, world_from_body, &rng);
+    } else {
+      renderer.render({north, east, -(terrain.height(north, east) + height)},
+                      world_from_body * camera.body_from_camera, static_cast<uint64_t>(i), &pixels);
+    }
+    const int64_t utime = 1'000'000 + i;
+    const image_t image = test::mono8_frame(std::move(pixels), camera.width, camera.height, utime);
+    const pose_t pose = test::prior_pose(north + dn, east + de, rpy * M_PI / 180.0, height, sigma, utime);
+
+    if (kind == 3) {
+      // The frame's ground (a square a little larger than the template)
+      // copied a template's width or more away, inside the search radius.
+      const double radius = options.search_sigmas * sigma;
+      crop = crop_around(truth_map, origin, north, east, static_cast<int>(2.0 * radius + template_m) + 60);
+      const double angle = 2.0 * M_PI * uniform(rng);
+      const double reach = 1.05 * template_m + (radius - 1.05 * template_m) * uniform(rng);
+      const int half = static_cast<int>(0.5 * template_m) + 5;
+      const int dr = static_cast<int>(std::lround(-reach * std::cos(angle))), dc = static_cast<int>(std::lround(reach * std::sin(angle)));
+      const std::vector<uint8_t> source = crop.ortho;
       for (int r = -half; r <= half; ++r)
         for (int c = -half; c <= half; ++c) {
-          const int sr = cr + r - r0, sc = cc + c - c0, tr = sr + dr, tc = sc + dc;
-          if (sr < 0 || sc < 0 || tr < 0 || tc < 0 || sr >= crop.height || tr >= crop.height || sc >= crop.width ||
-              tc >= crop.width)
+          const int sr = crop.centre_row + r, sc = crop.centre_col + c, tr = sr + dr, tc = sc + dc;
+          if (sr < 0 || sc < 0 || tr < 0 || tc < 0 || sr >= crop.grid.height || tr >= crop.grid.height ||
+              sc >= crop.grid.width || tc >= crop.grid.width)
             continue;
-          ortho[static_cast<size_t>(tr) * crop.width + tc] = truth_map.orthophoto[static_cast<size_t>(sr + r0) * g.width + sc + c0];
+          crop.ortho[static_cast<size_t>(tr) * crop.grid.width + tc] = source[static_cast<size_t>(sr) * crop.grid.width + sc];
         }
-      const std::string dir = write("shifted", crop, ortho, dem);
-      const MapMatcher decoy(options, camera_model, map::ReferenceMap::open(dir + "/orthophoto.tif", dir + "/dem.tif"));
-      a = decoy.attempt(image, pose, origin);
+    }
+    const auto start = std::chrono::steady_clock::now();
+    FixAttempt a;
+    if (kind < 2) {
+      a = matchers[static_cast<size_t>(kind)].attempt(image, pose, origin);
+    } else {
+      const std::string dir = write(names[kind], crop.grid, crop.ortho, crop.dem);
+      const MapMatcher per_attempt(options, camera_model,
+                                   map::ReferenceMap::open(dir + "/orthophoto.tif", dir + "/dem.tif"));
+      a = per_attempt.attempt(image, pose, origin);
     }
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     Tally& t = tally[static_cast<size_t>(kind)];
@@ -248,7 +287,7 @@ int main(int argc, char** argv) {
   progress.finish();
   JsonWriter j;
   j.begin_object().field("attempts", static_cast<int64_t>(attempts)).field("seed", static_cast<int64_t>(seed));
-  j.field("tile_m", tile_m).key("maps").begin_object();
+  j.key("maps").begin_object();
   for (int k = 0; k < kinds; ++k) {
     const Tally& t = tally[static_cast<size_t>(k)];
     j.key(names[k]).begin_object();

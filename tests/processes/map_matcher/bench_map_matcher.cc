@@ -11,14 +11,11 @@
 
 #include "common/camera_model.h"
 #include "common/config.h"
-#include "common/geometry.h"
 #include "processes/map_matcher/map_matcher.h"
-#include "processes/sim/renderer.h"
 #include "processes/sim/sim_camera.h"
 #include "processes/sim/terrain.h"
 #include "tests/common/test_support.h"
-#include "tools/map/geotiff_writer.h"
-#include "tools/map/simulated_map.h"
+#include "tests/processes/map_matcher/matcher_scene.h"
 
 namespace {
 
@@ -46,11 +43,7 @@ struct Bench {
     sim::TerrainOptions t = profile.terrain;
     t.seed = 3;
     terrain = std::make_unique<sim::Terrain>(t);
-    map::SimulatedMapOptions options;
-    options.margin_m = 400.0;
-    const map::SimulatedMap m = map::simulate_map(profile, 3, options);
-    map::write_geotiff_byte(dir.file("orthophoto.tif"), m.grid, m.orthophoto);
-    map::write_geotiff_float(dir.file("dem.tif"), m.grid, m.dem, -9999.0);
+    test::write_simulated_map(dir.path(), profile, 3, 400.0);
     matcher = std::make_unique<MapMatcher>(MapMatcherOptions::from_config(config), CameraModel::from_config(config),
                                            map::ReferenceMap::open(dir.file("orthophoto.tif"), dir.file("dem.tif")));
   }
@@ -58,30 +51,11 @@ struct Bench {
     return map::LocalProjection({profile.reference_latitude_deg, profile.reference_longitude_deg, 0.0});
   }
   image_t frame(double height) const {
-    const sim::SimCamera camera = sim::SimCamera::from_config(config);
-    sim::Renderer renderer(camera, *terrain, sim::RendererOptions{});
-    std::vector<uint8_t> pixels;
-    renderer.render({400.0, 50.0, -(terrain->height(400.0, 50.0) + height)},
-                    rotation_from_rpy(0.01, -0.02, 0.5) * camera.body_from_camera, 1, &pixels);
-    image_t image{};
-    image.width = camera.width;
-    image.height = camera.height;
-    image.stride = camera.width;
-    image.pixel_format = image_t::PIXEL_MONO8;
-    image.size = static_cast<int32_t>(pixels.size());
-    image.data = pixels;
-    return image;
+    return test::rendered_frame(sim::SimCamera::from_config(config), *terrain, 400.0, 50.0, height, {0.01, -0.02, 0.5},
+                                1, 0);
   }
   pose_t pose(double height, double sigma) const {
-    pose_t p{};
-    p.position_ned[0] = 403.0;
-    p.position_ned[1] = 48.0;
-    p.roll = 0.01;
-    p.pitch = -0.02;
-    p.yaw = 0.5;
-    p.height_agl_m = height;
-    p.position_covariance[0][0] = p.position_covariance[1][1] = sigma * sigma;
-    return p;
+    return test::prior_pose(403.0, 48.0, {0.01, -0.02, 0.5}, height, sigma, 0);
   }
 };
 

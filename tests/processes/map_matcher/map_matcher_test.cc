@@ -22,6 +22,7 @@
 #include "processes/sim/sim_camera.h"
 #include "processes/sim/terrain.h"
 #include "tests/common/test_support.h"
+#include "tests/processes/map_matcher/matcher_scene.h"
 #include "tools/map/geotiff_writer.h"
 #include "tools/map/simulated_map.h"
 
@@ -49,14 +50,6 @@ struct World {
   Config config = Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml");
 };
 
-void write_map(const std::string& dir, const sim::FlightProfile& profile, uint64_t seed) {
-  map::SimulatedMapOptions options;
-  options.margin_m = 250.0;
-  const map::SimulatedMap m = map::simulate_map(profile, seed, options);
-  map::write_geotiff_byte(dir + "/orthophoto.tif", m.grid, m.orthophoto);
-  map::write_geotiff_float(dir + "/dem.tif", m.grid, m.dem, -9999.0);
-}
-
 class MapMatcherTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -65,9 +58,9 @@ class MapMatcherTest : public ::testing::Test {
     t.seed = kSeed;
     world_->terrain = std::make_unique<sim::Terrain>(t);
     dir_ = new testing::TempDir("map_matcher");
-    write_map(dir_->path(), world_->profile, kSeed);
+    test::write_simulated_map(dir_->path(), world_->profile, kSeed, 250.0);
     other_dir_ = new testing::TempDir("map_matcher_other");
-    write_map(other_dir_->path(), world_->profile, kSeed + 1);  // the same flight over another world
+    test::write_simulated_map(other_dir_->path(), world_->profile, kSeed + 1, 250.0);  // the same flight over another world
   }
   static void TearDownTestSuite() {
     delete dir_;
@@ -90,35 +83,11 @@ class MapMatcherTest : public ::testing::Test {
   // the ground there, with this attitude; and the POSE of it with the
   // horizontal position off by (dn, de) and a prior sigma.
   static image_t render(double north, double east, const Eigen::Vector3d& rpy_deg) {
-    const sim::SimCamera camera = sim::SimCamera::from_config(world_->config);
-    sim::Renderer renderer(camera, *world_->terrain, sim::RendererOptions{});
-    const double down = -(world_->terrain->height(north, east) + kHeight);
-    const Eigen::Matrix3d world_from_body =
-        rotation_from_rpy(deg_to_rad(rpy_deg.x()), deg_to_rad(rpy_deg.y()), deg_to_rad(rpy_deg.z()));
-    std::vector<uint8_t> pixels;
-    renderer.render({north, east, down}, world_from_body * camera.body_from_camera, 11, &pixels);
-    image_t image{};
-    image.utime = 1'000'000;
-    image.width = camera.width;
-    image.height = camera.height;
-    image.stride = camera.width;
-    image.pixel_format = image_t::PIXEL_MONO8;
-    image.size = static_cast<int32_t>(pixels.size());
-    image.data = pixels;
-    return image;
+    return test::rendered_frame(sim::SimCamera::from_config(world_->config), *world_->terrain, north, east, kHeight,
+                                rpy_deg * M_PI / 180.0, 11, 1'000'000);
   }
   static pose_t pose(double north, double east, const Eigen::Vector3d& rpy_deg, double dn, double de, double sigma) {
-    pose_t p{};
-    p.utime = 1'000'000;
-    p.position_ned[0] = north + dn;
-    p.position_ned[1] = east + de;
-    p.roll = deg_to_rad(rpy_deg.x());
-    p.pitch = deg_to_rad(rpy_deg.y());
-    p.yaw = deg_to_rad(rpy_deg.z());
-    p.height_agl_m = kHeight;
-    p.position_covariance[0][0] = p.position_covariance[1][1] = sigma * sigma;
-    p.position_covariance[2][2] = 1.0;
-    return p;
+    return test::prior_pose(north + dn, east + de, rpy_deg * M_PI / 180.0, kHeight, sigma, 1'000'000);
   }
 
   static World* world_;
