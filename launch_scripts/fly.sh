@@ -84,8 +84,10 @@ if [ -n "$map" ]; then
     fail "--map needs nadir_map and the map matcher, built with GDAL (run launch_scripts/setup.sh)"
   if [ "$map" = simulated ]; then
     echo "fly: writing the simulated world's reference map into $out/map" >&2
-    # 1 m, or coarser (up to 2 m) for a flight over so much ground that 1 m would exceed 80 million pixels.
-    nadir_map simulate --profile "$profile" --seed "$seed" --out "$out/map" --max-megapixels 80 >"$out/map.txt" ||
+    # 1 m, or coarser for a flight over so much ground that 1 m would exceed 80 million pixels:
+    # up to 2 m as a real orthophoto, up to 5 m (a coarse map, fewer fixes) before giving up.
+    nadir_map simulate --profile "$profile" --seed "$seed" --out "$out/map" --max-megapixels 80 --max-gsd 5 \
+      >"$out/map.txt" ||
       { tail -5 "$out/map.txt" >&2; fail "the simulated map failed (see $out/map.txt)"; }
     map="$out/map"
   fi

@@ -1,6 +1,7 @@
 #include "processes/sim/flight_profile.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -72,6 +73,17 @@ std::vector<FeaturelessArea> parse_featureless(const Config& terrain) {
   return areas;
 }
 
+// A world file named in the profile: relative paths are relative to the
+// profile file's folder.
+std::string world_path(const Config& world, const std::string& key) {
+  const std::string file = world.get<std::string>(key);
+  if (file.empty()) throw world.error(key, "must name a GeoTIFF file");
+  const std::filesystem::path path(file);
+  if (path.is_absolute()) return file;
+  const std::filesystem::path folder = std::filesystem::path(world.source()).parent_path();
+  return (folder / path).lexically_normal().string();
+}
+
 }  // namespace
 
 std::string FlightProfile::resolve(const std::string& name_or_path) {
@@ -133,7 +145,7 @@ FlightProfile FlightProfile::parse(const std::string& yaml_text, const std::stri
   p.source = source;
   p.yaml = yaml_text;
   c.require_known_keys({"name", "distance_m", "speed_mps", "altitude_agl_m", "initial_heading_deg", "pitch_trim_deg",
-                        "oscillation", "reference", "terrain", "legs"});
+                        "oscillation", "reference", "terrain", "world", "legs"});
   p.name = c.get<std::string>("name");
   p.distance_m = c.get_in_range<double>("distance_m", p.distance_m, 10.0, 1e6);
   p.speed_mps = c.get_in_range<double>("speed_mps", p.speed_mps, 1.0, 100.0);
@@ -150,6 +162,16 @@ FlightProfile FlightProfile::parse(const std::string& yaml_text, const std::stri
   p.reference_latitude_deg = ref.get_in_range<double>("latitude_deg", p.reference_latitude_deg, -85.0, 85.0);
   p.reference_longitude_deg = ref.get_in_range<double>("longitude_deg", p.reference_longitude_deg, -180.0, 180.0);
   p.reference_height_m = ref.get_in_range<double>("height_m", p.reference_height_m, -500.0, 9000.0);
+  if (c.has("world")) {
+    const Config world = c.section("world");
+    world.require_known_keys({"orthophoto", "dem"});
+    p.world_orthophoto = world_path(world, "orthophoto");
+    p.world_dem = world_path(world, "dem");
+    for (const char* key : {"latitude_deg", "longitude_deg"})
+      if (!ref.has(key)) throw ref.error(key, "is required with world: (where on its rasters the flight starts)");
+    if (ref.has("height_m"))
+      throw ref.error("height_m", "must not be given with world: (the datum is the DEM's height at the reference point)");
+  }
   const Config terrain = c.section_or_empty("terrain");
   terrain.require_known_keys({"relief_scale", "featureless"});
   p.terrain.relief_scale = terrain.get_in_range<double>("relief_scale", 1.0, 0.0, 3.0);

@@ -39,6 +39,15 @@ struct FlightProfile {
   double reference_longitude_deg = -79.9959;
   double reference_height_m = 300.0;  // ellipsoidal height of the datum
   TerrainOptions terrain;
+  // world: {orthophoto: FILE, dem: FILE}: a real place instead of the
+  // procedural world (tools/map/raster_ground.h opens it; the profile itself
+  // only keeps the paths, resolved against the profile file's folder). Both
+  // empty: the procedural world. With a world, reference.latitude_deg and
+  // longitude_deg are required and reference.height_m is refused: the datum
+  // is the DEM's height at the reference point.
+  std::string world_orthophoto;
+  std::string world_dem;
+  bool has_world() const { return !world_dem.empty(); }
   std::vector<FlightLeg> legs;
   // Keys changed after loading (e.g. "terrain.relief_scale"), for CONFIG.
   std::vector<std::string> overrides;

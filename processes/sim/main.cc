@@ -32,8 +32,28 @@
 #include "processes/sim/render_ahead.h"
 #include "processes/sim/sim_rotation.h"
 #include "processes/sim/simulator.h"
+#ifdef NADIR_HAVE_RASTER_WORLD
+#include "tools/map/raster_ground.h"
+#endif
 
 namespace {
+
+// A profile naming a real place (world: orthophoto + DEM) flies over it;
+// a world that cannot be used is a configuration error, as a bad profile is.
+void attach_world(nadir::sim::FlightProfile* profile, uint64_t seed) {
+  if (!profile->has_world()) return;
+#ifdef NADIR_HAVE_RASTER_WORLD
+  try {
+    nadir::map::attach_raster_world(profile, seed);
+  } catch (const nadir::map::MapError& e) {
+    throw nadir::ConfigError(profile->source + ": world: " + e.what());
+  }
+#else
+  (void)seed;
+  throw nadir::ConfigError(profile->source + ": world: this nadir_sim was built without GDAL (libgdal-dev, "
+                           "launch_scripts/setup.sh), which reads the orthophoto and DEM");
+#endif
+}
 
 struct Arguments {
   std::string profile;
@@ -285,6 +305,7 @@ int main(int argc, char** argv) {
     if (profile.source.compare(0, root.size(), root) == 0) profile.source = profile.source.substr(root.size());
     if (args.relief_scale) profile.override_relief_scale(*args.relief_scale);
     if (args.altitude_agl_m) profile.override_altitude_agl(*args.altitude_agl_m);
+    attach_world(&profile, args.seed);
 
     nadir::sim::SimulatorOptions options;
     options.seed = args.seed;

@@ -60,11 +60,32 @@ void TerrainOptions::Check() const {
     throw std::invalid_argument("terrain.relief_scale must be in [0, 3]");
   for (size_t i = 0; i < featureless.size(); ++i)
     featureless[i].Check("terrain.featureless[" + std::to_string(i) + "]");
+  if (ground) {
+    const GroundBounds b = ground->bounds();
+    if (!(std::isfinite(b.min_height) && std::isfinite(b.max_height) && b.min_height <= b.max_height &&
+          std::isfinite(b.max_slope) && b.max_slope >= 0.0))
+      throw std::invalid_argument(ground->describe() + ": ground bounds are not finite or min > max");
+  }
 }
 
 Terrain::Terrain(const TerrainOptions& options) : options_(options), featureless_(options.featureless) {
   options_.Check();
   for (uint32_t i = 0; i < 16; ++i) salt_[i] = mix_salt(options.seed, i);
+  ground_ = options_.ground.get();
+  if (ground_) {
+    // The source's bounds hold for its own field; the grid's bilinear
+    // surface has edge differences of at most max_slope per metre along
+    // north and east, so its gradient is within sqrt(2) of that. A hair on
+    // top for the float samples.
+    const GroundBounds g = ground_->bounds();
+    const double s = options_.relief_scale;
+    datum_ = raw_height(0.0, 0.0, nullptr, nullptr);
+    max_slope_ = std::sqrt(2.0) * g.max_slope * s * (1.0 + 1e-6) + 1e-9;
+    const double pad = 1e-3 + 1e-6 * std::max(std::fabs(g.min_height), std::fabs(g.max_height)) * s;
+    max_height_ = s * g.max_height - datum_ + pad;
+    min_height_ = s * g.min_height - datum_ - pad;
+    return;
+  }
   double slope = 0.0, amp = 0.0;
   for (const Octave& o : kHills) {
     slope += o.amplitude_m * kNoiseSlopeBound / o.cell_m;
@@ -79,6 +100,13 @@ Terrain::Terrain(const TerrainOptions& options) : options_(options), featureless
 
 double Terrain::raw_height(double north, double east, double* dh_dn, double* dh_de) const {
   const double s = options_.relief_scale;
+  if (ground_) {
+    if (dh_dn) {  // central differences over 0.5 m
+      *dh_dn = s * (ground_->height(north + 0.25, east) - ground_->height(north - 0.25, east)) / 0.5;
+      *dh_de = s * (ground_->height(north, east + 0.25) - ground_->height(north, east - 0.25)) / 0.5;
+    }
+    return s * ground_->height(north, east);
+  }
   double h = 0.0, gn = 0.0, ge = 0.0;
   for (int i = 0; i < 3; ++i) {
     const Octave& o = kHills[i];

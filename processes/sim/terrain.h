@@ -7,6 +7,13 @@
 // which is the altitude datum: height(0, 0) == 0. Featureless areas
 // (featureless_area.h) weaken the albedo's texture in boxes of the map.
 //
+// With TerrainOptions::ground set, the height and albedo come from that
+// source instead (ground_source.h; e.g. the orthophoto and DEM of a real
+// place; the seed is then unused here): relief_scale multiplies the source's
+// heights about the datum, and the featureless areas, the 1 m grid, its
+// tiles and bounds work as for the procedural field. Without it
+// everything is exactly as before (same bits).
+//
 // The surface everyone uses (renderer, altimeter, ground truth) is the
 // analytic height sampled on a 1 m grid and interpolated bilinearly: cheap
 // enough for one evaluation per pixel, and within millimetres of the
@@ -20,6 +27,7 @@
 #include <vector>
 
 #include "processes/sim/featureless_area.h"
+#include "processes/sim/ground_source.h"
 
 namespace nadir::sim {
 
@@ -35,6 +43,8 @@ struct TerrainOptions {
   uint64_t seed = 1;
   double relief_scale = 1.0;   // multiplies every height octave; 0 = flat
   std::vector<FeaturelessArea> featureless;  // low-texture areas (water, snow); none by default
+  // Heights and albedo from here instead of the procedural field (null: procedural).
+  std::shared_ptr<const GroundSource> ground;
   // Throws std::invalid_argument naming the key (terrain.featureless[1].contrast).
   void Check() const;
 };
@@ -79,7 +89,9 @@ class Terrain {
 
   // Ground albedo 0..255 at a point (point-sampled; the texture cache
   // prefilters it for the renderer), with the featureless areas applied.
-  float albedo(double north, double east) const { return featureless_.apply(north, east, ground_albedo(north, east)); }
+  float albedo(double north, double east) const {
+    return featureless_.apply(north, east, ground_ ? ground_->albedo(north, east) : ground_albedo(north, east));
+  }
 
   const TerrainOptions& options() const { return options_; }
 
@@ -99,6 +111,7 @@ class Terrain {
 
   TerrainOptions options_;
   FeaturelessGround featureless_;
+  const GroundSource* ground_ = nullptr;  // options_.ground, or null
   mutable std::unordered_map<int64_t, std::unique_ptr<HeightTile>> height_tiles_;
   mutable int64_t last_key_ = INT64_MIN;
   mutable const HeightTile* last_tile_ = nullptr;

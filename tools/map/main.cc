@@ -17,6 +17,7 @@
 #include "processes/sim/flight_profile.h"
 #include "tools/map/geotiff_writer.h"
 #include "tools/map/map_record.h"
+#include "tools/map/raster_ground.h"
 #include "tools/map/reference_map.h"
 #include "tools/map/simulated_map.h"
 
@@ -36,6 +37,8 @@ int simulate(const SimulateArgs& args) {
   // map.json names the profile relative to the checkout (same bytes in any checkout).
   const std::string root = nadir::checkout_root() + "/";
   if (profile.source.compare(0, root.size(), root) == 0) profile.source = profile.source.substr(root.size());
+  // A profile naming a real place (world:): the map of that place, as nadir_sim flies over it.
+  nadir::map::attach_raster_world(&profile, args.seed);
   args.options.Check();
   std::filesystem::create_directories(args.out);
   const nadir::map::SimulatedMap map = nadir::map::simulate_map(profile, args.seed, args.options);
@@ -142,6 +145,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   sim->add_option("--max-megapixels", args.options.max_megapixels,
                   "coarsen the gsd (up to 2 m) to keep the map within this many million pixels (0: no limit)")
+      ->capture_default_str();
+  sim->add_option("--max-gsd", args.options.max_gsd_m, "... but never coarser than this, m (up to 10)")
       ->capture_default_str();
   sim->add_flag("--json", args.json, "print the summary as JSON");
   CheckArgs check_args;

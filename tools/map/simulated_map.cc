@@ -75,6 +75,8 @@ void SimulatedMapOptions::Check() const {
   if (!(changed_fraction >= 0.0 && changed_fraction <= 0.1))
     throw std::invalid_argument("changed_fraction " + number(changed_fraction) + ": must be in [0, 0.1]");
   if (!(max_megapixels >= 0.0)) throw std::invalid_argument("max_megapixels " + number(max_megapixels) + ": must be >= 0");
+  if (!(max_gsd_m >= gsd_m && max_gsd_m <= 10.0))
+    throw std::invalid_argument("max_gsd_m " + number(max_gsd_m) + ": must be in [gsd_m, 10] m");
   season.Check();
 }
 
@@ -97,15 +99,15 @@ SimulatedMap simulate_map(const sim::FlightProfile& profile, uint64_t seed, cons
   for (const Eigen::Vector2d& p : flight_track(profile, seed, 0.5)) corners.push_back(projection.utm(p.x(), p.y()));
   SimulatedMap map;
   map.grid = grid_around(corners, options.margin_m, options.gsd_m, projection.epsg());
-  // A pixel budget: the coarsest ground sample distance up to 2 m (in steps
-  // of 0.25 m) that keeps the map within it.
+  // A pixel budget: the finest ground sample distance up to max_gsd_m (in
+  // steps of 0.25 m) that keeps the map within it.
   const double budget = options.max_megapixels * 1e6;
   for (double gsd = options.gsd_m; budget > 0.0 && double(map.grid.width) * map.grid.height > budget;) {
     gsd = std::floor(gsd / 0.25 + 1.0 + 1e-9) * 0.25;
-    if (gsd > 2.0 + 1e-9) {
+    if (gsd > options.max_gsd_m + 1e-9) {
       throw std::invalid_argument("the flight's map would hold " + number(double(map.grid.width) * map.grid.height / 1e6) +
-                                  " million pixels at 2 m, over max_megapixels " + number(options.max_megapixels) +
-                                  ": the flight spans too much ground for one simulated map");
+                                  " million pixels at " + number(options.max_gsd_m) + " m, over max_megapixels " +
+                                  number(options.max_megapixels) + ": the flight spans too much ground for one map");
     }
     map.grid = grid_around(corners, options.margin_m, gsd, projection.epsg());
   }

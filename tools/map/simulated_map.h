@@ -27,9 +27,10 @@ struct SimulatedMapOptions {
   int subsamples = 3;        // per pixel side (box filter), [1, 8]
   double changed_fraction = 0.02;  // of the map's area, [0, 0.1]
   // More pixels than this (millions; 0: no limit) at gsd_m: the map is made
-  // at the finest gsd in steps of 0.25 m up to 2 m that keeps within it
-  // (invalid_argument beyond 2 m). The gsd used is the grid's.
+  // at the finest gsd in steps of 0.25 m up to max_gsd_m that keeps within
+  // it (invalid_argument beyond). The gsd used is the grid's.
   double max_megapixels = 0.0;
+  double max_gsd_m = 2.0;  // [gsd_m, 10]
   SeasonTransform season;
   // Throws std::invalid_argument naming the option and its range.
   void Check() const;

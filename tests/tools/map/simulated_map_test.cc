@@ -281,3 +281,30 @@ TEST(SimulatedMapDeterminismTest, SameInputsSameBytesOtherSeedOtherMap) {
 
 }  // namespace
 }  // namespace nadir::map
+
+namespace nadir::map {
+namespace {
+
+// A pixel budget coarsens the map in 0.25 m steps, and a flight too large
+// for it even at max_gsd_m is refused naming the budget.
+TEST(SimulatedMapBudgetTest, CoarsensToFitOrRefuses) {
+  const sim::FlightProfile profile = test_profile();
+  SimulatedMapOptions options = test_options();
+  options.changed_fraction = 0.0;
+  const SimulatedMap full = simulate_map(profile, kSeed, options);
+  const double megapixels = double(full.grid.width) * full.grid.height / 1e6;
+  options.max_megapixels = megapixels / 3.0;
+  const SimulatedMap coarse = simulate_map(profile, kSeed, options);
+  EXPECT_DOUBLE_EQ(coarse.grid.gsd_m, 1.75);  // sqrt(3) = 1.73: the next 0.25 m step
+  EXPECT_LE(double(coarse.grid.width) * coarse.grid.height / 1e6, options.max_megapixels);
+  options.max_megapixels = megapixels / 100.0;  // would need 10 m
+  try {
+    simulate_map(profile, kSeed, options);
+    ADD_FAILURE() << "a map over budget at 2 m was made";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("max_megapixels"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nadir::map
