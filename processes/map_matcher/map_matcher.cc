@@ -168,6 +168,12 @@ FixAttempt MapMatcher::attempt(const image_t& image, const pose_t& pose, const m
   if (!map_fix_covariance(options_, reg, t * t, h, &covariance)) {
     return refused(a, FixRefusal::kAmbiguous, "the correlation peak is not a maximum (flat along a direction)");
   }
+  const double fix_sigma =
+      std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(covariance).eigenvalues().maxCoeff());
+  if (fix_sigma > options_.max_fix_stddev_m) {
+    return refused(a, FixRefusal::kAmbiguous, format("the peak is flat: sigma %.1f m over max_fix_stddev_m %.1f",
+                                                     fix_sigma, options_.max_fix_stddev_m));
+  }
   const double fix_north = north - reg.shift_px.y() * options_.gsd_m;
   const double fix_east = east + reg.shift_px.x() * options_.gsd_m;
   const GeodeticPoint at = origin.geodetic(fix_north, fix_east);

@@ -30,6 +30,8 @@ const OptionsSchema<MapMatcherOptions>& MapMatcherOptions::schema() {
                 &O::min_score)
         .number("min_peak_ratio", 1.0, 100.0, "", "best peak over the best outside its lobe; below: ambiguous",
                 &O::min_peak_ratio)
+        .number("max_fix_stddev_m", 0.01, 1000.0, "m", "a fix whose larger sigma exceeds this is refused (flat peak)",
+                &O::max_fix_stddev_m)
         .number("peak_stddev_scale", 0.01, 1000.0, "", "scales the sigma the correlation peak's shape gives",
                 &O::peak_stddev_scale)
         .number("min_stddev_px", 0.0, 100.0, "px", "floor on the peak's sigma, each axis", &O::min_stddev_px)

@@ -21,12 +21,17 @@ struct MapMatcherOptions {
   double max_frame_age_s = 1.0;   // a frame whose POSE has not come within this is dropped
   double template_fraction = 0.9; // of the largest north-up square the frame's footprint holds at any heading
   int min_template_px = 32;       // a smaller template (low flight, coarse gsd) is not matched
-  double search_sigmas = 3.0;     // search radius: this many horizontal prior sigmas ...
+  // Search radius: this many horizontal prior sigmas (wide enough that the
+  // truth lies inside with overwhelming probability, so that a copy of the
+  // ground inside the search cannot pass for the only fit when the truth is
+  // just outside it) ...
+  double search_sigmas = 5.0;
   double min_search_radius_m = 10.0;   // ... but at least this ...
   double max_search_radius_m = 200.0;  // ... and a prior needing more is refused (too uncertain)
   double min_texture = 6.0;       // grey-level stddev of the map window and of the frame; below: featureless
-  double min_score = 0.25;        // normalised cross-correlation of the edge pictures at the peak; below: no match
+  double min_score = 0.3;         // normalised cross-correlation of the edge pictures at the peak; below: no match
   double min_peak_ratio = 1.25;   // best peak over the best one outside its lobe; below: ambiguous
+  double max_fix_stddev_m = 5.0;  // a peak so flat that the fix's larger sigma exceeds this: ambiguous
   // Covariance of a fix (map_fix_covariance.h): the peak's shape, the
   // inverse Hessian of the correlation surface, times (1 - score) / score
   // over the number of independent peak-sized cells in the template, times

@@ -3,18 +3,30 @@
 # fly.sh --map simulated (simulation, the world's reference map, replay with
 # the map matcher, evaluation), then the same simulator log replayed without
 # the matcher and evaluated. Prints one line per seed with both.
-# Usage: studies/map_fixes/long_flights.sh PROFILE SEED... (output in logs/map_fixes/PROFILE-seedN/)
+# Usage: studies/map_fixes/long_flights.sh [--replay-only] PROFILE SEED... (output in logs/map_fixes/PROFILE-seedN/)
+#   --replay-only  reuse the simulator log and map already there (after a change to the matcher or fusion)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 export PATH="$root/build/bin:$PATH"
-profile="${1:?usage: long_flights.sh PROFILE SEED...}"
+replay_only=0
+if [ "${1:-}" = --replay-only ]; then replay_only=1; shift; fi
+profile="${1:?usage: long_flights.sh [--replay-only] PROFILE SEED...}"
 shift
 name="$(basename "${profile%.yaml}")"
 mkdir -p "$root/logs/map_fixes"
 for seed in "$@"; do
   out="$root/logs/map_fixes/$name-seed$seed"
-  "$root/launch_scripts/fly.sh" --profile "$profile" --seed "$seed" --map simulated --no-setup --out "$out" --json \
-    >"$out.with_map.json" 2>"$out.fly.txt"
+  if ((replay_only)); then
+    gsd="$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["gsd_m"])' "$out/map/map.json")"
+    nadir_replay --in "$out/sim.lcmlog" --out "$out/with_map.lcmlog" --nodes tracker,vo_solver,yaw_fusion,map_matcher \
+      --set "map_matcher.orthophoto=$out/map/orthophoto.tif" --set "map_matcher.dem=$out/map/dem.tif" \
+      --set "map_matcher.gsd_m=$gsd" --json >"$out/with_map_replay.json"
+    nadir_eval --log "$out/with_map.lcmlog" --out "$out/report" --no-plots --json >"$out.with_map.json"
+    rm -f "$out/with_map.lcmlog"
+  else
+    "$root/launch_scripts/fly.sh" --profile "$profile" --seed "$seed" --map simulated --no-setup --out "$out" --json \
+      >"$out.with_map.json" 2>"$out.fly.txt"
+  fi
   nadir_replay --in "$out/sim.lcmlog" --out "$out/no_map.lcmlog" --nodes tracker,vo_solver,yaw_fusion --json \
     >"$out/no_map_replay.json"
   nadir_eval --log "$out/no_map.lcmlog" --out "$out/no_map_report" --no-plots --json >"$out.no_map.json"
