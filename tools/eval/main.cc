@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
     std::ofstream(out_dir + "/metrics.json") << metrics << "\n";
     nadir::write_series_csv(result, out_dir + "/series.csv");
     nadir::write_pairs_csv(result.pairs, out_dir + "/pairs.csv");
+    nadir::write_map_fixes_csv(result.metrics.map_fixes, out_dir + "/map_fixes.csv");
     nadir::write_geojson(result, out_dir + "/trajectory.geojson");
     nadir::write_kml(result, out_dir + "/trajectory.kml");
     if (!no_plots) {
