@@ -28,7 +28,7 @@ const OptionsSchema<MapMatcherOptions>& MapMatcherOptions::schema() {
                 &O::min_texture)
         .number("min_score", -1.0, 1.0, "", "normalised cross-correlation at the peak; below: no match",
                 &O::min_score)
-        .number("min_peak_ratio", 1.0, 100.0, "", "best peak over the best outside its lobe; below: ambiguous",
+        .number("min_peak_ratio", 1.0, 100.0, "", "best peak over its best rival (the highest local maximum beyond its half-peak radius); below: ambiguous",
                 &O::min_peak_ratio)
         .number("max_fix_stddev_m", 0.01, 1000.0, "m", "a fix whose larger sigma exceeds this is refused (flat peak)",
                 &O::max_fix_stddev_m)

@@ -30,7 +30,7 @@ struct MapMatcherOptions {
   double max_search_radius_m = 200.0;  // ... and a prior needing more is refused (too uncertain)
   double min_texture = 6.0;       // grey-level stddev of the map window and of the frame; below: featureless
   double min_score = 0.3;         // normalised cross-correlation of the edge pictures at the peak; below: no match
-  double min_peak_ratio = 1.25;   // best peak over the best one outside its lobe; below: ambiguous
+  double min_peak_ratio = 1.5;    // best peak over its best rival; below: ambiguous
   double max_fix_stddev_m = 5.0;  // a peak so flat that the fix's larger sigma exceeds this: ambiguous
   // Covariance of a fix (map_fix_covariance.h): the peak's shape, the
   // inverse Hessian of the correlation surface, times (1 - score) / score

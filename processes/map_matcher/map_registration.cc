@@ -10,26 +10,46 @@ namespace nadir {
 
 namespace {
 
-// Marks the peak's lobe: pixels 4-connected to it whose score is above half the peak.
-int mark_lobe(const cv::Mat& surface, cv::Point peak, cv::Mat* lobe) {
-  const float threshold = 0.5f * surface.at<float>(peak);
-  *lobe = cv::Mat::zeros(surface.size(), CV_8U);
-  std::vector<cv::Point> stack{peak};
-  lobe->at<uint8_t>(peak) = 1;
-  int count = 0;
-  while (!stack.empty()) {
-    const cv::Point p = stack.back();
-    stack.pop_back();
-    ++count;
-    const cv::Point next[4] = {{p.x + 1, p.y}, {p.x - 1, p.y}, {p.x, p.y + 1}, {p.x, p.y - 1}};
-    for (const cv::Point& q : next) {
-      if (q.x < 0 || q.y < 0 || q.x >= surface.cols || q.y >= surface.rows) continue;
-      if (lobe->at<uint8_t>(q) || surface.at<float>(q) <= threshold) continue;
-      lobe->at<uint8_t>(q) = 1;
-      stack.push_back(q);
+// The peak's radius: the farthest, along the four axis directions, that the
+// surface stays above half the peak.
+int half_peak_radius(const cv::Mat& surface, cv::Point peak) {
+  const float half = 0.5f * surface.at<float>(peak);
+  int radius = 1;
+  const cv::Point steps[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  for (const cv::Point& step : steps) {
+    int r = 1;
+    for (cv::Point q = peak + step; q.x >= 0 && q.y >= 0 && q.x < surface.cols && q.y < surface.rows; q += step, ++r) {
+      if (surface.at<float>(q) <= half) break;
+    }
+    radius = std::max(radius, r);
+  }
+  return radius;
+}
+
+// The best rival of the peak: the highest local maximum (3 x 3) farther than
+// `radius` from it -- on repetitive ground the next period's peak, however
+// high the surface stays between them -- or, without one, the highest point
+// that far (the flank of a single peak). -1 when nothing is that far.
+double best_rival(const cv::Mat& surface, cv::Point peak, int radius, int* pixels_within) {
+  cv::Mat dilated;
+  cv::dilate(surface, dilated, cv::Mat::ones(3, 3, CV_8U));
+  double rival_max = -1.0, flank_max = -1.0;
+  int within = 0;
+  for (int y = 0; y < surface.rows; ++y) {
+    const float* s = surface.ptr<float>(y);
+    const float* d = dilated.ptr<float>(y);
+    for (int x = 0; x < surface.cols; ++x) {
+      const int dx = x - peak.x, dy = y - peak.y;
+      if (dx * dx + dy * dy <= radius * radius) {
+        ++within;
+        continue;
+      }
+      flank_max = std::max(flank_max, static_cast<double>(s[x]));
+      if (s[x] >= d[x]) rival_max = std::max(rival_max, static_cast<double>(s[x]));
     }
   }
-  return count;
+  *pixels_within = within;
+  return rival_max > -1.0 ? rival_max : flank_max;
 }
 
 // Vertex offset of a parabola through (-1, a), (0, b), (1, c), within +-0.5.
@@ -69,13 +89,8 @@ Registration register_template(const cv::Mat& window, const cv::Mat& templ) {
   out.score = best;
   const int w = surface.cols, h = surface.rows;
   out.at_edge = peak.x == 0 || peak.y == 0 || peak.x == w - 1 || peak.y == h - 1;
-  cv::Mat lobe;
-  out.lobe_pixels = mark_lobe(surface, peak, &lobe);
-  // Second best: outside the lobe grown by one pixel.
-  cv::dilate(lobe, lobe, cv::Mat::ones(3, 3, CV_8U));
-  double second = -1.0;
-  cv::minMaxLoc(surface, nullptr, &second, nullptr, nullptr, lobe == 0);
-  out.second_score = cv::countNonZero(lobe == 0) > 0 ? second : -1.0;
+  out.lobe_pixels = 0;
+  out.second_score = best_rival(surface, peak, half_peak_radius(surface, peak), &out.lobe_pixels);
   out.peak_ratio = best / std::max(out.second_score, 0.01);
 
   double dx = 0.0, dy = 0.0;

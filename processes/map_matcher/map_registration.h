@@ -5,10 +5,11 @@
 // fraction of a pixel, and the figures that say whether to trust it.
 //
 //   score       the correlation at the peak (-1..1);
-//   peak_ratio  the peak over the highest correlation outside the peak's
-//               lobe (the pixels connected to the peak that stay above half
-//               of it): near 1 on repetitive ground, where another shift fits
-//               almost as well;
+//   peak_ratio  the peak over its best rival: the highest local maximum of
+//               the surface farther from it than its half-peak radius (or,
+//               without one, the highest point that far): near 1 on
+//               repetitive ground, where another shift fits almost as well,
+//               however high the surface stays between the two;
 //   at_edge     the peak on the border of the search: the true shift may lie
 //               beyond it;
 //   hessian     curvature of the correlation surface at the peak (per px^2),
@@ -28,7 +29,7 @@ struct Registration {
   double peak_ratio = 0.0;
   bool at_edge = false;
   Eigen::Matrix2d hessian = Eigen::Matrix2d::Zero();  // d2 score / d(col, row)^2 at the peak
-  int lobe_pixels = 0;
+  int lobe_pixels = 0;  // pixels within the half-peak radius
 };
 
 // `window` (CV_32F, size w x w) holds the template's ground when shifted by
