@@ -1,5 +1,7 @@
 #include "tools/map/raster_ground.h"
 
+#include "tools/map/gdal_support.h"
+
 #include <GeographicLib/LocalCartesian.hpp>
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
@@ -20,22 +22,6 @@ std::string format(const char* pattern, Args... args) {
 }
 
 std::string local_text(double north, double east) { return format("local north %.1f m, east %.1f m", north, east); }
-std::string point_text(double lat, double lon) { return format("%.7f, %.7f", lat, lon); }
-
-struct QuietGdal {
-  QuietGdal() {
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
-  }
-  ~QuietGdal() { CPLPopErrorHandler(); }
-};
-
-struct DatasetCloser {
-  void operator()(GDALDataset* d) const { GDALClose(d); }
-};
-struct TransformDeleter {
-  void operator()(OGRCoordinateTransformation* t) const { OGRCoordinateTransformation::DestroyCT(t); }
-};
 
 // Smallest singular value of the 2 x 2 map [a b; c d].
 double smallest_singular_value(double a, double b, double c, double d) {
@@ -88,7 +74,7 @@ DemBounds read_dem_bounds(const std::string& path) {
   OGRSpatialReference wgs84;
   wgs84.SetWellKnownGeogCS("WGS84");
   wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  std::unique_ptr<OGRCoordinateTransformation, TransformDeleter> to_wgs84(
+  Transform to_wgs84(
       OGRCreateCoordinateTransformation(&source, &wgs84));
   if (!to_wgs84) throw MapError(path + ": its CRS cannot be transformed to WGS84");
   double smallest = std::numeric_limits<double>::infinity();

@@ -1,5 +1,7 @@
 #include "tools/map/reference_map.h"
 
+#include "tools/map/gdal_support.h"
+
 #include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/LocalCartesian.hpp>
 #include <gdal_priv.h>
@@ -11,31 +13,6 @@
 
 namespace nadir::map {
 namespace {
-
-std::string point_text(double lat, double lon) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.7f, %.7f", lat, lon);
-  return text;
-}
-
-// GDAL reports through a handler that prints; the reader puts the message
-// into its own errors instead.
-struct QuietGdal {
-  QuietGdal() {
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
-  }
-  ~QuietGdal() { CPLPopErrorHandler(); }
-};
-
-struct DatasetCloser {
-  void operator()(GDALDataset* d) const { GDALClose(d); }
-};
-
-struct CoordinateTransformDeleter {
-  void operator()(OGRCoordinateTransformation* t) const { OGRCoordinateTransformation::DestroyCT(t); }
-};
-using Transform = std::unique_ptr<OGRCoordinateTransformation, CoordinateTransformDeleter>;
 
 OGRSpatialReference wgs84_lon_lat() {
   OGRSpatialReference s;
