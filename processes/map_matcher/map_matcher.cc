@@ -30,6 +30,7 @@ const char* fix_refusal_name(FixRefusal refusal) {
     case FixRefusal::kLowScore: return "low_score";
     case FixRefusal::kAmbiguous: return "ambiguous";
     case FixRefusal::kPeakAtEdge: return "peak_at_edge";
+    case FixRefusal::kRepetitive: return "repetitive";
     case FixRefusal::kFrameDropped: return "frame_dropped";
   }
   return "unknown";
@@ -153,7 +154,15 @@ FixAttempt MapMatcher::attempt(const image_t& image, const pose_t& pose, const m
                    format("grey stddev map %.1f, frame %.1f", map_texture, frame_texture) +
                        format(" (min_texture %.1f)%.0s", options_.min_texture, 0.0));
   }
-  const Registration reg = register_template(edge_strength(window.grey), edge_strength(frame.grey));
+  const cv::Mat map_edges = edge_strength(window.grey), frame_edges = edge_strength(frame.grey);
+  a.map_edge_strength = mean_edge_strength(map_edges);
+  a.frame_edge_strength = mean_edge_strength(frame_edges);
+  if (a.map_edge_strength < options_.min_edge_strength || a.frame_edge_strength < options_.min_edge_strength) {
+    return refused(a, FixRefusal::kFeatureless,
+                   format("mean edge strength map %.2f, frame %.2f", a.map_edge_strength, a.frame_edge_strength) +
+                       format(" grey levels/px (min_edge_strength %.2f)%.0s", options_.min_edge_strength, 0.0));
+  }
+  const Registration reg = register_template(map_edges, frame_edges);
   fix.score = reg.score;
   fix.peak_ratio = reg.peak_ratio;
   if (!reg.found || reg.score < options_.min_score) {
@@ -163,6 +172,13 @@ FixAttempt MapMatcher::attempt(const image_t& image, const pose_t& pose, const m
   if (reg.peak_ratio < options_.min_peak_ratio) {
     return refused(a, FixRefusal::kAmbiguous, format("peak ratio %.3f under min_peak_ratio %.3f", reg.peak_ratio,
                                                      options_.min_peak_ratio));
+  }
+  a.map_self_similarity = map_self_similarity(map_edges, reg.peak_px, t);
+  if (a.map_self_similarity > options_.max_map_self_similarity) {
+    return refused(a, FixRefusal::kRepetitive,
+                   format("the map's ground at the fix fits elsewhere in the search at %.3f "
+                          "(max_map_self_similarity %.3f)",
+                          a.map_self_similarity, options_.max_map_self_similarity));
   }
   Eigen::Matrix2d covariance;
   if (!map_fix_covariance(options_, reg, t * t, h, &covariance)) {

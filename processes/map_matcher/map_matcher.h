@@ -15,11 +15,16 @@
 //   outside_map      the prior's window reaches beyond the orthophoto or the DEM
 //   map_no_data      NoData (or NaN) in the window or under the frame
 //   frame_partial    the frame does not see the whole square
-//   featureless      the map window or the frame has a grey stddev under min_texture
+//   featureless      the map window or the frame has a grey stddev under
+//                    min_texture, or a mean edge strength under min_edge_strength
+//                    (a weak texture, or only the smooth shading of relief)
 //   low_score        the correlation peak is under min_score
 //   ambiguous        another shift fits nearly as well (peak_ratio under
 //                    min_peak_ratio: repetitive ground) or the peak is flat
 //   peak_at_edge     the best shift is on the border of the search
+//   repetitive       the map repeats itself within the search: its own ground
+//                    at the fix fits elsewhere in the window with a correlation
+//                    over max_map_self_similarity (rows of fields, a copy)
 // The fix's covariance: map_fix_covariance.h.
 
 #include <memory>
@@ -48,15 +53,19 @@ enum class FixRefusal {
   kLowScore,
   kAmbiguous,
   kPeakAtEdge,
+  kRepetitive,
   kFrameDropped,  // the node's: the frame's POSE did not come in time, or a bad image
 };
-constexpr int kFixRefusals = 13;
+constexpr int kFixRefusals = 14;
 const char* fix_refusal_name(FixRefusal refusal);
 
 struct FixAttempt {
   FixRefusal refusal = FixRefusal::kNone;
   std::string why;  // names the figure and its limit when refused
   map_fix_t fix{};  // filled when accepted (and its diagnostics as far as they got when refused)
+  // Diagnostics as far as the attempt got (-1: not reached).
+  double frame_edge_strength = -1.0, map_edge_strength = -1.0;
+  double map_self_similarity = -1.0;
 };
 
 class MapMatcher {
@@ -68,6 +77,7 @@ class MapMatcher {
   FixAttempt attempt(const image_t& image, const pose_t& pose, const map::LocalProjection& origin) const;
 
   const map::ReferenceMap& map() const { return map_; }
+  const MapMatcherOptions& options() const { return options_; }
 
  private:
   MapMatcherOptions options_;

@@ -26,16 +26,21 @@ const OptionsSchema<MapMatcherOptions>& MapMatcherOptions::schema() {
                 &O::max_search_radius_m)
         .number("min_texture", 0.0, 128.0, "grey levels", "map window or frame with a smaller stddev: featureless",
                 &O::min_texture)
+        .number("min_edge_strength", 0.0, 255.0, "grey levels/px",
+                "map window or frame with a smaller mean gradient magnitude: featureless", &O::min_edge_strength)
         .number("min_score", -1.0, 1.0, "", "normalised cross-correlation at the peak; below: no match",
                 &O::min_score)
         .number("min_peak_ratio", 1.0, 100.0, "", "best peak over its best rival (the highest local maximum beyond its half-peak radius); below: ambiguous",
                 &O::min_peak_ratio)
         .number("max_fix_stddev_m", 0.01, 1000.0, "m", "a fix whose larger sigma exceeds this is refused (flat peak)",
                 &O::max_fix_stddev_m)
+        .number("max_map_self_similarity", -1.0, 1.0, "",
+                "the map's ground at the fix fits elsewhere in the search better than this: repetitive",
+                &O::max_map_self_similarity)
         .number("peak_stddev_scale", 0.01, 1000.0, "", "scales the sigma the correlation peak's shape gives",
                 &O::peak_stddev_scale)
         .number("min_stddev_px", 0.0, 100.0, "px", "floor on the peak's sigma, each axis", &O::min_stddev_px)
-        .number("map_stddev_m", 0.0, 100.0, "m", "georeferencing error of the map, each horizontal axis",
+        .number("map_stddev_m", 0.0, 100.0, "m", "the map's error that differs from fix to fix, each horizontal axis (its error common to all fixes: yaw_fusion.map_fix.systematic_stddev_m)",
                 &O::map_stddev_m)
         .number("attitude_stddev_deg", 0.0, 10.0, "deg", "roll/pitch error projected on the ground",
                 &O::attitude_stddev_deg)

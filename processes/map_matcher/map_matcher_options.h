@@ -29,15 +29,23 @@ struct MapMatcherOptions {
   double min_search_radius_m = 10.0;   // ... but at least this ...
   double max_search_radius_m = 200.0;  // ... and a prior needing more is refused (too uncertain)
   double min_texture = 6.0;       // grey-level stddev of the map window and of the frame; below: featureless
+  // Mean edge strength (gradient magnitude, grey levels per pixel at gsd_m)
+  // of the map window and of the frame; below: featureless.
+  double min_edge_strength = 2.0;
   double min_score = 0.3;         // normalised cross-correlation of the edge pictures at the peak; below: no match
   double min_peak_ratio = 1.5;    // best peak over its best rival; below: ambiguous
-  double max_fix_stddev_m = 5.0;  // a peak so flat that the fix's larger sigma exceeds this: ambiguous
+  double max_fix_stddev_m = 5.0;
+  // The map's own ground at the fix correlated with the rest of the search
+  // window: its best rival over this, the map repeats itself there.
+  double max_map_self_similarity = 0.6;  // a peak so flat that the fix's larger sigma exceeds this: ambiguous
   // Covariance of a fix (map_fix_covariance.h): the peak's shape, the
   // inverse Hessian of the correlation surface, times (1 - score) / score
   // over the number of independent peak-sized cells in the template, times
   // peak_stddev_scale^2 (the misfit between map and frame is not white
-  // noise), at least min_stddev_px; plus the map's own georeferencing error
-  // and the attitude error projected on the ground (height x attitude_stddev_deg).
+  // noise), at least min_stddev_px; plus the map's own error that differs
+  // from fix to fix (map_stddev_m; the error common to all its fixes is yaw
+  // fusion's map_fix.systematic_stddev_m) and the attitude error projected
+  // on the ground (height x attitude_stddev_deg).
   double peak_stddev_scale = 6.0;
   double min_stddev_px = 0.15;
   double map_stddev_m = 0.3;

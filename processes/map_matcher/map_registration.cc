@@ -70,6 +70,17 @@ cv::Mat edge_strength(const cv::Mat& grey, double blur_px) {
   return magnitude;
 }
 
+double mean_edge_strength(const cv::Mat& edges) { return cv::mean(edges)[0]; }
+
+double map_self_similarity(const cv::Mat& window, cv::Point at, int size) {
+  if (size <= 0 || at.x < 0 || at.y < 0 || at.x + size > window.cols || at.y + size > window.rows) return -1.0;
+  const cv::Mat patch = window(cv::Rect(at.x, at.y, size, size)).clone();
+  cv::Mat surface;
+  cv::matchTemplate(window, patch, surface, cv::TM_CCOEFF_NORMED);
+  int within = 0;
+  return best_rival(surface, at, half_peak_radius(surface, at), &within);
+}
+
 double texture_stddev(const cv::Mat& grey, const cv::Mat& valid) {
   cv::Scalar mean, stddev;
   cv::meanStdDev(grey, mean, stddev, valid);
@@ -87,6 +98,7 @@ Registration register_template(const cv::Mat& window, const cv::Mat& templ) {
   if (!std::isfinite(best)) return out;
   out.found = true;
   out.score = best;
+  out.peak_px = peak;
   const int w = surface.cols, h = surface.rows;
   out.at_edge = peak.x == 0 || peak.y == 0 || peak.x == w - 1 || peak.y == h - 1;
   out.lobe_pixels = 0;

@@ -30,12 +30,22 @@ struct Registration {
   bool at_edge = false;
   Eigen::Matrix2d hessian = Eigen::Matrix2d::Zero();  // d2 score / d(col, row)^2 at the peak
   int lobe_pixels = 0;  // pixels within the half-peak radius
+  cv::Point peak_px;    // the peak's whole-pixel place on the surface: the template's top-left corner in the window
 };
 
 // `window` (CV_32F, size w x w) holds the template's ground when shifted by
 // at most (w - t) / 2 pixels; `templ` (CV_32F, t x t, t <= w). The shift is
 // of the template's centre from the window's centre.
 Registration register_template(const cv::Mat& window, const cv::Mat& templ);
+
+// How well the window's own ground at the peak (the template-sized square
+// with its top-left corner at `at`) fits elsewhere in the window: the best
+// rival of its correlation with the whole window, chosen as for the peak's
+// rival. Near 1 where the map repeats itself within the search (fields in
+// rows, a copy of the same ground): one period fits the frame as well as
+// another whatever the frame's own correlation says. -1 when the square does
+// not fit in the window.
+double map_self_similarity(const cv::Mat& window, cv::Point at, int size);
 
 // What is matched: the gradient magnitude of the grey values smoothed by a
 // Gaussian of `blur_px`. A map flown in another season keeps the ground's
@@ -44,6 +54,11 @@ Registration register_template(const cv::Mat& window, const cv::Mat& templ);
 // on simulated maps the raw grey values of frame and map correlated at 0.04
 // where their gradient magnitudes did at 0.42 (docs/maps.md).
 cv::Mat edge_strength(const cv::Mat& grey, double blur_px = 0.8);
+
+// Mean of an edge picture: the ground's edge strength in grey levels per
+// pixel. Smooth shading of relief and a weak texture under the camera's
+// noise give a fraction of what field boundaries, roads and hedges give.
+double mean_edge_strength(const cv::Mat& edges);
 
 // Standard deviation of the grey values where `valid` is set (all if empty).
 double texture_stddev(const cv::Mat& grey, const cv::Mat& valid = cv::Mat());

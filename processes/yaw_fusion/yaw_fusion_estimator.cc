@@ -822,7 +822,13 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
   r << fix.covariance_ne[0][0], fix.covariance_ne[0][1], fix.covariance_ne[1][0], fix.covariance_ne[1][1];
   const Eigen::Vector2d innovation = z - at->position;
   const Eigen::Matrix2d prior = at->covariance;
-  const Eigen::Matrix2d s = prior + r;
+  const double systematic = options_.map_fix_systematic_stddev_m;
+  const Eigen::Matrix2d bias = systematic * systematic * Eigen::Matrix2d::Identity();
+  const Eigen::Matrix2d cross = map_error_cross_;
+  // Position error e = estimate - truth, the fix z = truth + b + v: the
+  // innovation is -e_f + b + v, so cov(e, innovation) = C - P_f.
+  const Eigen::Matrix2d m = prior - cross;
+  const Eigen::Matrix2d s = prior - cross - cross.transpose() + bias + r;
   const Eigen::Matrix2d s_inverse = s.inverse();
   const double distance = std::sqrt(std::max(0.0, innovation.dot(s_inverse * innovation)));
   if (!(distance <= options_.map_fix_gate_sigma)) {
@@ -833,12 +839,15 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
     note_problem(utime_label("MAP_FIX", fix.utime) + text);
     return pose_t::FLAG_MAP_FIX_REJECTED;
   }
-  const Eigen::Vector2d correction = prior * s_inverse * innovation;
+  const Eigen::Matrix2d gain = m * s_inverse;
+  const Eigen::Vector2d correction = gain * innovation;
   const Eigen::Matrix2d now = filter_.reported_position_covariance().topLeftCorner<2, 2>();
-  Eigen::Matrix2d after = now - prior * s_inverse * prior;
+  Eigen::Matrix2d after = now - gain * m.transpose();
+  after = 0.5 * (after + after.transpose());
   // The motion since the frame is independent of the error at it, so
   // `now` >= `prior` and `after` stays positive; guard against rounding.
-  if (!(after.determinant() > 0.0 && after(0, 0) > 0.0)) after = (now.inverse() + r.inverse()).inverse();
+  if (!(after.determinant() > 0.0 && after(0, 0) > 0.0)) after = (now.inverse() + (r + bias).inverse()).inverse();
+  map_error_cross_ = (Eigen::Matrix2d::Identity() - gain) * cross + gain * bias;
   filter_.apply_horizontal_fix(correction, after);
   const Eigen::Vector3d shift(correction.x(), correction.y(), 0.0);
   for (PublishedPose& p : published_) {

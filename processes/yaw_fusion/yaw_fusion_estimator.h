@@ -29,8 +29,13 @@
 // x_f and reported horizontal covariance P_f, is applied at the first pose at
 // or after t_f + map_fix.apply_delay_s as a delayed measurement: with the
 // motion since t_f independent of the error at t_f, the position now moves by
-// P_f S^-1 (z - x_f) and its covariance loses P_f S^-1 P_f, S = P_f + R
-// (R the fix's covariance). A fix whose innovation is beyond
+// M S^-1 (z - x_f) and its covariance loses M S^-1 M', M = P_f - C,
+// S = P_f - C - C' + B + R (R the fix's covariance). B is the map's error
+// common to all its fixes (map_fix.systematic_stddev_m^2 each axis), kept as
+// a consider parameter (Schmidt): never estimated, but C, the position
+// error's covariance with it, is carried from fix to fix (C <- (I - K) C + K B,
+// K = M S^-1), so that a thousand fixes do not average the map's own error
+// away. A fix whose innovation is beyond
 // map_fix.gate_sigma (Mahalanobis) is rejected. The pose it is applied at
 // (or rejected at) carries FLAG_MAP_FIX_APPLIED (FLAG_MAP_FIX_REJECTED).
 //
@@ -242,6 +247,9 @@ class YawFusionEstimator {
     Eigen::Matrix2d covariance;
   };
   std::deque<PublishedPose> published_;
+  // Covariance of the horizontal position error with the map's systematic
+  // error (the consider parameter of the map fixes): zero until a fix.
+  Eigen::Matrix2d map_error_cross_ = Eigen::Matrix2d::Zero();
 };
 
 }  // namespace nadir

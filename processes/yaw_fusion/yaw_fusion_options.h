@@ -103,6 +103,11 @@ struct YawFusionOptions {
   bool map_fix_enabled = true;
   double map_fix_apply_delay_s = 0.5;
   double map_fix_gate_sigma = 4.0;
+  // The map's error common to all its fixes (its georeferencing, the shading
+  // of another sun): fixes are independent of each other only beyond it, so
+  // the horizontal sigma after a fix stays at least this, each axis (or at
+  // what it was before the fix, when smaller).
+  double map_fix_systematic_stddev_m = 0.5;
 
   // camera.time_offset_us (INS and altimeter read at a frame's exposure time,
   // stamp + offset; poses keep the stamp), altimeter.range_scale/range_bias_m

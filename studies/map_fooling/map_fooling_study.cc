@@ -10,7 +10,11 @@
 //               fits as well as the truth;
 //   decoy       the true map with a copy of the frame's own ground pasted a
 //               template's width or more away, inside the search: two places
-//               fit equally (flights low enough, priors wide enough for it).
+//               fit equally (flights low enough, priors wide enough for it);
+//   featureless the true map over the world's featureless area (contrast 0.08,
+//               the relief's shading kept, as in the featureless_crossing
+//               profile), where fixes are to be refused, not counted as wrong
+//               when they come.
 // An accepted fix is wrong when its error against the truth exceeds 3 sigma
 // (Mahalanobis distance of its own covariance). Prints a JSON summary and
 // writes one CSV row per attempt.
@@ -49,12 +53,15 @@ using namespace nadir;
 
 const char* kProfile = R"(
 name: map_fooling
-distance_m: 1600
+distance_m: 2800
 speed_mps: 40
 altitude_agl_m: 250
 initial_heading_deg: 0
 reference: {latitude_deg: 40.4406, longitude_deg: -79.9959, height_m: 300.0}
-terrain: {relief_scale: 1.5}
+terrain:
+  relief_scale: 1.5
+  featureless:
+    - {north_m: [1700, 2700], east_m: [-600, 600], contrast: 0.08, shore_m: 100}
 legs:
   - {type: straight}
 )";
@@ -106,9 +113,13 @@ Crop crop_around(const map::SimulatedMap& m, const map::LocalProjection& origin,
 // A frame of level ground that looks like `ground` (a crop whose pixel
 // (centre_row, centre_col) is below the camera), seen from `height` with this
 // attitude: the camera's rays meet the plane, the crop is sampled there
-// (bilinear), plus 2 DN of noise.
+// (bilinear), plus 2 DN of noise. `grid_from_local` turns local (north,
+// east) metres into the crop's grid (northing, easting) metres: the map
+// grid's north is not true north (UTM grid convergence), and the matcher
+// honours the difference.
 std::vector<uint8_t> render_flat(const CameraModel& camera, const Crop& ground, double height,
-                                 const Eigen::Matrix3d& world_from_body, std::mt19937_64* rng) {
+                                 const Eigen::Matrix3d& world_from_body, const Eigen::Matrix2d& grid_from_local,
+                                 std::mt19937_64* rng) {
   std::vector<cv::Point2f> pixels;
   for (int v = 0; v < camera.height; ++v)
     for (int u = 0; u < camera.width; ++u) pixels.emplace_back(static_cast<float>(u), static_cast<float>(v));
@@ -120,7 +131,8 @@ std::vector<uint8_t> render_flat(const CameraModel& camera, const Crop& ground, 
   for (size_t i = 0; i < rays.size(); ++i) {
     const Eigen::Vector3d w = world_from_camera * Eigen::Vector3d(rays[i].x, rays[i].y, 1.0);
     if (w.z() <= 0.0) continue;
-    const double north = height * w.x() / w.z(), east = height * w.y() / w.z();
+    const Eigen::Vector2d grid = grid_from_local * Eigen::Vector2d(height * w.x() / w.z(), height * w.y() / w.z());
+    const double north = grid.x(), east = grid.y();
     const double row = ground.centre_row + 0.5 - north / gsd - 0.5, col = ground.centre_col + 0.5 + east / gsd - 0.5;
     const int r = static_cast<int>(std::floor(row)), c = static_cast<int>(std::floor(col));
     if (r < 0 || c < 0 || r + 1 >= ground.grid.height || c + 1 >= ground.grid.width) continue;
@@ -135,16 +147,19 @@ std::vector<uint8_t> render_flat(const CameraModel& camera, const Crop& ground, 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"The map matcher against maps built to fool it (studies/map_fooling/README.md)",
+  CLI::App app{"The map matcher against maps built to fool it (studies/README.md, docs/research/2026-12-map-fixes.md)",
                "nadir_study_map_fooling"};
   int attempts = 10000;
   uint64_t seed = 21;
   std::string out = "logs/map_fooling";
   bool json_only = false;
-  app.add_option("--attempts", attempts, "fix attempts in all (split over the four maps)")->capture_default_str();
+  std::vector<std::string> only;
+  app.add_option("--attempts", attempts, "fix attempts in all (split over the five kinds)")->capture_default_str();
   app.add_option("--seed", seed, "world seed (the wrong place is seed + 1000)")->capture_default_str();
   app.add_option("--out", out, "output folder (maps, attempts.csv, summary.json)")->capture_default_str();
   app.add_flag("--json", json_only, "no progress bar");
+  app.add_option("--kinds", only, "only these kinds, in turn (true, wrong_place, repetitive, decoy, featureless)")
+      ->check(CLI::IsMember({"true", "wrong_place", "repetitive", "decoy", "featureless"}));
   CLI11_PARSE(app, argc, argv);
 
   const Config config = Config::load_file(default_config_path());
@@ -181,19 +196,28 @@ int main(int argc, char** argv) {
   for (const Case& c : cases) {
     matchers.emplace_back(options, camera_model, map::ReferenceMap::open(c.dir + "/orthophoto.tif", c.dir + "/dem.tif"));
   }
-  const int kinds = 4;  // the two maps above, then per attempt: repetitive ground, a decoy
+  const int kinds = 5;  // the two maps above, then per attempt: repetitive ground, a decoy; the true map, featureless
   std::vector<Tally> tally(kinds);
-  const char* names[kinds] = {"true", "wrong_place", "repetitive", "decoy"};
+  const char* names[kinds] = {"true", "wrong_place", "repetitive", "decoy", "featureless"};
+  std::vector<int> selected;
+  for (int k = 0; k < kinds; ++k)
+    if (only.empty() || std::find(only.begin(), only.end(), names[k]) != only.end()) selected.push_back(k);
   std::mt19937_64 rng(seed * 7919 + 1);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::ofstream csv(out + "/attempts.csv");
-  csv << "map,north,east,height_m,prior_sigma_m,accepted,refusal,error_m,mahalanobis,sigma_m,score,peak_ratio\n";
+  csv << "map,north,east,height_m,prior_sigma_m,accepted,refusal,error_m,mahalanobis,sigma_m,score,peak_ratio,"
+         "frame_edge,map_edge,map_self_similarity\n";
   ProgressBar progress("map_fooling", attempts, !json_only && stderr_is_terminal());
   for (int i = 0; i < attempts; ++i) {
-    const int kind = i % kinds;
+    const int kind = selected[static_cast<size_t>(i) % selected.size()];
     // A pose over the flight's ground: along the 1.6 km track, up to 250 m aside.
-    const double north = 100.0 + 1400.0 * uniform(rng), east = -250.0 + 500.0 * uniform(rng);
+    // The featureless kind: inside the area, the footprint within its box.
+    double north = 100.0 + 1400.0 * uniform(rng), east = -250.0 + 500.0 * uniform(rng);
+    if (kind == 4) {
+      north = 2000.0 + 400.0 * (north - 100.0) / 1400.0;
+      east = 0.6 * east;
+    }
     double height = 150.0 + 200.0 * uniform(rng);
     if (kind == 3) height = 120.0 + 80.0 * uniform(rng);  // low: a template narrower than the search
     const double template_m = options.template_fraction * nadir_square_side_m(camera_model, height);
@@ -219,7 +243,11 @@ int main(int argc, char** argv) {
           crop.ortho[to] = source[static_cast<size_t>(r % period) * crop.grid.width + (c % period)];
           crop.dem[to] = level;
         }
-      pixels = render_flat(camera_model, crop, height, world_from_body, &rng);
+      const Eigen::Vector2d at = origin.utm(north, east);
+      Eigen::Matrix2d grid_from_local;  // rows (northing, easting), columns (north, east)
+      const Eigen::Vector2d d_north = origin.utm(north + 1.0, east) - at, d_east = origin.utm(north, east + 1.0) - at;
+      grid_from_local << d_north.y(), d_east.y(), d_north.x(), d_east.x();
+      pixels = render_flat(camera_model, crop, height, world_from_body, grid_from_local, &rng);
     } else {
       renderer.render({north, east, -(terrain.height(north, east) + height)},
                       world_from_body * camera.body_from_camera, static_cast<uint64_t>(i), &pixels);
@@ -249,8 +277,8 @@ int main(int argc, char** argv) {
     }
     const auto start = std::chrono::steady_clock::now();
     FixAttempt a;
-    if (kind < 2) {
-      a = matchers[static_cast<size_t>(kind)].attempt(image, pose, origin);
+    if (kind < 2 || kind == 4) {
+      a = matchers[kind == 4 ? 0 : static_cast<size_t>(kind)].attempt(image, pose, origin);
     } else {
       const std::string dir = write(names[kind], crop.grid, crop.ortho, crop.dem);
       const MapMatcher per_attempt(options, camera_model,
@@ -277,10 +305,11 @@ int main(int argc, char** argv) {
     } else {
       ++t.refusals[fix_refusal_name(a.refusal)];
     }
-    char row[400];
-    std::snprintf(row, sizeof(row), "%s,%.2f,%.2f,%.1f,%.2f,%d,%s,%.3f,%.3f,%.3f,%.4f,%.3f\n", names[kind], north, east,
-                  height, sigma, a.refusal == FixRefusal::kNone ? 1 : 0, fix_refusal_name(a.refusal), error,
-                  mahalanobis, fix_sigma, a.fix.score, a.fix.peak_ratio);
+    char row[500];
+    std::snprintf(row, sizeof(row), "%s,%.2f,%.2f,%.1f,%.2f,%d,%s,%.3f,%.3f,%.3f,%.4f,%.3f,%.3f,%.3f,%.4f\n",
+                  names[kind], north, east, height, sigma, a.refusal == FixRefusal::kNone ? 1 : 0,
+                  fix_refusal_name(a.refusal), error, mahalanobis, fix_sigma, a.fix.score, a.fix.peak_ratio,
+                  a.frame_edge_strength, a.map_edge_strength, a.map_self_similarity);
     csv << row;
     progress.update(i + 1);
   }

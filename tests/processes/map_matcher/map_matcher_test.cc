@@ -4,6 +4,8 @@
 // truth within its covariance; maps and frames it must not trust are refused.
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
+
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -149,7 +151,18 @@ TEST_F(MapMatcherTest, RefusesWhatItCannotTrust) {
   std::fill(grey.data.begin(), grey.data.end(), uint8_t{90});
   const FixAttempt a = m.attempt(grey, pose(200.0, 100.0, rpy, 0, 0, 5.0), origin());
   EXPECT_EQ(a.refusal, FixRefusal::kFeatureless);
-  EXPECT_NE(a.why.find("min_texture"), std::string::npos) << a.why;
+  EXPECT_NE(a.why.find("min_texture"), std::string::npos) << a.why;  // Only smooth shading, as of relief under snow: grey levels spread over
+  // 40 levels but hardly an edge.
+  image_t smooth = frame;
+  for (int v = 0; v < smooth.height; ++v)
+    for (int u = 0; u < smooth.width; ++u)
+      smooth.data[static_cast<size_t>(v) * smooth.stride + u] =
+          static_cast<uint8_t>(std::lround(128 + 20 * std::sin(2 * M_PI * (u + 0.3 * v) / 900.0)));
+  const FixAttempt s = m.attempt(smooth, pose(200.0, 100.0, rpy, 0, 0, 5.0), origin());
+  EXPECT_EQ(s.refusal, FixRefusal::kFeatureless) << s.why;
+  EXPECT_NE(s.why.find("min_edge_strength"), std::string::npos) << s.why;
+  EXPECT_LT(s.frame_edge_strength, m.options().min_edge_strength);
+  EXPECT_GT(s.map_edge_strength, m.options().min_edge_strength);
 }
 
 TEST_F(MapMatcherTest, MapHolesAreRefusedNeverMatched) {

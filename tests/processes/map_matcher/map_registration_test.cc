@@ -67,6 +67,46 @@ TEST(MapRegistration, RepetitiveGroundIsAmbiguous) {
   EXPECT_LT(reg.peak_ratio, 1.1);
 }
 
+TEST(MapRegistration, MapSelfSimilarityFindsRepeatsWithinTheWindow) {
+  // Unique ground: the square at any place fits nowhere else.
+  const cv::Mat unique = edge_strength(texture(161, 4));
+  EXPECT_LT(map_self_similarity(unique, cv::Point(30, 30), 101), 0.5);
+  EXPECT_LT(map_self_similarity(unique, cv::Point(10, 45), 101), 0.5);
+  // A window tiled with a 20 px period: the square fits one period away as
+  // well as where it is.
+  const cv::Mat tile = texture(20, 5, 1.5);
+  cv::Mat tiled(161, 161, CV_32F);
+  for (int r = 0; r < tiled.rows; ++r)
+    for (int c = 0; c < tiled.cols; ++c) tiled.at<float>(r, c) = tile.at<float>(r % 20, c % 20);
+  EXPECT_GT(map_self_similarity(edge_strength(tiled), cv::Point(30, 30), 101), 0.99);
+  // A copy of one square pasted elsewhere in unique ground.
+  cv::Mat copied = texture(201, 6);
+  copied(cv::Rect(10, 10, 60, 60)).copyTo(copied(cv::Rect(120, 100, 60, 60)));
+  EXPECT_GT(map_self_similarity(edge_strength(copied), cv::Point(10, 10), 60), 0.9);  // edges differ on the paste's border
+  // A square that does not fit in the window.
+  EXPECT_EQ(map_self_similarity(unique, cv::Point(100, 100), 101), -1.0);
+}
+
+TEST(MapRegistration, EdgeStrengthOfWeakAndSmoothGround) {
+  // Strong edges: a step of 100 grey levels every 20 px.
+  cv::Mat steps(100, 100, CV_32F);
+  for (int r = 0; r < steps.rows; ++r)
+    for (int c = 0; c < steps.cols; ++c) steps.at<float>(r, c) = (c / 20) % 2 ? 200.0f : 100.0f;
+  // Smooth shading: a 30 grey-level sinusoid over 400 px, a larger grey-level
+  // stddev than a weak texture has but hardly any edge.
+  cv::Mat shading(100, 100, CV_32F);
+  for (int r = 0; r < shading.rows; ++r)
+    for (int c = 0; c < shading.cols; ++c)
+      shading.at<float>(r, c) = static_cast<float>(128 + 30 * std::sin(2 * M_PI * (c + r) / 400.0));
+  const double strong = mean_edge_strength(edge_strength(steps));
+  const double smooth = mean_edge_strength(edge_strength(shading));
+  EXPECT_GT(strong, 3.0);  // 100 grey levels over 4 steps per 100 px
+  EXPECT_GT(texture_stddev(shading), 6.0);
+  EXPECT_LT(smooth, 0.6);  // at most 30 x 2 pi / 400 x sqrt(2) = 0.67, 0.43 on average
+  // Level ground: no edge at all.
+  EXPECT_NEAR(mean_edge_strength(edge_strength(cv::Mat(50, 50, CV_32F, cv::Scalar(90)))), 0.0, 1e-6);
+}
+
 TEST(MapRegistration, TextureStddevOverValidPixelsOnly) {
   cv::Mat grey(10, 10, CV_32F, cv::Scalar(100));
   grey(cv::Rect(0, 0, 5, 10)) = 200;
