@@ -34,10 +34,10 @@ struct MapMatcherOptions {
   double min_edge_strength = 2.0;
   double min_score = 0.3;         // normalised cross-correlation of the edge pictures at the peak; below: no match
   double min_peak_ratio = 1.5;    // best peak over its best rival; below: ambiguous
-  double max_fix_stddev_m = 5.0;
+  double max_fix_stddev_m = 5.0;  // a peak so flat that the fix's larger sigma exceeds this: ambiguous
   // The map's own ground at the fix correlated with the rest of the search
   // window: its best rival over this, the map repeats itself there.
-  double max_map_self_similarity = 0.6;  // a peak so flat that the fix's larger sigma exceeds this: ambiguous
+  double max_map_self_similarity = 0.6;
   // Covariance of a fix (map_fix_covariance.h): the peak's shape, the
   // inverse Hessian of the correlation surface, times (1 - score) / score
   // over the number of independent peak-sized cells in the template, times

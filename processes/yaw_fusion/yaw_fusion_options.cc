@@ -103,7 +103,7 @@ const OptionsSchema<YawFusionOptions>& YawFusionOptions::schema() {
         .number("map_fix.gate_sigma", 1.0, 100.0, "",
                 "reject a fix whose innovation exceeds this Mahalanobis distance", &O::map_fix_gate_sigma)
         .number("map_fix.systematic_stddev_m", 0.0, 100.0, "m",
-                "the map's error common to all its fixes: the sigma after a fix stays at least this, each axis",
+                "the map's error common to all its fixes, each axis: carried, never averaged away by many fixes",
                 &O::map_fix_systematic_stddev_m)
         .rule("frame_time_tolerance_s", [](const O& o) { return o.frame_time_tolerance_s < 0.5 / o.frame_rate_hz; },
               "must be below half a frame period (camera.rate_hz)")

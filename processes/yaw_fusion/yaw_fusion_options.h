@@ -104,9 +104,8 @@ struct YawFusionOptions {
   double map_fix_apply_delay_s = 0.5;
   double map_fix_gate_sigma = 4.0;
   // The map's error common to all its fixes (its georeferencing, the shading
-  // of another sun): fixes are independent of each other only beyond it, so
-  // the horizontal sigma after a fix stays at least this, each axis (or at
-  // what it was before the fix, when smaller).
+  // of another sun), each horizontal axis: fixes are independent of each
+  // other only beyond it. Carried as a consider parameter (yaw_fusion_estimator.h).
   double map_fix_systematic_stddev_m = 0.5;
 
   // camera.time_offset_us (INS and altimeter read at a frame's exposure time,
