@@ -61,7 +61,8 @@ function(nadir_program_targets)
 endfunction()
 
 # nadir_test(NAME SOURCES ... DEPS ... [LABELS ...] [TIMEOUT s]): a GoogleTest
-# executable registered with ctest, run with the checkout as working directory.
+# executable registered with ctest, run with the checkout as working directory
+# (TIMEOUT doubled in the ASan/UBSan build).
 function(nadir_test name)
   cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
@@ -71,6 +72,11 @@ function(nadir_test name)
   nadir_target_defaults(${name})
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 300)
+  endif()
+  if(NADIR_SANITIZE)
+    # A timeout is there to stop a hung suite, not to time it: machines of
+    # this kind differ up to 3x, and ASan/UBSan slows the solvers 10-30x.
+    math(EXPR ARG_TIMEOUT "${ARG_TIMEOUT} * 2")
   endif()
   add_test(NAME ${name} COMMAND ${name} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
   set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}"
