@@ -37,13 +37,13 @@ void for_track(const EvalResult& r, bool estimate, const std::function<void(doub
 void write_series_csv(const EvalResult& r, const std::string& path) {
   std::ofstream out = open_out(path);
   out << "t_s,distance_m,est_n,est_e,est_d,true_n,true_e,true_d,error_h_m,error_v_m,vel_err_n,vel_err_e,vel_err_d,"
-         "yaw_error_deg,flags,sigma_h_m,sigma_n_m,sigma_e_m,sigma_yaw_deg,nees_h,nees_yaw,protection_level_m,sigma_d_m\n";
+         "yaw_error_deg,flags,sigma_h_m,sigma_n_m,sigma_e_m,sigma_yaw_deg,nees_h,nees_yaw,protection_level_m,sigma_d_m,cov_ne_m2\n";
   for (const EvalSample& s : r.samples) {
     out << s.t_s << "," << s.distance_m << "," << s.estimate[0] << "," << s.estimate[1] << "," << s.estimate[2] << ","
         << s.truth[0] << "," << s.truth[1] << "," << s.truth[2] << "," << s.error_h_m << "," << s.error_v_m << ","
         << s.velocity_error[0] << "," << s.velocity_error[1] << "," << s.velocity_error[2] << "," << s.yaw_error_deg
         << "," << s.flags << "," << s.sigma_h_m << "," << s.sigma_n_m << "," << s.sigma_e_m << "," << s.sigma_yaw_deg
-        << "," << s.nees_h << "," << s.nees_yaw << "," << s.protection_level_m << "," << s.sigma_d_m << "\n";
+        << "," << s.nees_h << "," << s.nees_yaw << "," << s.protection_level_m << "," << s.sigma_d_m << "," << s.cov_ne_m2 << "\n";
   }
 }
 

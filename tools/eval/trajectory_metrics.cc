@@ -69,12 +69,12 @@ EvalResult evaluate(const EvalData& data) {
     s.sigma_n_m = std::sqrt(std::max(0.0, p.position_covariance[0][0]));
     s.sigma_e_m = std::sqrt(std::max(0.0, p.position_covariance[1][1]));
     s.sigma_d_m = std::sqrt(std::max(0.0, p.position_covariance[2][2]));
+    s.cov_ne_m2 = 0.5 * (p.position_covariance[0][1] + p.position_covariance[1][0]);
     s.sigma_yaw_deg = rad_to_deg(std::sqrt(std::max(0.0, p.yaw_variance)));
     // The first pose is the origin (error and covariance zero): no statement.
     if (&p != first) {
       s.nees_h = horizontal_nees(s.estimate[0] - s.truth[0], s.estimate[1] - s.truth[1], p.position_covariance[0][0],
-                                 0.5 * (p.position_covariance[0][1] + p.position_covariance[1][0]),
-                                 p.position_covariance[1][1]);
+                                 s.cov_ne_m2, p.position_covariance[1][1]);
       s.nees_yaw = scalar_nees(deg_to_rad(s.yaw_error_deg), p.yaw_variance);
       nees_h.add(s.nees_h);
       nees_yaw.add(s.nees_yaw);

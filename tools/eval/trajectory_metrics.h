@@ -28,6 +28,7 @@ struct EvalSample {
   double sigma_h_m = 0;                // reported: sqrt of the horizontal position variances
   double sigma_n_m = 0, sigma_e_m = 0;  // reported, per axis
   double sigma_d_m = 0;                // reported: sqrt of the down variance
+  double cov_ne_m2 = 0;                // reported north-east covariance
   double sigma_yaw_deg = 0;            // reported: sqrt of the yaw variance
   double nees_h = -1;                  // horizontal NEES (chi-square, 2 dof); < 0: undefined
   double nees_yaw = -1;                // yaw NEES (1 dof)

@@ -159,6 +159,47 @@ TEST(Eval, TruthFromASeparateLog) {
   EXPECT_NE(std::string(geo.begin(), geo.end()).find("LineString"), std::string::npos);
 }
 
+// A reported covariance with a north-east term: series.csv carries it
+// (cov_ne_m2), and the horizontal NEES is the 2-D one it implies.
+TEST(Eval, SeriesCarriesTheNorthEastCovariance) {
+  testing::TempDir dir("eval");
+  {
+    LogWriter w(dir.file("flight.lcmlog"));
+    const int64_t t0 = 1767225600000000;
+    for (int i = 0; i <= 200; ++i) {
+      const int64_t utime = t0 + i * 100000;
+      ground_truth_t g{};
+      g.utime = utime;
+      g.kind = ground_truth_t::KIND_INS;
+      g.position_ned[0] = 2.0 * i;
+      g.position_ned[2] = -300.0;
+      g.height_agl_m = 300.0;
+      put(w, channels::kGroundTruth, g);
+      pose_t p{};
+      p.utime = utime;
+      p.position_ned[0] = 2.0 * i + (i > 0 ? 1.0 : 0.0);  // 1 m north, 1 m east off after the origin
+      p.position_ned[1] = i > 0 ? 1.0 : 0.0;
+      p.position_covariance[0][0] = 4.0;
+      p.position_covariance[1][1] = 1.0;
+      p.position_covariance[0][1] = p.position_covariance[1][0] = 1.5;
+      put(w, channels::kPose, p);
+    }
+    w.flush();
+  }
+  const EvalResult r = evaluate(load_eval_data(dir.file("flight.lcmlog"), ""));
+  const EvalSample& last = r.samples.back();
+  EXPECT_DOUBLE_EQ(last.cov_ne_m2, 1.5);
+  // e = (1, 1), P = [[4, 1.5], [1.5, 1]]: e' P^-1 e = (1 - 3 + 4) / (4 - 2.25).
+  EXPECT_NEAR(last.nees_h, 2.0 / 1.75, 1e-12);
+  write_series_csv(r, dir.file("series.csv"));
+  std::ifstream in(dir.file("series.csv"));
+  std::string header, row, final_row;
+  std::getline(in, header);
+  while (std::getline(in, row)) final_row = row;
+  EXPECT_EQ(header.substr(header.rfind(',') + 1), "cov_ne_m2");
+  EXPECT_EQ(final_row.substr(final_row.rfind(',') + 1), "1.5");
+}
+
 TEST(Eval, ACaptureHoleAndATruncatedLogAreReported) {
   testing::TempDir dir("eval");
   write_flight(dir.file("clean.lcmlog"), true);
