@@ -26,11 +26,17 @@ const OptionsSchema<DeltaUncertaintyOptions>& DeltaUncertaintyOptions::schema() 
         .number("range_scale_stddev", 0.0, 0.5, "", "systematic altimeter scale error (fraction, 1 sigma)",
                 &O::range_scale_stddev)
         .number("relief_walk_along_m_per_sqrt_m", 0.0, 10.0, "m/sqrt(m)",
-                "relief model error along the step, random walk in the distance flown",
+                "relief model error of the one-plane variants along the step, random walk in the distance flown",
                 &O::relief_walk_along_m_per_sqrt_m)
         .number("relief_walk_across_m_per_sqrt_m", 0.0, 10.0, "m/sqrt(m)",
-                "relief model error across the step, random walk in the distance flown",
+                "relief model error of the one-plane variants across the step, random walk in the distance flown",
                 &O::relief_walk_across_m_per_sqrt_m)
+        .number("feature_depth_walk_along_m_per_sqrt_m", 0.0, 10.0, "m/sqrt(m)",
+                "feature_depth variant's model error along the step, random walk in the distance flown",
+                &O::feature_depth_walk_along_m_per_sqrt_m)
+        .number("feature_depth_walk_across_m_per_sqrt_m", 0.0, 10.0, "m/sqrt(m)",
+                "feature_depth variant's model error across the step, random walk in the distance flown",
+                &O::feature_depth_walk_across_m_per_sqrt_m)
         .number("dyaw_model_stddev_deg", 0.0, 10.0, "deg", "model error of each heading change",
                 &O::dyaw_model_stddev_deg)
         .number("heading_drift_deg_per_s_per_deg", 0.0, 10.0, "deg/s per deg",

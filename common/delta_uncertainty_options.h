@@ -33,8 +33,22 @@ struct DeltaUncertaintyOptions {
   // Checked on seeds 2421-2427, not used here. README § "Does the reported
   // covariance mean anything?". Describe the terrain flown: rougher ground
   // needs more.
+  // These two are the one-plane variants' (paper, level_ground, homography,
+  // flow). feature_depth solves each tracked feature's own depth, and its
+  // error grows far more slowly: its walks are the feature_depth_walk_*
+  // below.
   double relief_walk_along_m_per_sqrt_m = 0.068;
   double relief_walk_across_m_per_sqrt_m = 0.012;
+  // The feature_depth variant's model error, a random walk in the distance
+  // flown like the above. Fitted to how the VO's own translation error (each
+  // pair's error in its own level frame, so without the heading) grows over
+  // windows of 0.5-8 km of six whole simulated flights, test1 and test2 x
+  // seeds 701-704 / 701-702: the slope of its mean square against the
+  // distance, along 0.0060 and 0.0033, across 0.0015 and 0.0010 m/sqrt(m)
+  // (studies/consistency/vo_error_growth.py). With paper's 0.068 / 0.012 the
+  // reported sigma of a whole Table 1 flight was 3-5x its error.
+  double feature_depth_walk_along_m_per_sqrt_m = 0.006;
+  double feature_depth_walk_across_m_per_sqrt_m = 0.002;
   double dyaw_model_stddev_deg = 0.005;
   // The heading change chained over many deltas drifts when the INS
   // roll/pitch is noisy: the solver's fit of the ground tilt is biased by the

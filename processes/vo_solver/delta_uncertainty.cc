@@ -186,12 +186,16 @@ Eigen::Matrix<double, kSensorInputs, kSensorInputs> sensor_input_covariance(cons
   return variance.asDiagonal();
 }
 
-Eigen::Matrix2d relief_walk_covariance(const Eigen::Vector2d& step, const UncertaintyOptions& options) {
+Eigen::Matrix2d relief_walk_covariance(const Eigen::Vector2d& step, Variant variant,
+                                       const UncertaintyOptions& options) {
   const double length = step.norm();
   if (!(length > 0.0) || !std::isfinite(length)) return Eigen::Matrix2d::Zero();
   const Eigen::Vector2d along = step / length;
   const Eigen::Matrix2d along_part = along * along.transpose();
-  const double a = options.relief_walk_along_m_per_sqrt_m, c = options.relief_walk_across_m_per_sqrt_m;
+  const bool own_depths = variant == Variant::kFeatureDepth;
+  const double a = own_depths ? options.feature_depth_walk_along_m_per_sqrt_m : options.relief_walk_along_m_per_sqrt_m;
+  const double c =
+      own_depths ? options.feature_depth_walk_across_m_per_sqrt_m : options.relief_walk_across_m_per_sqrt_m;
   return length * (a * a * along_part + c * c * (Eigen::Matrix2d::Identity() - along_part));
 }
 
@@ -221,7 +225,7 @@ Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, co
                levelling_yaw_variance_rad2(pair.curr_pitch, rp_stddev);
   // `flow` takes its heading change from the INS: both frames' yaw noise.
   if (solver.variant == Variant::kFlow) cov(3, 3) += 2 * variance_rad2(options.yaw_stddev_deg);
-  cov.topLeftCorner<2, 2>() += relief_walk_covariance(est.translation.head<2>(), options);
+  cov.topLeftCorner<2, 2>() += relief_walk_covariance(est.translation.head<2>(), solver.variant, options);
   cov(3, 3) += variance_rad2(options.dyaw_model_stddev_deg);
   return 0.5 * (cov + cov.transpose());
 }

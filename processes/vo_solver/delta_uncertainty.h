@@ -70,10 +70,12 @@ Eigen::Matrix<double, kSensorInputs, kSensorInputs> sensor_input_covariance(cons
 Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, const SolverOptions& solver,
                                   const UncertaintyOptions& options);
 
-// The relief model error of one delta with horizontal translation `step`
-// (level frame): the walks' variance per metre times its length, along and
-// across it.
-Eigen::Matrix2d relief_walk_covariance(const Eigen::Vector2d& step, const UncertaintyOptions& options);
+// The model error of one delta with horizontal translation `step` (level
+// frame): the walks' variance per metre times its length, along and across
+// it. The walks are the variant's: feature_depth_walk_* for feature_depth,
+// relief_walk_* for the one-plane variants.
+Eigen::Matrix2d relief_walk_covariance(const Eigen::Vector2d& step, Variant variant,
+                                       const UncertaintyOptions& options);
 
 // The hook of vo_solver_node: adds sensor_covariance to est->covariance.
 void add_sensor_uncertainty(const FramePair& pair, const SolverOptions& solver, const UncertaintyOptions& options,

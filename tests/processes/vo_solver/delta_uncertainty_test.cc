@@ -260,9 +260,29 @@ TEST(DeltaUncertainty, ModelErrorTermsAlongTheStepAndOnTheHeading) {
   EXPECT_NEAR(added(3, 3), std::pow(deg_to_rad(0.005), 2), 1e-15);
   // Summed over the deltas of a straight line it is a random walk in the
   // distance: n steps of s metres give walk^2 * n * s whatever the frame rate.
-  EXPECT_NEAR(10 * relief_walk_covariance(Eigen::Vector2d(2.0, 0.0), with)(0, 0),
-              20 * relief_walk_covariance(Eigen::Vector2d(1.0, 0.0), with)(0, 0), 1e-15);
-  EXPECT_TRUE(relief_walk_covariance(Eigen::Vector2d::Zero(), with).isZero());
+  EXPECT_NEAR(10 * relief_walk_covariance(Eigen::Vector2d(2.0, 0.0), Variant::kPaper, with)(0, 0),
+              20 * relief_walk_covariance(Eigen::Vector2d(1.0, 0.0), Variant::kPaper, with)(0, 0), 1e-15);
+  EXPECT_TRUE(relief_walk_covariance(Eigen::Vector2d::Zero(), Variant::kPaper, with).isZero());
+}
+
+// feature_depth carries its own walks; the one-plane variants' do not touch it.
+TEST(DeltaUncertainty, FeatureDepthHasItsOwnModelError) {
+  UncertaintyOptions u;
+  u.relief_walk_along_m_per_sqrt_m = 0.05;
+  u.relief_walk_across_m_per_sqrt_m = 0.01;
+  u.feature_depth_walk_along_m_per_sqrt_m = 0.004;
+  u.feature_depth_walk_across_m_per_sqrt_m = 0.002;
+  const Eigen::Vector2d step(3.0, 4.0);  // 5 m
+  const Eigen::Vector2d along = step.normalized(), across(-along.y(), along.x());
+  for (const Variant v : {Variant::kPaper, Variant::kLevelGround, Variant::kHomography, Variant::kFlow}) {
+    const Eigen::Matrix2d c = relief_walk_covariance(step, v, u);
+    EXPECT_NEAR(along.dot(c * along), 0.05 * 0.05 * 5.0, 1e-15) << variant_name(v);
+    EXPECT_NEAR(across.dot(c * across), 0.01 * 0.01 * 5.0, 1e-15) << variant_name(v);
+  }
+  const Eigen::Matrix2d own = relief_walk_covariance(step, Variant::kFeatureDepth, u);
+  EXPECT_NEAR(along.dot(own * along), 0.004 * 0.004 * 5.0, 1e-15);
+  EXPECT_NEAR(across.dot(own * across), 0.002 * 0.002 * 5.0, 1e-15);
+  EXPECT_NEAR(across.dot(own * along), 0.0, 1e-15);
 }
 
 TEST(DeltaUncertainty, FlowVariantCarriesTheInsHeadingNoise) {
