@@ -3,8 +3,9 @@
 
 Usage: consistency_table.py [--json] [--plot PNG] NAME=DIR [NAME=DIR ...]
 
-Each DIR holds one folder per flight with nadir_eval's series.csv (e.g. the
-eval folders of a campaign, or of replays of cached simulator logs). Per set:
+Each DIR holds one folder per flight with nadir_eval's series.csv, or its
+eval/series.csv (a campaign's cells folder, or replays of cached simulator
+logs). Per set:
 
 - final pose: the NEES of each flight's last pose; over N independent flights
   N * mean is chi-square with N * dim degrees of freedom, so the mean has the
@@ -13,7 +14,10 @@ eval folders of a campaign, or of replays of cached simulator logs). Per set:
   test of Bar-Shalom et al.), the share of those time steps whose average is
   inside the same interval, and the share of single poses within the per-pose
   95 % bound (5.991 / 3.841);
-- protection level: share of poses whose horizontal error exceeded it.
+- protection level: share of poses whose horizontal error exceeded it, and
+  the 99th percentile of the levels over that of the errors (how wide it is);
+- the share of flights whose final NEES is inside the two-sided 95 % band of
+  chi-square(2), 0.05-7.38.
 --plot draws the flights' horizontal error over the reported 3 sigma and the
 average NEES against its interval."""
 import csv
@@ -29,6 +33,8 @@ def load(folder):
     flights = []
     for name in sorted(os.listdir(folder)):
         path = os.path.join(folder, name, "series.csv")
+        if not os.path.exists(path):  # a campaign's cell keeps its evaluation in eval/
+            path = os.path.join(folder, name, "eval", "series.csv")
         if not os.path.exists(path):
             continue
         with open(path) as f:
@@ -62,21 +68,34 @@ def summarise(flights):
           if r.get("protection_level_m", -1) >= 0]
     out["pl_exceeded_pct"] = 100.0 * sum(e > p for e, p in pl) / len(pl) if pl else float("nan")
     out["pl_samples"] = len(pl)
+    # One flight's final NEES against the two-sided 95 % band of chi-square(2).
+    lo1, hi1 = float(chi2.ppf(0.025, 2)), float(chi2.ppf(0.975, 2))
+    out["final_nees_h_in_band_pct"] = 100.0 * sum(lo1 <= rows[-1]["nees_h"] <= hi1 for _, rows in flights) / n
+    # How wide the protection level is: the 99th percentile of the levels
+    # over the poses against the 99th percentile of their horizontal errors.
+    if pl:
+        k = min(len(pl) - 1, int(0.99 * len(pl)))
+        p99_error, p99_level = sorted(e for e, _ in pl)[k], sorted(p for _, p in pl)[k]
+        out["pl_over_error_p99"] = p99_level / p99_error if p99_error > 0 else float("nan")
+    else:
+        out["pl_over_error_p99"] = float("nan")
     return out
 
 
 def table(results):
     lines = ["| set | flights | horizontal NEES: final-pose mean (95 % interval) | average over poses | "
              "time steps inside | poses within 5.991 | yaw NEES: final-pose mean (95 % interval) | "
-             "average over poses | time steps inside | poses within 3.841 | beyond the 99 % protection level |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "average over poses | time steps inside | poses within 3.841 | beyond the 99 % protection level | "
+             "flights' final NEES in the 95 % band | protection level / horizontal error, 99th percentiles |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, s in results.items():
         h, y = s["nees_h"], s["nees_yaw"]
         lines.append(
             f"| {name} | {s['flights']} | {h['final_mean']:.2f} ({h['interval_95'][0]:.2f}-{h['interval_95'][1]:.2f}) "
             f"| {h['all_poses_mean']:.2f} | {h['time_steps_inside_pct']:.0f} % | {h['poses_within_bound_pct']:.1f} % "
             f"| {y['final_mean']:.2f} ({y['interval_95'][0]:.2f}-{y['interval_95'][1]:.2f}) | {y['all_poses_mean']:.2f} "
-            f"| {y['time_steps_inside_pct']:.0f} % | {y['poses_within_bound_pct']:.1f} % | {s['pl_exceeded_pct']:.2f} % |")
+            f"| {y['time_steps_inside_pct']:.0f} % | {y['poses_within_bound_pct']:.1f} % | {s['pl_exceeded_pct']:.2f} % "
+            f"| {s['final_nees_h_in_band_pct']:.0f} % | {s['pl_over_error_p99']:.1f} |")
     return "\n".join(lines)
 
 

@@ -7,8 +7,9 @@ Each DIR holds one folder per flight with nadir_eval's series.csv (a
 campaign's cells, or eval folders). The relief model error is the one term of
 the reported covariance that follows the track alone: vo_solver adds
 ALONG^2 * step along each step and ACROSS^2 * step across it
-(vo_solver.uncertainty.relief_walk_{along,across}_m_per_sqrt_m; --walk,
-default the configured 0.068 0.012 m/sqrt(m)). It is summed here over the
+(vo_solver.uncertainty.feature_depth_walk_{along,across}_m_per_sqrt_m for
+the default variant; --walk, default its 0.006 0.002 m/sqrt(m); the one-plane
+variants' relief_walk_* are 0.068 0.012). It is summed here over the
 true track, independently of the estimator; the rest of the reported
 covariance (levelling, INS yaw bias, image noise, heading drift) is the
 reported one minus it. Without map fixes the position never feeds back into
@@ -109,7 +110,7 @@ def flight(name, path, walk, candidate):
 
 
 def parse(argv):
-    options = {"json": False, "walk": (0.068, 0.012), "candidate": None, "dirs": []}
+    options = {"json": False, "walk": (0.006, 0.002), "candidate": None, "dirs": []}
     i = 0
     while i < len(argv):
         a = argv[i]

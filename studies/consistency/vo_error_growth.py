@@ -9,9 +9,10 @@ before the first '_' or '-' (the profile). Each pair's error is split along
 and across its true step, in the pair's own level frame: the heading the
 pair is registered with (yaw fusion's business) is not in it. Summed over
 every window of consecutive solved pairs, the error of a stretch of D metres
-has a spread that the relief model error of vo_solver.uncertainty says grows
-as walk * sqrt(D) (relief_walk_{along,across}_m_per_sqrt_m, 0.068 and 0.012
-by default). The levelling errors telescope (each window keeps only its two
+has a spread that the model error of vo_solver.uncertainty says grows as
+walk * sqrt(D) (feature_depth_walk_{along,across}_m_per_sqrt_m, 0.006 and
+0.002, for the default variant; the one-plane variants' relief_walk_* are
+0.068 and 0.012). The levelling errors telescope (each window keeps only its two
 end frames'), so past a few hundred metres their part is a constant, and the
 slope of the variance against D is the walk squared: fitted here by least
 squares over windows of --min-m (500 m) and more, per flight and per group.
@@ -27,7 +28,7 @@ import sys
 import numpy as np
 
 DISTANCES_M = (10, 30, 100, 300, 1000, 2000, 5000)
-WALK_ALONG, WALK_ACROSS = 0.068, 0.012
+WALK_ALONG, WALK_ACROSS = 0.006, 0.002
 
 
 def load_pairs(path):
