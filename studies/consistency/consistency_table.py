@@ -23,20 +23,16 @@ average NEES against its interval."""
 import csv
 import json
 import math
-import os
 import sys
 
 from scipy.stats import chi2
 
+from flight_files import flight_files
+
 
 def load(folder):
     flights = []
-    for name in sorted(os.listdir(folder)):
-        path = os.path.join(folder, name, "series.csv")
-        if not os.path.exists(path):  # a campaign's cell keeps its evaluation in eval/
-            path = os.path.join(folder, name, "eval", "series.csv")
-        if not os.path.exists(path):
-            continue
+    for name, path in flight_files([folder], "series.csv", "consistency_table"):
         with open(path) as f:
             rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
         rows = [r for r in rows if r["nees_h"] >= 0 and r["nees_yaw"] >= 0]

@@ -26,8 +26,9 @@ current frame's levelling)."""
 import csv
 import json
 import math
-import os
 import sys
+
+from flight_files import flight_files
 
 PROTECTION_FACTOR = 3.035  # 99 % of a 2-D Gaussian, on the largest axis (protection_level.h)
 
@@ -137,16 +138,8 @@ def parse(argv):
 
 def main(argv):
     options = parse(argv)
-    flights = []
-    for d in options["dirs"]:
-        if not os.path.isdir(d):
-            raise SystemExit(f"sigma_terms: error: {d}: not a folder")
-        for name in sorted(os.listdir(d)):
-            for sub in ("series.csv", os.path.join("eval", "series.csv")):
-                path = os.path.join(d, name, sub)
-                if os.path.exists(path):
-                    flights.append(flight(name, path, options["walk"], options["candidate"]))
-                    break
+    flights = [flight(name, path, options["walk"], options["candidate"])
+               for name, path in flight_files(options["dirs"], "series.csv", "sigma_terms")]
     if not flights:
         raise SystemExit("sigma_terms: error: no <flight>/series.csv under " + " ".join(options["dirs"]))
     models = ["reported", "rest"] + (["candidate"] if options["candidate"] else [])

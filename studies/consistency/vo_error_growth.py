@@ -22,10 +22,11 @@ walk, and the fitted walks."""
 import csv
 import json
 import math
-import os
 import sys
 
 import numpy as np
+
+from flight_files import flight_files
 
 DISTANCES_M = (10, 30, 100, 300, 1000, 2000, 5000)
 WALK_ALONG, WALK_ACROSS = 0.006, 0.002
@@ -94,23 +95,16 @@ def main(argv):
         return 0 if argv else 2
     fit_distances = sorted(set(DISTANCES_M) | {int(x) for x in np.geomspace(min_m, 8000, 12)})
     flights, groups = [], {}
-    for folder in argv:
-        if not os.path.isdir(folder):
-            raise SystemExit(f"vo_error_growth: error: {folder}: not a folder")
-        for name in sorted(os.listdir(folder)):
-            for sub in ("pairs.csv", os.path.join("eval", "pairs.csv")):
-                path = os.path.join(folder, name, sub)
-                if os.path.exists(path):
-                    step, along, across = load_pairs(path)
-                    stats = window_stats(step, along, across, fit_distances)
-                    walk = fit_walk(stats, min_m)
-                    group = name.replace("-", "_").split("_")[0]
-                    if group == "rough":
-                        group = "_".join(name.replace("-", "_").split("_")[:2])
-                    flights.append({"flight": name, "group": group, "distance_m": float(step.sum()),
-                                    "stats": stats, "walk_along": walk[0], "walk_across": walk[1]})
-                    groups.setdefault(group, []).append(flights[-1])
-                    break
+    for name, path in flight_files(argv, "pairs.csv", "vo_error_growth"):
+        step, along, across = load_pairs(path)
+        stats = window_stats(step, along, across, fit_distances)
+        walk = fit_walk(stats, min_m)
+        group = name.replace("-", "_").split("_")[0]
+        if group == "rough":
+            group = "_".join(name.replace("-", "_").split("_")[:2])
+        flights.append({"flight": name, "group": group, "distance_m": float(step.sum()),
+                        "stats": stats, "walk_along": walk[0], "walk_across": walk[1]})
+        groups.setdefault(group, []).append(flights[-1])
     if not flights:
         raise SystemExit("vo_error_growth: error: no <flight>/pairs.csv under " + " ".join(argv))
     summary = {}
