@@ -46,7 +46,10 @@ struct DeltaUncertaintyOptions {
   // seeds 701-704 / 701-702: the slope of its mean square against the
   // distance, along 0.0060 and 0.0033, across 0.0015 and 0.0010 m/sqrt(m)
   // (studies/consistency/vo_error_growth.py). With paper's 0.068 / 0.012 the
-  // reported sigma of a whole Table 1 flight was 3-5x its error.
+  // reported sigma of a whole Table 1 flight was 3-5x its error. Over rough
+  // relief the error grows faster: rough_250 / rough_120 (relief x3, seeds
+  // 701-703) pooled 0.012 / 0.025 along, one flight 0.042; across <= 0.004.
+  // Describe the terrain flown: rougher ground needs more.
   double feature_depth_walk_along_m_per_sqrt_m = 0.006;
   double feature_depth_walk_across_m_per_sqrt_m = 0.002;
   double dyaw_model_stddev_deg = 0.005;

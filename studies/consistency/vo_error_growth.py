@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """How the VO's own translation error grows with the distance flown.
 
-Usage: vo_error_growth.py [--json] [--min-m M] DIR [DIR ...]
+Usage: vo_error_growth.py [--json] [--min-m M] [--plot PNG] DIR [DIR ...]
 
 Each DIR holds one folder per flight with nadir_eval's pairs.csv (a
 campaign's cells, or eval folders); flights are grouped by the name's part
@@ -18,7 +18,8 @@ slope of the variance against D is the walk squared: fitted here by least
 squares over windows of --min-m (500 m) and more, per flight and per group.
 
 Prints the rms of the summed error at 10 m to 5 km against the configured
-walk, and the fitted walks."""
+walk, and the fitted walks; --plot draws the rms against the window per
+group, along and across, with the configured walks and paper's."""
 import csv
 import json
 import math
@@ -80,9 +81,40 @@ def fit_walk(stats, min_m):
     return walks[0], walks[1]
 
 
+def plot(summary, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), sharey=True)
+    for ax, column, title, walks in ((axes[0], 1, "along the step", (WALK_ALONG, 0.068)),
+                                     (axes[1], 2, "across the step", (WALK_ACROSS, 0.012))):
+        for group, s in summary.items():
+            d = sorted(s["pooled"])
+            ax.loglog([s["pooled"][k][0] for k in d], [math.sqrt(s["pooled"][k][column]) for k in d],
+                      marker="o", ms=3, label=f"{group} ({s['flights']} flights)")
+        x = np.geomspace(10, 8000, 50)
+        ax.loglog(x, walks[0] * np.sqrt(x), "k--", lw=1, label=f"feature_depth walk {walks[0]} m/√m")
+        ax.loglog(x, walks[1] * np.sqrt(x), "k:", lw=1, label=f"paper's walk {walks[1]} m/√m")
+        ax.set_title(f"summed VO error {title}", fontsize=10)
+        ax.set_xlabel("window [m flown]")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    axes[0].set_ylabel("rms over all windows [m]")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
 def main(argv):
     as_json = "--json" in argv
     argv = [a for a in argv if a != "--json"]
+    png = None
+    if "--plot" in argv:
+        i = argv.index("--plot")
+        if i + 1 >= len(argv):
+            raise SystemExit("vo_error_growth: error: --plot needs a PNG path")
+        png = argv[i + 1]
+        del argv[i:i + 2]
     min_m = 500.0
     if "--min-m" in argv:
         i = argv.index("--min-m")
@@ -116,6 +148,8 @@ def main(argv):
                 pooled[d] = tuple(float(np.mean([h[i] for h in have])) for i in range(3))
         walk = fit_walk(pooled, min_m)
         summary[group] = {"flights": len(members), "pooled": pooled, "walk_along": walk[0], "walk_across": walk[1]}
+    if png:
+        plot(summary, png)
     if as_json:
         print(json.dumps({"flights": flights, "groups": summary, "min_m": min_m}, indent=1))
         return 0
