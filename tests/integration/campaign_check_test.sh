@@ -48,6 +48,24 @@ grep -qF "did you mean sim.duration_s?" "$work/err" || fail "no suggestion for s
 expect_error "$good
 variants: {v: {vo_solver.min_featurs: 3}}" "variants.v.vo_solver.min_featurs"
 grep -qF "did you mean variants.v.vo_solver.min_features?" "$work/err" || fail "no suggestion for min_featurs"
+expect_error "$good
+config_overlays: [no_such_calibration.yaml]" "config_overlays[0]"
+printf 'just text\n' >"$work/not_a_map.yaml"
+expect_error "$good
+config_overlays: [not_a_map.yaml]" "config_overlays[0]"
+
+# A config overlay (a calibration.yaml) reaches every cell's replay: one the tracker refuses
+# fails the cell, and the log names the overlay and the key.
+printf 'tracker:\n  grid_cols: 0\n' >"$work/overlay.yaml"
+printf 'name: overlay\nprofiles: [test1]\nseeds: [7]\nsim: {duration_s: 2}\nconfig_overlays: [overlay.yaml]\n' >"$work/o.yaml"
+"$tool" plan "$work/o.yaml" --out "$work/o_out" >"$work/plan" 2>&1 || { cat "$work/plan"; fail "plan with an overlay"; }
+grep -qF "config overlay $work/overlay.yaml (sha256" "$work/plan" || { cat "$work/plan"; fail "plan does not list the overlay"; }
+"$tool" run --local "$work/o.yaml" --out "$work/o_out" >"$work/orun" 2>&1
+[ "$?" = 1 ] || { cat "$work/orun"; fail "a cell replayed with grid_cols 0 from the overlay did not fail"; }
+olog="$work/o_out/cells/test1_standard_default_seed7/cell.log"
+grep -qF -- "--config-overlay $work/overlay.yaml" "$olog" || { cat "$olog"; fail "the replay was not given the overlay"; }
+grep -qF "grid_cols" "$olog" || { cat "$olog"; fail "the overlay's key did not reach the tracker"; }
+echo "ok: the overlay reaches the replay"
 
 # A campaign whose second variant cannot run (tracker.grid_cols 0 is refused by the tracker).
 cat >"$work/c.yaml" <<'YAML'

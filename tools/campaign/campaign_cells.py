@@ -32,8 +32,10 @@ def cell_dir(out, cell):
 
 
 def params(cell):
-    """What a cell's result depends on, besides the code version."""
-    return {k: cell[k] for k in ("profile", "seed", "sensor_set", "variant", "sim", "config_overrides")}
+    """What a cell's result depends on, besides the code version (overlays only when there are
+    any, so that results from before overlays existed stay valid)."""
+    keys = ("profile", "seed", "sensor_set", "variant", "sim", "config_overrides")
+    return {k: cell[k] for k in keys + (("config_overlays",) if cell["config_overlays"] else ())}
 
 
 def _write_json(path, data):

@@ -1,7 +1,8 @@
 """A campaign file: loaded, checked against the checkout (profiles, sensor sets,
-config keys) and expanded into cells. Every error names the file and the key,
-and is raised before anything runs."""
+config keys, config overlays) and expanded into cells. Every error names the file
+and the key, and is raised before anything runs."""
 import difflib
+import hashlib
 import itertools
 import os
 import re
@@ -9,8 +10,8 @@ import re
 import yaml
 
 NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
-TOP_KEYS = {"name", "description", "profiles", "seeds", "sensor_sets", "variants", "config_overrides", "sim",
-            "evaluate", "keep_logs", "slurm"}
+TOP_KEYS = {"name", "description", "profiles", "seeds", "sensor_sets", "variants", "config_overlays",
+            "config_overrides", "sim", "evaluate", "keep_logs", "slurm"}
 # nadir_sim options a campaign may set, and the command-line flag each becomes.
 SIM_KEYS = {"duration_s": "--duration", "roll_pitch_noise_deg": "--roll-pitch-noise-deg",
             "yaw_noise_deg": "--yaw-noise-deg", "altimeter_noise_pct": "--altimeter-noise-pct"}
@@ -85,6 +86,35 @@ def _seeds(path, value):
     if len(set(value)) != len(value):
         _fail(path, "seeds", "a seed is listed twice")
     return value
+
+
+def _overlays(path, value):
+    """config_overlays: YAML fragments (a calibration.yaml, an installation) merged into every
+    cell's config, paths relative to the campaign file. Each is named with its content's digest,
+    so a cell flown with another version of the file is flown again."""
+    if value is None:
+        return []
+    if not isinstance(value, list):
+        _fail(path, "config_overlays", "a list of YAML files is needed")
+    overlays = []
+    for i, name in enumerate(value):
+        key = f"config_overlays[{i}]"
+        if not isinstance(name, str) or not name:
+            _fail(path, key, "a file name is needed")
+        file = os.path.realpath(os.path.join(os.path.dirname(os.path.abspath(path)), name))
+        try:
+            with open(file, "rb") as f:
+                content = f.read()
+        except OSError as e:
+            _fail(path, key, f"cannot read {file}: {e.strerror}")
+        try:
+            fragment = yaml.safe_load(content)
+        except yaml.YAMLError as e:
+            _fail(path, key, f"{file} is not valid YAML: {e}")
+        if not isinstance(fragment, dict):
+            _fail(path, key, f"{file}: a map of config sections is needed")
+        overlays.append({"file": file, "sha256": hashlib.sha256(content).hexdigest()})
+    return overlays
 
 
 def _config_keys(config):
@@ -185,6 +215,7 @@ def load(path, root):
             _fail(path, f"variants.{name}", "variant names take letters, digits, '_', '-' and '.' only")
     variants = {n: _overrides(path, f"variants.{n}", v, config_keys) for n, v in variants.items()}
     common = _overrides(path, "config_overrides", data.get("config_overrides"), config_keys)
+    overlays = _overlays(path, data.get("config_overlays"))
 
     sim = _section(path, "sim", data.get("sim"), {k: None for k in SIM_KEYS})
     for k, v in sim.items():
@@ -203,7 +234,7 @@ def load(path, root):
     for profile, sensor_set, variant, seed in itertools.product(profiles, sensor_sets, variants, seeds):
         cells.append({"id": f"{profile}_{sensor_set}_{variant}_seed{seed}", "profile": profile, "seed": seed,
                       "sensor_set": sensor_set, "variant": variant, "sim": dict(sim),
-                      "config_overrides": {**common, **variants[variant]}})
+                      "config_overlays": overlays, "config_overrides": {**common, **variants[variant]}})
     return Spec(path, data, cells)
 
 
@@ -216,8 +247,10 @@ def sim_args(cell):
 
 
 def replay_args(cell):
-    """nadir_replay --set options for a cell."""
+    """nadir_replay --config-overlay and --set options for a cell (overrides win)."""
     args = []
+    for overlay in cell["config_overlays"]:
+        args += ["--config-overlay", overlay["file"]]
     for k, v in cell["config_overrides"].items():
         args += ["--set", f"{k}={str(v).lower() if isinstance(v, bool) else v}"]
     return args

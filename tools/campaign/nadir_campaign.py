@@ -44,6 +44,8 @@ def states(out, spec):
 def cmd_plan(args, spec, out):
     st = states(out, spec)
     print(f"campaign {spec.name}: {len(spec.cells)} cells -> {out}")
+    for o in spec.cells[0]["config_overlays"] if spec.cells else []:
+        print(f"  config overlay {o['file']} (sha256 {o['sha256'][:12]})")
     for c in spec.cells:
         overrides = " ".join(f"{k}={v}" for k, v in c["config_overrides"].items())
         sim = " ".join(f"{k}={v}" for k, v in c["sim"].items())
