@@ -19,6 +19,23 @@ Eigen::Matrix4d psd_part(const Eigen::Matrix4d& m) {
   return eig.eigenvectors() * clamped.asDiagonal() * eig.eigenvectors().transpose();
 }
 
+// The INS yaw bias over one delta of `dt` seconds: the walk's variance, and
+// the offset at the start (`first`) either as a constant or as a first-order
+// Gauss-Markov error with its stationary variance.
+PoseFilter::YawBiasStep yaw_bias_step(const YawFusionOptions& options, double dt, bool first) {
+  PoseFilter::YawBiasStep step;
+  const double walk = deg_to_rad(options.ins_yaw_bias_walk_deg_per_sqrt_s);
+  const double offset_variance = std::pow(deg_to_rad(options.ins_yaw_bias_stddev_deg), 2);
+  step.walk_variance_added = walk * walk * dt;
+  if (options.ins_yaw_bias_correlation_s > 0.0) {
+    step.markov_decay = std::exp(-dt / options.ins_yaw_bias_correlation_s);
+    step.markov_variance_added = offset_variance * (first ? 1.0 : 1.0 - step.markov_decay * step.markov_decay);
+  } else if (first) {
+    step.walk_variance_added += offset_variance;
+  }
+  return step;
+}
+
 }  // namespace
 
 Eigen::Vector3d integrate_delta(PoseFilter* filter, const vo_delta_t& delta, const Eigen::Matrix4d& covariance,
@@ -44,10 +61,8 @@ Eigen::Vector3d integrate_delta(PoseFilter* filter, const vo_delta_t& delta, con
   const double dt = std::max(0.0, static_cast<double>(delta.utime - delta.prev_utime) * 1e-6);
   filter->apply_heading_drift(dt, u.heading_drift_stddev_rad_s(), u.heading_drift_time_s);
 
-  const double walk = deg_to_rad(options.ins_yaw_bias_walk_deg_per_sqrt_s);
-  double yaw_bias_added = walk * walk * dt;
-  if (!filter->has_shared_origin()) yaw_bias_added += std::pow(deg_to_rad(options.ins_yaw_bias_stddev_deg), 2);
-  filter->add_shared_errors(prev_levelling, curr_levelling, world, range_scale_variance, yaw_bias_added);
+  filter->add_shared_errors(prev_levelling, curr_levelling, world, range_scale_variance,
+                            yaw_bias_step(options, dt, !filter->has_shared_origin()));
   return world;
 }
 

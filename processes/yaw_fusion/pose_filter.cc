@@ -113,7 +113,7 @@ void PoseFilter::propagate_without_vo(const Eigen::Vector3d& displacement_ned,
 
 void PoseFilter::add_shared_errors(double prev_levelling_variance, double curr_levelling_variance,
                                    const Eigen::Vector3d& world_translation, double range_scale_variance,
-                                   double yaw_bias_variance_added) {
+                                   const YawBiasStep& yaw_bias) {
   if (!have_origin_levelling_) {
     origin_levelling_variance_ = prev_levelling_variance;
     have_origin_levelling_ = true;
@@ -123,11 +123,13 @@ void PoseFilter::add_shared_errors(double prev_levelling_variance, double curr_l
   range_scale_variance_ = range_scale_variance;
   // The translation was registered with the yaw of the previous frame, which
   // carries the bias as it was before this delta's walk.
-  Eigen::Matrix3d f = Eigen::Matrix3d::Identity();
-  f(0, kBias) = -world_translation.y();
-  f(1, kBias) = world_translation.x();
+  Eigen::Matrix4d f = Eigen::Matrix4d::Identity();
+  f(0, kWalkBias) = f(0, kMarkovBias) = -world_translation.y();
+  f(1, kWalkBias) = f(1, kMarkovBias) = world_translation.x();
+  f(kMarkovBias, kMarkovBias) = yaw_bias.markov_decay;
   yaw_bias_ = f * yaw_bias_ * f.transpose();
-  yaw_bias_(kBias, kBias) += yaw_bias_variance_added;
+  yaw_bias_(kWalkBias, kWalkBias) += yaw_bias.walk_variance_added;
+  yaw_bias_(kMarkovBias, kMarkovBias) += yaw_bias.markov_variance_added;
 }
 
 Eigen::Matrix3d PoseFilter::reported_position_covariance() const {

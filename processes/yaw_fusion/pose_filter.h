@@ -119,16 +119,26 @@ class PoseFilter {
   // which the INS updates pull onto the INS heading, and every translation is
   // registered with that yaw: it moves the position by b times the
   // translation turned by 90 deg, summed over the deltas with the bias each
-  // had (a consider state (e_north, e_east, b) kept beside the filter).
+  // had (a consider state (e_north, e_east, b_walk, b_markov) kept beside the
+  // filter: b = b_walk + b_markov, the walk's part never decays, the
+  // Gauss-Markov part by `yaw_bias.markov_decay` per delta).
   // `prev/curr_levelling_variance`: m^2 per horizontal axis (height^2 sigma^2).
+  struct YawBiasStep {
+    double walk_variance_added = 0.0;    // rad^2
+    double markov_decay = 1.0;           // exp(-dt / tau)
+    double markov_variance_added = 0.0;  // rad^2
+  };
   void add_shared_errors(double prev_levelling_variance, double curr_levelling_variance,
                          const Eigen::Vector3d& world_translation, double range_scale_variance,
-                         double yaw_bias_variance_added);
+                         const YawBiasStep& yaw_bias);
   // False until the first add_shared_errors after initialise / restore.
   bool has_shared_origin() const { return have_origin_levelling_; }
   // Position covariance and yaw variance with the shared errors.
   Eigen::Matrix3d reported_position_covariance() const;
-  double reported_yaw_variance() const { return p_(kYaw, kYaw) + yaw_bias_(kBias, kBias); }
+  double reported_yaw_variance() const {
+    return p_(kYaw, kYaw) + yaw_bias_(kWalkBias, kWalkBias) + yaw_bias_(kMarkovBias, kMarkovBias) +
+           2.0 * yaw_bias_(kWalkBias, kMarkovBias);
+  }
 
   Eigen::Vector3d position() const { return x_.head<3>(); }
   double yaw() const { return x_(kYaw); }
@@ -153,9 +163,10 @@ class PoseFilter {
   double origin_levelling_variance_ = 0.0, frame_levelling_variance_ = 0.0;
   Eigen::Vector3d displacement_ = Eigen::Vector3d::Zero();  // integrated VO, world
   double range_scale_variance_ = 0.0;
-  // Covariance of (north, east) position error from the yaw bias and the bias.
-  static constexpr int kBias = 2;
-  Eigen::Matrix3d yaw_bias_ = Eigen::Matrix3d::Zero();
+  // Covariance of (north, east) position error from the yaw bias and the
+  // bias's two parts.
+  static constexpr int kWalkBias = 2, kMarkovBias = 3;
+  Eigen::Matrix4d yaw_bias_ = Eigen::Matrix4d::Zero();
 };
 
 }  // namespace nadir

@@ -90,6 +90,9 @@ const OptionsSchema<YawFusionOptions>& YawFusionOptions::schema() {
         .number("ins_yaw_bias_stddev_deg", 0.0, 30.0, "deg", "INS yaw bias at the start", &O::ins_yaw_bias_stddev_deg)
         .number("ins_yaw_bias_walk_deg_per_sqrt_s", 0.0, 10.0, "deg/sqrt(s)", "INS yaw bias random walk",
                 &O::ins_yaw_bias_walk_deg_per_sqrt_s)
+        .number("ins_yaw_bias_correlation_s", 0.0, 1e6, "s",
+                "correlation time of the INS yaw bias at the start (first-order Gauss-Markov; 0: constant)",
+                &O::ins_yaw_bias_correlation_s)
         .number("protection_level.probability", 0.5, 1.0 - 1e-12, "",
                 "probability the horizontal protection level bounds the error", &O::protection_level,
                 &P::probability)

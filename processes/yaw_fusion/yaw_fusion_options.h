@@ -88,8 +88,12 @@ struct YawFusionOptions {
   DeltaUncertaintyOptions sensor_uncertainty;
   // INS yaw error that the filter cannot average away: a random walk (and an
   // initial offset) under the white noise. Defaults: the `standard` sensor set.
-  double ins_yaw_bias_stddev_deg = 0.0;             // at the start
+  // With a correlation time the offset is a first-order Gauss-Markov error
+  // instead (stationary sigma ins_yaw_bias_stddev_deg, e.g. an aided INS's
+  // heading accuracy), beside the walk.
+  double ins_yaw_bias_stddev_deg = 0.0;             // at the start (Gauss-Markov: always)
   double ins_yaw_bias_walk_deg_per_sqrt_s = 0.004;  // random walk
+  double ins_yaw_bias_correlation_s = 0.0;          // 0: the offset is constant
   // POSE.horizontal_protection_level_m (integrity.h).
   ProtectionLevelOptions protection_level;
   // Coasting over deltas whose translation is not trusted (coast: section; coasting.h).

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Where the reported horizontal sigma comes from, and what another relief model would report.
 
-Usage: sigma_terms.py [--json] [--walk ALONG ACROSS] [--candidate ALONG ACROSS ANCHOR] DIR [DIR ...]
+Usage: sigma_terms.py [--json] [--walk ALONG ACROSS] [--candidate ALONG ACROSS ANCHOR]
+                      [--yaw-bias STDDEV WALK TAU_FLOWN TAU_MODEL] DIR [DIR ...]
 
 Each DIR holds one folder per flight with nadir_eval's series.csv (a
 campaign's cells, or eval folders). The relief model error is the one term of
@@ -22,7 +23,13 @@ poses and the share of poses beyond 3.035 times the largest sigma (the 99 %
 protection level of a clean flight) for: the reported covariance, the rest
 alone, and --candidate: the rest plus a walk ALONG/ACROSS and a per-frame
 relief error of ANCHOR m per axis that telescopes (added once, like the
-current frame's levelling)."""
+current frame's levelling).
+
+--yaw-bias STDDEV WALK TAU_FLOWN TAU_MODEL: the flights were replayed with the
+INS yaw bias as an offset of STDDEV deg (Gauss-Markov of correlation TAU_FLOWN
+s; 0: constant) plus a walk of WALK deg/sqrt(s) (yaw_fusion.ins_yaw_bias_*);
+model "yaw_bias" swaps that term (summed over the true track as yaw fusion's
+consider state does) for the same offset with correlation TAU_MODEL."""
 import csv
 import json
 import math
@@ -59,6 +66,29 @@ def walk_covariances(rows, along, across):
     return out
 
 
+def yaw_bias_covariances(rows, stddev_deg, walk_deg, tau):
+    """Per pose, the (nn, ne, ee) covariance of the INS yaw bias carried into position
+    (yaw_fusion's consider state (e_n, e_e, b_walk, b_markov), PoseFilter::add_shared_errors)."""
+    s0, w = math.radians(stddev_deg) ** 2, math.radians(walk_deg) ** 2
+    c = [[0.0] * 4 for _ in range(4)]
+    out = [(0.0, 0.0, 0.0)]
+    for i, (a, b) in enumerate(zip(rows, rows[1:])):
+        dt = max(b["t_s"] - a["t_s"], 0.0)
+        tn, te = b["true_n"] - a["true_n"], b["true_e"] - a["true_e"]
+        f = [[1, 0, -te, -te], [0, 1, tn, tn], [0, 0, 1, 0], [0, 0, 0, 1]]
+        decay = math.exp(-dt / tau) if tau > 0 else 1.0
+        f[3][3] = decay
+        fc = [[sum(f[r][k] * c[k][col] for k in range(4)) for col in range(4)] for r in range(4)]
+        c = [[sum(fc[r][k] * f[col][k] for k in range(4)) for col in range(4)] for r in range(4)]
+        c[2][2] += w * dt
+        if tau > 0:
+            c[3][3] += s0 * (1.0 if i == 0 else 1.0 - decay * decay)
+        elif i == 0:
+            c[2][2] += s0
+        out.append((c[0][0], c[0][1], c[1][1]))
+    return out
+
+
 def nees(en, ee, cnn, cne, cee):
     det = cnn * cee - cne * cne
     if det <= 1e-12:
@@ -82,7 +112,7 @@ def evaluate(rows, covariances):
     return values[-1], sum(finite) / max(len(finite), 1), beyond
 
 
-def flight(name, path, walk, candidate):
+def flight(name, path, walk, candidate, yaw_bias=None):
     rows = load(path)
     has_cross = "cov_ne_m2" in rows[0]
     reported = [(r["sigma_n_m"] ** 2, r.get("cov_ne_m2", 0.0), r["sigma_e_m"] ** 2) for r in rows]
@@ -98,6 +128,11 @@ def flight(name, path, walk, candidate):
             c_walk = [(nn, 0.0, ee) for nn, _, ee in c_walk]
         anchor = candidate[2] ** 2
         models["candidate"] = [(p[0] + w[0] + anchor, p[1] + w[1], p[2] + w[2] + anchor) for p, w in zip(rest, c_walk)]
+    if yaw_bias:
+        flown = yaw_bias_covariances(rows, yaw_bias[0], yaw_bias[1], yaw_bias[2])
+        markov = yaw_bias_covariances(rows, yaw_bias[0], yaw_bias[1], yaw_bias[3])
+        models["yaw_bias"] = [(max(p[0] - f[0] + m[0], floor), p[1] - f[1] + m[1], max(p[2] - f[2] + m[2], floor))
+                            for p, f, m in zip(reported, flown, markov)]
     last = rows[-1]
     out = {"flight": name, "distance_m": last["distance_m"], "poses": len(rows), "nees_2d": has_cross,
            "error_n_m": last["est_n"] - last["true_n"], "error_e_m": last["est_e"] - last["true_e"],
@@ -111,7 +146,7 @@ def flight(name, path, walk, candidate):
 
 
 def parse(argv):
-    options = {"json": False, "walk": (0.006, 0.002), "candidate": None, "dirs": []}
+    options = {"json": False, "walk": (0.006, 0.002), "candidate": None, "yaw_bias": None, "dirs": []}
     i = 0
     while i < len(argv):
         a = argv[i]
@@ -126,6 +161,9 @@ def parse(argv):
         elif a == "--candidate" and i + 3 < len(argv):
             options["candidate"] = tuple(float(x) for x in argv[i + 1:i + 4])
             i += 3
+        elif a == "--yaw-bias" and i + 4 < len(argv):
+            options["yaw_bias"] = tuple(float(x) for x in argv[i + 1:i + 5])
+            i += 4
         elif a.startswith("-"):
             raise SystemExit(f"sigma_terms: error: unknown or incomplete option {a} (--help)")
         else:
@@ -138,11 +176,12 @@ def parse(argv):
 
 def main(argv):
     options = parse(argv)
-    flights = [flight(name, path, options["walk"], options["candidate"])
+    flights = [flight(name, path, options["walk"], options["candidate"], options["yaw_bias"])
                for name, path in flight_files(options["dirs"], "series.csv", "sigma_terms")]
     if not flights:
         raise SystemExit("sigma_terms: error: no <flight>/series.csv under " + " ".join(options["dirs"]))
-    models = ["reported", "rest"] + (["candidate"] if options["candidate"] else [])
+    models = ["reported", "rest"] + (["candidate"] if options["candidate"] else []) + \
+        (["yaw_bias"] if options["yaw_bias"] else [])
     summary = {}
     for m in models:
         finals = [f[m]["final_nees"] for f in flights]

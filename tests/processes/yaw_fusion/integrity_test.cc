@@ -91,7 +91,8 @@ TEST(DeltaIntegration, SharedLevellingAndScaleErrorsGiveAConsistentCovariance) {
 // A flight north then (after a 90 deg turn half way) east with exact
 // translations, the heading change of each delta with the model's small
 // noise, and after each frame an INS yaw that carries a bias random walk
-// (and its initial value) plus white noise, fused as yaw_fusion does. The fused yaw
+// and an offset (constant, or first-order Gauss-Markov when the options give
+// it a correlation time) plus white noise, fused as yaw_fusion does. The fused yaw
 // follows the INS heading within ~20 frames, so it carries the bias, and every
 // translation is registered with it: the position error across the track is
 // the bias summed over the steps. Returns the final horizontal error and the
@@ -104,9 +105,13 @@ Flight fly_with_yaw_bias(int frames, double step, const YawFusionOptions& option
   const double walk = deg_to_rad(options.ins_yaw_bias_walk_deg_per_sqrt_s) * std::sqrt(dt);
   const double dyaw_sigma = deg_to_rad(options.sensor_uncertainty.dyaw_model_stddev_deg);
   const double white = deg_to_rad(ins_white_deg);
-  double bias = deg_to_rad(options.ins_yaw_bias_stddev_deg) * unit(rng);
+  const double offset_sigma = deg_to_rad(options.ins_yaw_bias_stddev_deg);
+  const double tau = options.ins_yaw_bias_correlation_s;
+  const double decay = tau > 0.0 ? std::exp(-dt / tau) : 1.0;
+  double offset = offset_sigma * unit(rng);
+  double bias = 0.0;  // the walk's part
   PoseFilter filter;
-  filter.initialise(bias + white * unit(rng), white * white);
+  filter.initialise(offset + white * unit(rng), white * white);
   double true_yaw = 0.0;
   Eigen::Vector2d truth = Eigen::Vector2d::Zero();
   for (int k = 1; k <= frames; ++k) {
@@ -114,6 +119,7 @@ Flight fly_with_yaw_bias(int frames, double step, const YawFusionOptions& option
     truth += step * Eigen::Vector2d(std::cos(true_yaw), std::sin(true_yaw));
     true_yaw += true_dyaw;
     bias += walk * unit(rng);
+    offset = decay * offset + offset_sigma * std::sqrt(1.0 - decay * decay) * unit(rng);
     vo_delta_t d{};
     d.utime = static_cast<int64_t>(k * dt * 1e6);
     d.prev_utime = static_cast<int64_t>((k - 1) * dt * 1e6);
@@ -124,7 +130,7 @@ Flight fly_with_yaw_bias(int frames, double step, const YawFusionOptions& option
     cov(0, 0) = cov(1, 1) = cov(2, 2) = 1e-12;
     cov(3, 3) = dyaw_sigma * dyaw_sigma;
     integrate_delta(&filter, d, cov, std::nan(""), std::nan(""), options);
-    filter.update_yaw(true_yaw + bias + white * unit(rng), white * white, 1e9);
+    filter.update_yaw(true_yaw + bias + offset + white * unit(rng), white * white, 1e9);
   }
   return {filter.position().head<2>() - truth, filter.reported_position_covariance().topLeftCorner<2, 2>()};
 }
@@ -158,6 +164,37 @@ TEST(DeltaIntegration, InsYawBiasIsCarriedIntoThePositionCovariance) {
   without.ins_yaw_bias_stddev_deg = 0.0;
   const Flight plain = fly_with_yaw_bias(800, 2.0, without, 0.1, 700);
   EXPECT_LT(plain.reported(1, 1), 0.2 * reported(1, 1));
+}
+
+// An aided INS's heading error: Gauss-Markov, 0.04 deg stationary, 10 s
+// correlation (the flight lasts 57 s, so it decorrelates ~6 times), beside a
+// small walk. Carried with its correlation time, the reported covariance
+// matches 400 flights; taken as a constant offset of the same sigma it is
+// several times too large.
+TEST(DeltaIntegration, InsYawGaussMarkovBiasIsCarriedWithItsCorrelationTime) {
+  YawFusionOptions options;
+  options.sensor_uncertainty.dyaw_model_stddev_deg = 0.005;
+  options.sensor_uncertainty.heading_drift_deg_per_s_per_deg = 0.0;
+  options.ins_yaw_bias_walk_deg_per_sqrt_s = 0.001;
+  options.ins_yaw_bias_stddev_deg = 0.04;
+  options.ins_yaw_bias_correlation_s = 10.0;
+  const int runs = 400;
+  Eigen::Matrix2d sample = Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d reported = Eigen::Matrix2d::Zero();
+  for (int i = 0; i < runs; ++i) {
+    const Flight r = fly_with_yaw_bias(800, 2.0, options, 0.01, 1700 + i);
+    sample += r.error * r.error.transpose() / runs;
+    reported = r.reported;
+  }
+  EXPECT_GT(reported(0, 0), 0.01);
+  EXPECT_GT(reported(1, 1), 0.01);
+  EXPECT_NEAR(sample(0, 0) / reported(0, 0), 1.0, 0.25);
+  EXPECT_NEAR(sample(1, 1) / reported(1, 1), 1.0, 0.25);
+  YawFusionOptions constant = options;
+  constant.ins_yaw_bias_correlation_s = 0.0;
+  const Flight held = fly_with_yaw_bias(800, 2.0, constant, 0.01, 1700);
+  EXPECT_GT(held.reported(1, 1), 2.0 * reported(1, 1));
+  EXPECT_GT(held.reported(0, 0), 2.0 * reported(0, 0));
 }
 
 // A flight whose frames are levelled with a roll error each (0.3 deg, white)
