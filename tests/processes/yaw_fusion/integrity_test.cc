@@ -135,20 +135,28 @@ Flight fly_with_yaw_bias(int frames, double step, const YawFusionOptions& option
   return {filter.position().head<2>() - truth, filter.reported_position_covariance().topLeftCorner<2, 2>()};
 }
 
+// 400 such flights of 800 frames, 2 m apart (seeds first_seed...): the sample
+// covariance of their final errors and the (same for all) reported one.
+std::pair<Eigen::Matrix2d, Eigen::Matrix2d> fly_400_with_yaw_bias(const YawFusionOptions& options, double ins_white_deg,
+                                                                  uint32_t first_seed) {
+  const int runs = 400;
+  Eigen::Matrix2d sample = Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d reported = Eigen::Matrix2d::Zero();
+  for (int i = 0; i < runs; ++i) {
+    const Flight r = fly_with_yaw_bias(800, 2.0, options, ins_white_deg, first_seed + static_cast<uint32_t>(i));
+    sample += r.error * r.error.transpose() / runs;
+    reported = r.reported;
+  }
+  return {sample, reported};
+}
+
 TEST(DeltaIntegration, InsYawBiasIsCarriedIntoThePositionCovariance) {
   YawFusionOptions options;
   options.sensor_uncertainty.dyaw_model_stddev_deg = 0.005;
   options.sensor_uncertainty.heading_drift_deg_per_s_per_deg = 0.0;
   options.ins_yaw_bias_walk_deg_per_sqrt_s = 0.004;
   options.ins_yaw_bias_stddev_deg = 0.02;
-  const int runs = 400;
-  Eigen::Matrix2d sample = Eigen::Matrix2d::Zero();
-  Eigen::Matrix2d reported = Eigen::Matrix2d::Zero();
-  for (int i = 0; i < runs; ++i) {
-    const Flight r = fly_with_yaw_bias(800, 2.0, options, 0.1, 700 + i);
-    sample += r.error * r.error.transpose() / runs;
-    reported = r.reported;
-  }
+  const auto [sample, reported] = fly_400_with_yaw_bias(options, 0.1, 700);
   // 800 m north, then 800 m east: the bias gives both axes ~0.3-0.4 m, the
   // filter's own yaw variance (INS white noise, dyaw noise) much less.
   EXPECT_GT(reported(0, 0), 0.05);
@@ -178,14 +186,7 @@ TEST(DeltaIntegration, InsYawGaussMarkovBiasIsCarriedWithItsCorrelationTime) {
   options.ins_yaw_bias_walk_deg_per_sqrt_s = 0.001;
   options.ins_yaw_bias_stddev_deg = 0.04;
   options.ins_yaw_bias_correlation_s = 10.0;
-  const int runs = 400;
-  Eigen::Matrix2d sample = Eigen::Matrix2d::Zero();
-  Eigen::Matrix2d reported = Eigen::Matrix2d::Zero();
-  for (int i = 0; i < runs; ++i) {
-    const Flight r = fly_with_yaw_bias(800, 2.0, options, 0.01, 1700 + i);
-    sample += r.error * r.error.transpose() / runs;
-    reported = r.reported;
-  }
+  const auto [sample, reported] = fly_400_with_yaw_bias(options, 0.01, 1700);
   EXPECT_GT(reported(0, 0), 0.01);
   EXPECT_GT(reported(1, 1), 0.01);
   EXPECT_NEAR(sample(0, 0) / reported(0, 0), 1.0, 0.25);
