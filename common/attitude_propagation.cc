@@ -67,6 +67,20 @@ std::optional<Eigen::Vector3d> propagated_rpy(const InsAttitude& base, const Ins
   return rpy_from_rotation(at);
 }
 
+double propagated_white_noise_share(const InsAttitude& base, const InsAttitude* earlier, int64_t utime) {
+  const bool two_samples = earlier != nullptr && earlier->utime < base.utime;
+  if (!two_samples) return 1.0;
+  if (base.has_rate) return earlier->has_rate ? 0.5 : 1.0;
+  if (utime == base.utime) return 1.0;
+  const double k = static_cast<double>(utime - base.utime) / static_cast<double>(base.utime - earlier->utime);
+  return (1.0 + k) * (1.0 + k) + k * k;
+}
+
+double interpolated_white_noise_share(double fraction) {
+  const double f = std::clamp(fraction, 0.0, 1.0);
+  return (1.0 - f) * (1.0 - f) + f * f;
+}
+
 void InsCompleteness::note_interval(int64_t interval_us) {
   if (interval_us <= 0 || interval_us >= min_interval_us_) return;
   ++short_intervals_;

@@ -52,6 +52,16 @@ struct InsAttitude {
 // between two samples: 1/2 to 1), the motion is not averaged.
 std::optional<Eigen::Vector3d> propagated_rpy(const InsAttitude& base, const InsAttitude* earlier, int64_t utime);
 
+// The share of one sample's white attitude noise variance in a frame's
+// attitude made from the samples around it (each sample's noise independent):
+// propagated_rpy's from the same arguments -- 1/2 for two samples with rates
+// averaged, 1 for one, (1 + k)^2 + k^2 for a rate-less INS carried on k
+// sample intervals past its newest -- and interpolation's at `fraction` of
+// the way from one sample to the next, (1 - f)^2 + f^2. The uncertainty
+// models scale the white part of the INS noise by it.
+double propagated_white_noise_share(const InsAttitude& base, const InsAttitude* earlier, int64_t utime);
+double interpolated_white_noise_share(double fraction);
+
 // When the propagate policy may use the INS for a frame: every sample at or
 // before the frame is in once a later one is, or once the newest is closer
 // before the frame than the INS interval (the next cannot be at or before

@@ -17,6 +17,10 @@ const OptionsSchema<DeltaUncertaintyOptions>& DeltaUncertaintyOptions::schema() 
     s.flag("enabled", "false: VO_DELTA carries the image covariance only", &O::enabled)
         .number("roll_pitch_stddev_deg", 0.0, 10.0, "deg", "INS roll/pitch white noise per sample",
                 &O::roll_pitch_stddev_deg)
+        .number("roll_pitch_correlated_stddev_deg", 0.0, 10.0, "deg",
+                "INS roll/pitch error correlated between samples (not averaged where a frame's attitude is made "
+                "from two samples)",
+                &O::roll_pitch_correlated_stddev_deg)
         .number("yaw_stddev_deg", 0.0, 30.0, "deg", "INS yaw white noise (the flow variant's dyaw only)",
                 &O::yaw_stddev_deg)
         .number("altimeter_stddev_m", 0.0, 100.0, "m", "altimeter range noise, constant part",
@@ -64,6 +68,11 @@ double DeltaUncertaintyOptions::heading_drift_stddev_rad_s() const {
   return enabled ? deg_to_rad(heading_drift_deg_per_s_per_deg * roll_pitch_stddev_deg) : 0.0;
 }
 
+double DeltaUncertaintyOptions::frame_roll_pitch_stddev_rad(double white_noise_share) const {
+  const double white = deg_to_rad(roll_pitch_stddev_deg), correlated = deg_to_rad(roll_pitch_correlated_stddev_deg);
+  return std::sqrt(white * white * std::max(0.0, white_noise_share) + correlated * correlated);
+}
+
 double levelling_variance_m2(double height_m, double roll_pitch_stddev_rad) {
   const double shift = height_m * roll_pitch_stddev_rad;
   return shift * shift;
@@ -75,12 +84,12 @@ double levelling_yaw_variance_rad2(double pitch_rad, double roll_pitch_stddev_ra
   return turn * turn;
 }
 
-void frame_levelling_variances(double prev_altitude_m, double dz, double roll_pitch_stddev_rad, double* prev_m2,
-                               double* curr_m2) {
+void frame_levelling_variances(double prev_altitude_m, double dz, double prev_roll_pitch_stddev_rad,
+                               double curr_roll_pitch_stddev_rad, double* prev_m2, double* curr_m2) {
   *prev_m2 = *curr_m2 = 0.0;
   if (!std::isfinite(prev_altitude_m) || !(prev_altitude_m > 0.0) || !std::isfinite(dz)) return;
-  *prev_m2 = levelling_variance_m2(prev_altitude_m, roll_pitch_stddev_rad);
-  *curr_m2 = levelling_variance_m2(std::max(0.0, prev_altitude_m - dz), roll_pitch_stddev_rad);
+  *prev_m2 = levelling_variance_m2(prev_altitude_m, prev_roll_pitch_stddev_rad);
+  *curr_m2 = levelling_variance_m2(std::max(0.0, prev_altitude_m - dz), curr_roll_pitch_stddev_rad);
 }
 
 }  // namespace nadir

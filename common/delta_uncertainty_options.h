@@ -13,6 +13,10 @@ namespace nadir {
 struct DeltaUncertaintyOptions {
   bool enabled = true;                       // false: VO_DELTA carries the image covariance only
   double roll_pitch_stddev_deg = 0.05;       // INS roll/pitch white noise per sample
+  // INS roll/pitch error correlated from sample to sample (an aided INS's
+  // Gauss-Markov levelling error): unlike the white noise, not reduced where
+  // a frame's attitude is made from two samples.
+  double roll_pitch_correlated_stddev_deg = 0.0;
   double yaw_stddev_deg = 0.1;               // INS yaw white noise (enters the `flow` variant's dyaw only)
   double altimeter_stddev_m = 0.1;           // range noise, constant part ...
   double altimeter_stddev_fraction = 0.001;  // ... plus this fraction of the range
@@ -77,6 +81,10 @@ struct DeltaUncertaintyOptions {
   double range_stddev(double range_m) const { return altimeter_stddev_m + altimeter_stddev_fraction * range_m; }
   // Stationary stddev (rad/s) of the heading drift rate; 0 when disabled.
   double heading_drift_stddev_rad_s() const;
+  // The roll/pitch error (rad, 1 sigma) of a frame's attitude made from INS
+  // samples with `white_noise_share` of one sample's white noise variance
+  // (attitude_propagation.h): sqrt(white^2 * share + correlated^2).
+  double frame_roll_pitch_stddev_rad(double white_noise_share) const;
 };
 
 // Levelling variance (m^2 per horizontal axis) of one frame `height_m` above
@@ -87,8 +95,8 @@ struct DeltaUncertaintyOptions {
 // levelling error once per frame rather than once per delta, can take
 // exactly that part out again (yaw fusion's delta integration).
 double levelling_variance_m2(double height_m, double roll_pitch_stddev_rad);
-void frame_levelling_variances(double prev_altitude_m, double dz, double roll_pitch_stddev_rad, double* prev_m2,
-                               double* curr_m2);
+void frame_levelling_variances(double prev_altitude_m, double dz, double prev_roll_pitch_stddev_rad,
+                               double curr_roll_pitch_stddev_rad, double* prev_m2, double* curr_m2);
 
 // Heading variance (rad^2) of one frame's levelled frame: the frame is
 // levelled by R(roll, pitch) (ZYX), so a roll error delta turns it about the

@@ -179,10 +179,12 @@ SensorJacobian sensor_jacobian(const FramePair& pair, const Estimate& est, bool 
 
 Eigen::Matrix<double, kSensorInputs, kSensorInputs> sensor_input_covariance(const FramePair& pair,
                                                                              const UncertaintyOptions& options) {
-  const double rp = variance_rad2(options.roll_pitch_stddev_deg);
+  const double prev_rp = std::pow(options.frame_roll_pitch_stddev_rad(pair.prev_attitude_noise_share), 2);
+  const double curr_rp = std::pow(options.frame_roll_pitch_stddev_rad(pair.curr_attitude_noise_share), 2);
   Eigen::Matrix<double, kSensorInputs, 1> variance;
   const double sp = options.range_stddev(pair.prev_range_m), sc = options.range_stddev(pair.curr_range_m);
-  variance << rp, rp, rp, rp, sp * sp, sc * sc, options.range_scale_stddev * options.range_scale_stddev;
+  variance << prev_rp, prev_rp, curr_rp, curr_rp, sp * sp, sc * sc,
+      options.range_scale_stddev * options.range_scale_stddev;
   return variance.asDiagonal();
 }
 
@@ -216,13 +218,13 @@ Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, co
   // dyaw against the attitudes: each frame's heading term (levelling_yaw_variance_rad2).
   j.block<1, 4>(3, kPrevRoll).setZero();
   Eigen::Matrix4d cov = j * sensor_input_covariance(pair, options) * j.transpose();
-  const double rp_stddev = deg_to_rad(options.roll_pitch_stddev_deg);
+  const double prev_rp = options.frame_roll_pitch_stddev_rad(pair.prev_attitude_noise_share);
+  const double curr_rp = options.frame_roll_pitch_stddev_rad(pair.curr_attitude_noise_share);
   double prev_levelling = 0, curr_levelling = 0;
-  frame_levelling_variances(est.altitude_m, est.translation.z(), rp_stddev, &prev_levelling, &curr_levelling);
+  frame_levelling_variances(est.altitude_m, est.translation.z(), prev_rp, curr_rp, &prev_levelling, &curr_levelling);
   cov(0, 0) += prev_levelling + curr_levelling;
   cov(1, 1) += prev_levelling + curr_levelling;
-  cov(3, 3) += levelling_yaw_variance_rad2(pair.prev_pitch, rp_stddev) +
-               levelling_yaw_variance_rad2(pair.curr_pitch, rp_stddev);
+  cov(3, 3) += levelling_yaw_variance_rad2(pair.prev_pitch, prev_rp) + levelling_yaw_variance_rad2(pair.curr_pitch, curr_rp);
   // `flow` takes its heading change from the INS: both frames' yaw noise.
   if (solver.variant == Variant::kFlow) cov(3, 3) += 2 * variance_rad2(options.yaw_stddev_deg);
   cov.topLeftCorner<2, 2>() += relief_walk_covariance(est.translation.head<2>(), solver.variant, options);

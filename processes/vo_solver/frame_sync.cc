@@ -158,9 +158,11 @@ void FrameSync::propagate_attitude_to(int64_t utime, FrameState* state) const {
   const InsAttitude& a = base->second;
   if (utime - base->first > options_.max_ins_gap_us) return;
   const bool earlier_usable = base != ins_.begin() && base->first - std::prev(base)->first <= options_.max_ins_gap_us;
-  const auto rpy = propagated_rpy(a, earlier_usable ? &std::prev(base)->second : nullptr, utime);
+  const InsAttitude* earlier = earlier_usable ? &std::prev(base)->second : nullptr;
+  const auto rpy = propagated_rpy(a, earlier, utime);
   if (rpy) {
     set_attitude(state, rpy->x(), rpy->y(), rpy->z());
+    state->attitude_noise_share = propagated_white_noise_share(a, earlier, utime);
   } else if (utime - base->first <= options_.max_ins_extrapolation_us) {
     // One sample and no rate: held, as the interpolate policy holds a one-sided sample.
     set_attitude(state, a.roll, a.pitch, a.yaw);
@@ -185,6 +187,7 @@ void FrameSync::interpolate_attitude(int64_t utime, FrameState* state) const {
     const Eigen::Quaterniond qb(rotation_from_rpy(upper->second.roll, upper->second.pitch, upper->second.yaw));
     const Eigen::Vector3d rpy = rpy_from_rotation(qa.slerp(f, qb).toRotationMatrix());
     set(rpy.x(), rpy.y(), rpy.z());
+    state->attitude_noise_share = interpolated_white_noise_share(f);
     return;
   }
   if (has_upper && upper->first - utime <= options_.max_ins_extrapolation_us) {

@@ -59,6 +59,9 @@ struct SyncOptions {
 struct FrameState {
   bool has_attitude = false;
   double roll = 0, pitch = 0, yaw = 0;
+  // The share of one INS sample's white attitude noise variance in roll,
+  // pitch and yaw (attitude_propagation.h: 1/2 for two samples averaged).
+  double attitude_noise_share = 1.0;
   bool has_range = false;   // a valid range was found (maybe stale)
   bool range_stale = false;
   double range_m = 0;

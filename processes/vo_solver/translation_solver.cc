@@ -667,6 +667,7 @@ FramePair reversed_in_time(const FramePair& pair) {
   std::swap(r.prev_roll, r.curr_roll);
   std::swap(r.prev_pitch, r.curr_pitch);
   std::swap(r.prev_yaw, r.curr_yaw);
+  std::swap(r.prev_attitude_noise_share, r.curr_attitude_noise_share);
   std::swap(r.prev_range_m, r.curr_range_m);
   std::swap(r.prev_beam_body, r.curr_beam_body);
   // Own depths are in the level frame of prev: they do not describe the reversed pair.

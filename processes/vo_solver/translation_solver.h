@@ -71,6 +71,9 @@ struct FramePair {
   // INS, rad. Yaw: the start of paper / level_ground's heading change, and `flow`'s heading change.
   double prev_roll = 0, prev_pitch = 0, prev_yaw = 0;
   double curr_roll = 0, curr_pitch = 0, curr_yaw = 0;
+  // The share of one INS sample's white noise variance in each frame's
+  // attitude (FrameState::attitude_noise_share): the uncertainty model's.
+  double prev_attitude_noise_share = 1.0, curr_attitude_noise_share = 1.0;
   double prev_range_m = 0, curr_range_m = 0;  // altimeter slant ranges along the beam
   // The altimeter's noise on prev_range_m (1 sigma, m; the node's from the
   // uncertainty options): what feature_depth's scale filter weighs the anchor with.

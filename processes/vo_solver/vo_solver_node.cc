@@ -119,6 +119,8 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   pair.curr_roll = curr.roll;
   pair.curr_pitch = curr.pitch;
   pair.curr_yaw = curr.yaw;
+  pair.prev_attitude_noise_share = prev.attitude_noise_share;
+  pair.curr_attitude_noise_share = curr.attitude_noise_share;
   pair.prev_range_m = prev.range_m;
   pair.curr_range_m = curr.range_m;
   pair.prev_range_sigma_m = options_.uncertainty.range_stddev(prev.range_m);

@@ -39,18 +39,20 @@ PoseFilter::YawBiasStep yaw_bias_step(const YawFusionOptions& options, double dt
 }  // namespace
 
 Eigen::Vector3d integrate_delta(PoseFilter* filter, const vo_delta_t& delta, const Eigen::Matrix4d& covariance,
-                                double prev_pitch, double curr_pitch, const YawFusionOptions& options) {
+                                const FrameAttitudeNoise& prev, const FrameAttitudeNoise& curr,
+                                const YawFusionOptions& options) {
   const DeltaUncertaintyOptions& u = options.sensor_uncertainty;
   const Eigen::Vector3d translation(delta.dx, delta.dy, delta.dz);
   double prev_levelling = 0.0, curr_levelling = 0.0, range_scale_variance = 0.0;
   double prev_heading = 0.0, curr_heading = 0.0;
   if (u.enabled) {
     // Exactly what vo_solver put on dx, dy and dyaw (the VO solver's sensor covariance).
-    const double rp_stddev = deg_to_rad(u.roll_pitch_stddev_deg);
-    frame_levelling_variances(delta.altitude_m, delta.dz, rp_stddev, &prev_levelling, &curr_levelling);
+    const double prev_rp = u.frame_roll_pitch_stddev_rad(prev.noise_share);
+    const double curr_rp = u.frame_roll_pitch_stddev_rad(curr.noise_share);
+    frame_levelling_variances(delta.altitude_m, delta.dz, prev_rp, curr_rp, &prev_levelling, &curr_levelling);
     range_scale_variance = u.range_scale_stddev * u.range_scale_stddev;
-    prev_heading = levelling_yaw_variance_rad2(prev_pitch, rp_stddev);
-    curr_heading = levelling_yaw_variance_rad2(curr_pitch, rp_stddev);
+    prev_heading = levelling_yaw_variance_rad2(prev.pitch, prev_rp);
+    curr_heading = levelling_yaw_variance_rad2(curr.pitch, curr_rp);
   }
   Eigen::Matrix4d shared = Eigen::Matrix4d::Zero();
   shared(0, 0) = shared(1, 1) = prev_levelling + curr_levelling;

@@ -68,10 +68,14 @@ std::optional<AttitudeSample> InsHistory::at(int64_t utime, int64_t max_bracket_
     const bool earlier_usable = earlier != nullptr && before->utime - earlier->utime <= max_bracket_us;
     AttitudeSample out = *before;
     out.utime = utime;
-    if (const auto rpy = propagated_rpy(ins_attitude(*before), earlier_usable ? &earlier_attitude : nullptr, utime)) {
+    const InsAttitude base = ins_attitude(*before);
+    const InsAttitude* earlier_used = earlier_usable ? &earlier_attitude : nullptr;
+    if (const auto rpy = propagated_rpy(base, earlier_used, utime)) {
       out.roll = rpy->x();
       out.pitch = rpy->y();
       out.yaw = rpy->z();
+      out.white_noise_share = propagated_white_noise_share(base, earlier_used, utime);
+      if (out.yaw_variance >= 0.0) out.yaw_variance *= out.white_noise_share;
     }
     return out;
   }
@@ -82,9 +86,10 @@ std::optional<AttitudeSample> InsHistory::at(int64_t utime, int64_t max_bracket_
     out.roll = before->roll + f * angle_difference(after->roll, before->roll);
     out.pitch = before->pitch + f * angle_difference(after->pitch, before->pitch);
     out.yaw = wrap_angle(before->yaw + f * angle_difference(after->yaw, before->yaw));
+    out.white_noise_share = interpolated_white_noise_share(f);
     out.yaw_variance = (before->yaw_variance < 0.0 || after->yaw_variance < 0.0)
                            ? -1.0
-                           : std::max(before->yaw_variance, after->yaw_variance);
+                           : (1.0 - f) * (1.0 - f) * before->yaw_variance + f * f * after->yaw_variance;
     return out;
   }
   const AttitudeSample* nearest = nullptr;

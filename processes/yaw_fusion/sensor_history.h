@@ -22,6 +22,11 @@ struct AttitudeSample {
   double pitch = 0.0;
   double yaw = 0.0;
   double yaw_variance = -1.0;  // < 0: this sample's yaw must not be used
+  // The share of one INS sample's white noise variance in this attitude
+  // (attitude_propagation.h): 1 for a sample as the INS gave it; the frame
+  // attitude InsHistory::at makes from two samples has less, and its
+  // yaw_variance is scaled by it.
+  double white_noise_share = 1.0;
   bool has_rate = false;       // body_rate is the INS's own
   Eigen::Vector3d body_rate = Eigen::Vector3d::Zero();  // rad/s
 };

@@ -165,9 +165,13 @@ std::optional<AttitudeSample> YawFusionEstimator::ins_attitude_at(int64_t utime)
                  options_.attitude_policy);
 }
 
-double YawFusionEstimator::frame_pitch(int64_t utime) const {
-  const auto attitude = ins_attitude_at(utime);
-  return attitude ? attitude->pitch : std::numeric_limits<double>::quiet_NaN();
+FrameAttitudeNoise YawFusionEstimator::frame_attitude_noise(int64_t utime) const {
+  FrameAttitudeNoise frame;
+  if (const auto attitude = ins_attitude_at(utime)) {
+    frame.pitch = attitude->pitch;
+    frame.noise_share = attitude->white_noise_share;
+  }
+  return frame;
 }
 
 bool YawFusionEstimator::delta_ready(const vo_delta_t& delta) const {
@@ -456,7 +460,8 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
 
   const PoseFilter before = filter_;
   const Eigen::Vector3d world =
-      integrate_delta(&filter_, delta, cov, frame_pitch(delta.prev_utime), frame_pitch(delta.utime), options_);
+      integrate_delta(&filter_, delta, cov, frame_attitude_noise(delta.prev_utime), frame_attitude_noise(delta.utime),
+                      options_);
   if (!world.allFinite() || !filter_.position().allFinite() || !filter_.covariance().allFinite()) {
     // Finite but extreme values overflowed: nothing non-finite is ever published.
     filter_ = before;

@@ -61,6 +61,7 @@
 #include "nadir/vo_delta_t.hpp"
 #include "processes/yaw_fusion/coast_terrain.h"
 #include "processes/yaw_fusion/coasting.h"
+#include "processes/yaw_fusion/delta_integration.h"
 #include "processes/yaw_fusion/pose_filter.h"
 #include "processes/yaw_fusion/sensor_history.h"
 #include "processes/yaw_fusion/yaw_fusion_options.h"
@@ -141,8 +142,9 @@ class YawFusionEstimator {
  private:
   // The INS attitude at a frame (stamp) time's exposure time under the configured attitude policy.
   std::optional<AttitudeSample> ins_attitude_at(int64_t utime) const;
-  // The INS pitch (rad) of the frame at this sensor time, NaN when the INS does not bracket it.
-  double frame_pitch(int64_t utime) const;
+  // The INS pitch (rad, NaN when the INS does not bracket it) of the frame at this sensor time, and the
+  // share of one sample's white noise in its attitude.
+  FrameAttitudeNoise frame_attitude_noise(int64_t utime) const;
   bool delta_ready(const vo_delta_t& delta) const;
   void pump(std::vector<pose_t>* out);
   void start(const vo_delta_t& first, std::vector<pose_t>* out);

@@ -285,6 +285,36 @@ TEST(DeltaUncertainty, FeatureDepthHasItsOwnModelError) {
   EXPECT_NEAR(across.dot(own * along), 0.0, 1e-15);
 }
 
+// Each frame's levelling term is its attitude's error: the white noise scaled
+// by the share the attitude policy left in that frame (half where two INS
+// samples were averaged), the correlated part whole.
+TEST(DeltaUncertainty, EachFramesLevellingTermCarriesItsShareOfTheWhiteNoise) {
+  const testing::Scene scene = testing::make_scene(pair_spec());
+  const SolverOptions options;
+  const Estimate est = solve(scene.pair, options);
+  UncertaintyOptions u;
+  u.roll_pitch_stddev_deg = 0.3;
+  u.roll_pitch_correlated_stddev_deg = 0.1;
+  FramePair halved = scene.pair;
+  halved.prev_attitude_noise_share = 0.5;
+  const Eigen::Matrix4d whole = sensor_covariance(scene.pair, est, options, u);
+  const Eigen::Matrix4d less = sensor_covariance(halved, est, options, u);
+  const double white = deg_to_rad(0.3), correlated = deg_to_rad(0.1);
+  EXPECT_NEAR(u.frame_roll_pitch_stddev_rad(0.5), std::sqrt(0.5 * white * white + correlated * correlated), 1e-15);
+  EXPECT_NEAR(u.frame_roll_pitch_stddev_rad(1.0), std::hypot(white, correlated), 1e-15);
+  // prev's footprint term (height est.altitude_m) loses half the white variance, on dx and dy alike.
+  const double lost = est.altitude_m * est.altitude_m * 0.5 * white * white;
+  EXPECT_NEAR(whole(0, 0) - less(0, 0), lost, 1e-9 * lost);
+  EXPECT_NEAR(whole(1, 1) - less(1, 1), lost, 1e-9 * lost);
+  // prev's heading term: sin(prev pitch)^2 times the same.
+  const double lost_heading = std::pow(std::sin(scene.pair.prev_pitch), 2) * 0.5 * white * white;
+  EXPECT_NEAR(whole(3, 3) - less(3, 3), lost_heading, 1e-6 * lost_heading);
+  // The time-reversed pair swaps the two frames' shares with their attitudes.
+  const FramePair reversed = reversed_in_time(halved);
+  EXPECT_EQ(reversed.curr_attitude_noise_share, 0.5);
+  EXPECT_EQ(reversed.prev_attitude_noise_share, 1.0);
+}
+
 TEST(DeltaUncertainty, FlowVariantCarriesTheInsHeadingNoise) {
   const testing::Scene scene = testing::make_scene(pair_spec());
   SolverOptions flow;

@@ -207,10 +207,18 @@ TEST(YawFusionEstimator, YawVarianceBoundedWithInsAndGrowingWithout) {
   YawFusionCounters counters;
   const auto poses = run_flight(flight, YawFusionOptions{}, &counters);
   ASSERT_EQ(poses.size(), flight.truth.size());
+  // A pose carries its own frame's levelling error once, not accumulated, and
+  // that varies with the share of the INS's white noise in the frame's
+  // attitude (interpolated between samples: 1/2 to 1 of one sample's): from
+  // pose to pose the sum may fall by up to half of it; over a second it grows.
+  const double frame_term = 2 * levelling_variance_m2(400.0, deg_to_rad(0.05));  // both axes, above the flight
+  auto horizontal = [&](size_t i) { return poses[i].position_covariance[0][0] + poses[i].position_covariance[1][1]; };
   for (size_t i = 101; i < poses.size(); ++i) {
     EXPECT_GT(poses[i].yaw_variance, poses[i - 1].yaw_variance) << i;
-    EXPECT_GE(poses[i].position_covariance[0][0] + poses[i].position_covariance[1][1],
-              poses[i - 1].position_covariance[0][0] + poses[i - 1].position_covariance[1][1]);
+    EXPECT_GE(horizontal(i) + 0.5 * frame_term, horizontal(i - 1)) << i;
+    if (i >= 115) {
+      EXPECT_GT(horizontal(i), horizontal(i - 14)) << i;
+    }
   }
   EXPECT_GE(counters.ins_yaw_unusable, static_cast<int64_t>(poses.size()) - 102);
   // Pure VO yaw integration stays exact on noise-free deltas.

@@ -55,7 +55,7 @@ Flight fly(int frames, double height, double step, const YawFusionOptions& optio
     cov(0, 0) = cov(1, 1) = 2 * vo::levelling_variance_m2(height, level_sigma) + image_sigma * image_sigma;
     cov(0, 0) += std::pow(options.sensor_uncertainty.range_scale_stddev * step, 2);
     cov(3, 3) = 1e-12;
-    integrate_delta(&filter, d, cov, std::nan(""), std::nan(""), options);
+    integrate_delta(&filter, d, cov, FrameAttitudeNoise{}, FrameAttitudeNoise{}, options);
   }
   return {filter.position().head<2>() - truth, filter.reported_position_covariance().topLeftCorner<2, 2>()};
 }
@@ -129,7 +129,7 @@ Flight fly_with_yaw_bias(int frames, double step, const YawFusionOptions& option
     Eigen::Matrix4d cov = Eigen::Matrix4d::Zero();
     cov(0, 0) = cov(1, 1) = cov(2, 2) = 1e-12;
     cov(3, 3) = dyaw_sigma * dyaw_sigma;
-    integrate_delta(&filter, d, cov, std::nan(""), std::nan(""), options);
+    integrate_delta(&filter, d, cov, FrameAttitudeNoise{}, FrameAttitudeNoise{}, options);
     filter.update_yaw(true_yaw + bias + offset + white * unit(rng), white * white, 1e9);
   }
   return {filter.position().head<2>() - truth, filter.reported_position_covariance().topLeftCorner<2, 2>()};
@@ -229,8 +229,12 @@ std::pair<double, double> fly_with_heading_levelling(int frames, const YawFusion
     Eigen::Matrix4d cov = Eigen::Matrix4d::Identity() * 1e-12;
     cov(3, 3) = vo::levelling_yaw_variance_rad2(pitch_of(k - 1), rp) + vo::levelling_yaw_variance_rad2(pitch_of(k), rp) +
                 image * image;
-    const double nan = std::nan("");
-    integrate_delta(&filter, d, cov, pitch_known ? pitch_of(k - 1) : nan, pitch_known ? pitch_of(k) : nan, options);
+    FrameAttitudeNoise prev, curr;  // pitch NaN: not known
+    if (pitch_known) {
+      prev.pitch = pitch_of(k - 1);
+      curr.pitch = pitch_of(k);
+    }
+    integrate_delta(&filter, d, cov, prev, curr, options);
     filter.update_yaw(ins * unit(rng), ins * ins, 1e9);  // the true yaw stays 0
   }
   return {filter.yaw(), filter.reported_yaw_variance()};
@@ -287,7 +291,7 @@ std::vector<std::pair<double, double>> fly_with_heading_drift(double drift_model
     drift = decay * drift + drift_sigma * std::sqrt(1.0 - decay * decay) * unit(rng);
     Eigen::Matrix4d cov = Eigen::Matrix4d::Identity() * 1e-12;
     cov(3, 3) = white * white;
-    integrate_delta(&filter, d, cov, std::nan(""), std::nan(""), options);
+    integrate_delta(&filter, d, cov, FrameAttitudeNoise{}, FrameAttitudeNoise{}, options);
     filter.update_yaw(true_yaw + ins * unit(rng), ins * ins, 1e9);
     if (k % 50 == 0) out.emplace_back(angle_difference(filter.yaw(), true_yaw), filter.reported_yaw_variance());
   }
@@ -327,7 +331,7 @@ TEST(DeltaIntegration, WithoutAnAltitudeNothingIsTakenApart) {
   d.dx = 2.0;
   d.altitude_m = 0.0;  // unknown
   Eigen::Matrix4d cov = Eigen::Matrix4d::Identity() * 0.01;
-  integrate_delta(&filter, d, cov, std::nan(""), std::nan(""), options);
+  integrate_delta(&filter, d, cov, FrameAttitudeNoise{}, FrameAttitudeNoise{}, options);
   // The delta's variance (plus the initial yaw variance swinging 2 m: 4e-6).
   EXPECT_NEAR(filter.reported_position_covariance()(1, 1), 0.01 + 4e-6, 1e-9);
 }

@@ -81,6 +81,40 @@ TEST(InsHistory, PropagateUsesOnlySamplesAtOrBeforeTheQuery) {
   EXPECT_NE(h.at(14000, 500000)->yaw, early->yaw) << "interpolation does use the later sample";
 }
 
+// The INS yaw variance is one sample's white noise; a frame's yaw made from
+// two samples carries the share of it the attitude policy leaves
+// (attitude_propagation.h), and yaw fusion weighs the INS yaw by that.
+TEST(InsHistory, FrameYawVarianceIsTheWhiteNoiseLeftInTheFrameAttitude) {
+  const double v = 4e-6;
+  InsHistory with_rates, without_rates;
+  for (int64_t t : {0, 10000}) {
+    AttitudeSample s = sample(t, 10.0, v);
+    without_rates.add(s);
+    s.has_rate = true;
+    with_rates.add(s);
+  }
+  const auto averaged = with_rates.at(14000, 500000, AttitudePolicy::kPropagate);
+  ASSERT_TRUE(averaged.has_value());
+  EXPECT_DOUBLE_EQ(averaged->white_noise_share, 0.5);
+  EXPECT_DOUBLE_EQ(averaged->yaw_variance, 0.5 * v);
+  const auto interpolated = with_rates.at(2500, 500000, AttitudePolicy::kInterpolate);
+  EXPECT_DOUBLE_EQ(interpolated->yaw_variance, (0.75 * 0.75 + 0.25 * 0.25) * v);
+  // Carried 0.4 sample intervals past the newest with the rate between the two: (1.4^2 + 0.4^2) v.
+  const auto carried = without_rates.at(14000, 500000, AttitudePolicy::kPropagate);
+  EXPECT_NEAR(carried->yaw_variance, (1.4 * 1.4 + 0.4 * 0.4) * v, 1e-18);
+  const auto at_sample = without_rates.at(10000, 500000, AttitudePolicy::kPropagate);
+  EXPECT_DOUBLE_EQ(at_sample->yaw_variance, v);
+  EXPECT_DOUBLE_EQ(at_sample->white_noise_share, 1.0);
+  // Unusable stays unusable.
+  InsHistory unusable;
+  for (int64_t t : {0, 10000}) {
+    AttitudeSample s = sample(t, 10.0, -1.0);
+    s.has_rate = true;
+    unusable.add(s);
+  }
+  EXPECT_LT(unusable.at(14000, 500000, AttitudePolicy::kPropagate)->yaw_variance, 0.0);
+}
+
 TEST(AltimeterHistory, VerticalHeightFromTiltedBeamAndAge) {
   AltimeterHistory h;
   h.add({1000, 100.0, Eigen::Vector3d::UnitZ()});
