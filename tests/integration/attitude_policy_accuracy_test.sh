@@ -4,9 +4,13 @@
 # per-sample white noise switched off, so that both policies see the same
 # attitude signal and only the method differs. The simulated flight is
 # replayed (tracker, vo_solver, yaw_fusion) once with each policy.
-# Criteria: every POSE position of the two replays within 5 mm of each other
+# Criteria: every POSE position of the two replays within 15 mm of each other
 # (and the final 3-D errors within 0.0005 % of the distance, a tenth of the
-# issue's bound); the replays do differ (the setting took effect).
+# issue's bound); the replays do differ (the setting took effect). The
+# uncertainty models weigh each frame's INS attitude by the share of the INS's
+# white noise its policy leaves in it (1/2 propagated, 1/2 to 1 interpolated),
+# so the two weigh the INS yaw differently by design: 9 mm at most here
+# (under 5 mm before the shares were counted).
 # With the white noise on, the difference is the noise draw, not the method:
 # README § Latency, "Many flights".
 set -uo pipefail
@@ -47,7 +51,7 @@ check(len(a) > 500 and set(a) <= set(b) and len(extra) <= 1 and all(t > max(a) f
 common = sorted(set(a) & set(b))
 gaps = [math.dist(a[t], b[t]) for t in common]
 worst = max(gaps, default=float("inf"))
-check(worst < 0.005, f"largest position difference between the policies {worst * 1e3:.3f} mm (< 5 mm)")
+check(worst < 0.015, f"largest position difference between the policies {worst * 1e3:.3f} mm (< 15 mm)")
 check(worst > 0.0, "the policies differ at all (the setting took effect)")
 m = {p: json.load(open(f"{work}/{p}/metrics.json")) for p in ("interpolate", "propagate")}
 d = m["propagate"]["error_pct_3d"] - m["interpolate"]["error_pct_3d"]
