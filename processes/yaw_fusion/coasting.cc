@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include "common/geometry.h"
 #include "common/robust_stats.h"
 
 namespace nadir {
@@ -42,7 +43,8 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
                 &O::resume_good_deltas)
         .flag("vo_direction", "a stale-range delta coasts along its own direction at the held speed",
               &O::vo_direction)
-        .number("speed_window_s", 0.0, 60.0, "s", "window of the held speed", &O::speed_window_s)
+        .number("speed_window_s", 0.0, 60.0, "s", "window of the held velocity (displacement, mean heading)",
+                &O::speed_window_s)
         .number("max_climb_ratio", 0.0, 10.0, "", "vo_direction: |dz| at most this share of the horizontal step",
                 &O::max_climb_ratio)
         .flag("follow_altimeter", "while coasting, down = the last frames' ground plane minus the levelled range",
@@ -60,6 +62,20 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
 CoastOptions CoastOptions::from_config(const Config& c) { return schema().read(c); }
 
 void CoastOptions::Check() const { schema().check(*this); }
+
+std::optional<Eigen::Vector3d> held_level_velocity(const std::deque<CoastSample>& window) {
+  if (window.size() < 2) return std::nullopt;
+  const CoastSample& first = window.front();
+  const CoastSample& last = window.back();
+  const double duration_s = static_cast<double>(last.utime - first.utime) * 1e-6;
+  if (!(duration_s > 0.0)) return std::nullopt;
+  // The mean heading as offsets from the first sample's (a window across 180 deg averages right).
+  double offset_sum = 0.0;
+  for (size_t i = 0; i + 1 < window.size(); ++i) offset_sum += wrap_angle(window[i].yaw - first.yaw);
+  const double heading = first.yaw + offset_sum / static_cast<double>(window.size() - 1);
+  const Eigen::Vector3d world = (last.position - first.position) / duration_s;
+  return rotation_from_rpy(0.0, 0.0, -heading) * world;
+}
 
 double coast_position_variance(double sigma_v, double q, double t) {
   if (!(t > 0.0)) return 0.0;

@@ -13,9 +13,12 @@
 // covariance growth model and the detector that decides, delta by delta,
 // whether to coast. The estimator (yaw_fusion_estimator.cc) does the rest.
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <deque>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "common/config.h"
@@ -58,10 +61,10 @@ struct CoastOptions {
   int high_residual_window = 42;          // deltas (3 s at 14 Hz)
   double high_residual_fraction = 0.5;    // more than this fraction HIGH_RESIDUAL in the window: coast
   int resume_good_deltas = 3;             // clean deltas in a row before integrating again
-  // The held speed (and vertical velocity) is the displacement over this
-  // window of integrated positions: per-frame attitude noise averages out.
-  // Its heading is the published velocity's (velocity_window_s, shorter: a
-  // turn does not lag).
+  // The held velocity is the displacement over this window of integrated
+  // positions, in the level vehicle frame of the mean heading the frames had
+  // along it (held_level_velocity): per-frame attitude noise averages out,
+  // and so does a heading oscillation the track does not follow.
   double speed_window_s = 3.0;
   // A delta solved with a stale range (STALE_ALTIMETER its only coasted bit,
   // no other reason) has the right direction and the wrong scale: coast at
@@ -93,6 +96,26 @@ struct CoastOptions {
   void Check() const;  // throws ConfigError naming the key
   static const OptionsSchema<CoastOptions>& schema();
 };
+
+// One integrated frame as the held velocity sees it: its time, position
+// (NED) and fused yaw (rad).
+struct CoastSample {
+  int64_t utime = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double yaw = 0.0;
+};
+
+// The velocity a coast holds, in the level vehicle frame (x forward, y right,
+// z down): the displacement from the first sample of `window` to the last
+// over its duration, turned into the frame of the mean heading of the frames
+// that displacement was registered with (every sample but the last; each
+// delta is registered with its previous frame's yaw). Turned back with the
+// heading of each coasting frame it gives the track the window flew, with
+// the angle between track and heading (crab, sideslip, a heading
+// oscillation the track does not follow) as it was on average over the
+// window rather than at its last frame. Needs two samples with increasing
+// times; nullopt otherwise.
+std::optional<Eigen::Vector3d> held_level_velocity(const std::deque<CoastSample>& window);
 
 // Position variance (m^2, one axis) after coasting t seconds with velocity
 // error sigma_v (m/s) and random walk q (m/s per sqrt s). 0 for t <= 0.

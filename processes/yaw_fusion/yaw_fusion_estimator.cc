@@ -485,17 +485,18 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     last_velocity_ = (filter_.position() - oldest.second) / (static_cast<double>(delta.utime - oldest.first) * 1e-6);
   }
   velocity_out_ = last_velocity_;
-  coast_positions_.emplace_back(delta.utime, filter_.position());
-  const int64_t coast_window_us = static_cast<int64_t>(options_.coast.speed_window_s * 1e6);
-  while (coast_positions_.size() > 2 && delta.utime - coast_positions_[1].first >= coast_window_us) {
-    coast_positions_.pop_front();
-  }
   last_frame_utime_ = delta.utime;
   last_good_utime_ = delta.utime;
   ++frames_;
   ++counters_.vo_deltas_integrated;
 
   flags |= update_attitude(delta.utime);
+  // The yaw the next delta is registered with (the INS update does not move the position).
+  coast_positions_.push_back(CoastSample{delta.utime, filter_.position(), filter_.yaw()});
+  const int64_t coast_window_us = static_cast<int64_t>(options_.coast.speed_window_s * 1e6);
+  while (coast_positions_.size() > 2 && delta.utime - coast_positions_[1].utime >= coast_window_us) {
+    coast_positions_.pop_front();
+  }
   double fallback = std::numeric_limits<double>::quiet_NaN();
   if (std::isfinite(delta.altitude_m) && delta.altitude_m > 0.0) {
     fallback = delta.altitude_m - delta.dz;  // height at the previous frame, minus the descent
@@ -546,16 +547,9 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
     coasting_ = true;
     ++counters_.coast_episodes;
     recent_positions_.clear();
-    coast_velocity_level_ = rotation_from_rpy(0.0, 0.0, -good_filter_.yaw()) * last_velocity_;
-    if (coast_positions_.size() >= 2) {
-      // Speed and climb over the longer window; heading from the published velocity.
-      const auto& [t0, p0] = coast_positions_.front();
-      const auto& [t1, p1] = coast_positions_.back();
-      const Eigen::Vector3d mean = (p1 - p0) / (static_cast<double>(t1 - t0) * 1e-6);
-      const double heading_speed = coast_velocity_level_.head<2>().norm();
-      if (heading_speed > 1e-3) coast_velocity_level_.head<2>() *= mean.head<2>().norm() / heading_speed;
-      coast_velocity_level_.z() = mean.z();
-    }
+    // Over the speed window when there is one (held_level_velocity), else the published velocity.
+    coast_velocity_level_ = held_level_velocity(coast_positions_)
+                                .value_or(rotation_from_rpy(0.0, 0.0, -good_filter_.yaw()) * last_velocity_);
     coast_positions_.clear();
     if (options_.coast.follow_altimeter) {
       coast_terrain_.anchor();
@@ -666,7 +660,7 @@ int32_t YawFusionEstimator::coast_reason(const vo_delta_t& delta, int32_t bits) 
 bool YawFusionEstimator::held_speed_ready() const {
   if (coasting_) return true;  // the speed is held already
   const int64_t window_us = static_cast<int64_t>(options_.coast.speed_window_s * 1e6);
-  return coast_positions_.size() >= 2 && coast_positions_.back().first - coast_positions_.front().first >= window_us;
+  return coast_positions_.size() >= 2 && coast_positions_.back().utime - coast_positions_.front().utime >= window_us;
 }
 
 int32_t YawFusionEstimator::update_attitude(int64_t utime) {
@@ -859,7 +853,7 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
     if (p.utime >= fix.utime) p.position += correction;
   }
   for (auto& p : recent_positions_) p.second += shift;
-  for (auto& p : coast_positions_) p.second += shift;
+  for (CoastSample& s : coast_positions_) s.position += shift;
   ++counters_.map_fixes_applied;
   return pose_t::FLAG_MAP_FIX_APPLIED;
 }

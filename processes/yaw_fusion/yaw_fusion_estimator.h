@@ -232,7 +232,7 @@ class YawFusionEstimator {
   // Coasting: the velocity held in the level vehicle frame (x forward, y right,
   // z down) at the last integrated frame, whose time starts the coast.
   CoastDetector coast_detector_;
-  std::deque<std::pair<int64_t, Eigen::Vector3d>> coast_positions_;  // integrated, over coast.speed_window_s
+  std::deque<CoastSample> coast_positions_;  // integrated frames, over coast.speed_window_s
   bool coasting_ = false;
   Eigen::Vector3d coast_velocity_level_ = Eigen::Vector3d::Zero();
   double last_altimeter_height_ = std::numeric_limits<double>::quiet_NaN();  // at the last frame

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <random>
 #include <set>
@@ -197,6 +198,92 @@ TEST(Coasting, HeldVelocityFollowsTheInsHeadingInATurn) {
       start + v_world * (static_cast<double>(flight.truth[240].utime - flight.truth[100].utime) * 1e-6);
   const double world_held_error = (world_held - flight.truth[240].position).norm();
   EXPECT_LT(coasted_error, 0.5 * world_held_error);
+  EXPECT_LT(coasted_error, 3.0 * std::sqrt(end->position_covariance[0][0] + end->position_covariance[1][1]));
+}
+
+TEST(HeldLevelVelocity, TrackOverTheWindowInTheFrameOfItsMeanHeading) {
+  // 3 s at 20 m/s on a track of 85 deg, climbing 1 m/s; the heading is the
+  // track plus a crab of 2 deg plus an oscillation of 1 deg that sums to zero
+  // over the registering frames (all but the last).
+  const double track = deg_to_rad(85.0), crab = deg_to_rad(2.0), speed = 20.0, climb = 1.0;
+  const int n = 42;  // registering frames
+  std::deque<CoastSample> window;
+  for (int k = 0; k <= n; ++k) {
+    const double t = 3.0 * k / n;
+    CoastSample s;
+    s.utime = 1'000'000 + static_cast<int64_t>(std::llround(t * 1e6));
+    s.position = Eigen::Vector3d(speed * t * std::cos(track), speed * t * std::sin(track), -climb * t);
+    s.yaw = track + crab + deg_to_rad(1.0) * std::sin(2.0 * M_PI * k / n);
+    window.push_back(s);
+  }
+  const auto level = held_level_velocity(window);
+  ASSERT_TRUE(level.has_value());
+  EXPECT_NEAR(level->x(), speed * std::cos(crab), 1e-6);
+  EXPECT_NEAR(level->y(), -speed * std::sin(crab), 1e-6);  // the track is left of the heading
+  EXPECT_NEAR(level->z(), -climb, 1e-9);
+  // The last frame's heading (1 deg of oscillation off the mean) is not the one used.
+  window.back().yaw = track + crab + deg_to_rad(1.0);
+  EXPECT_NEAR(held_level_velocity(window)->y(), -speed * std::sin(crab), 1e-6);
+
+  // The same window turned to fly across +-180 deg: wrapped yaws average right.
+  std::deque<CoastSample> across;
+  const double south = M_PI - deg_to_rad(1.0);
+  for (int k = 0; k <= n; ++k) {
+    CoastSample s = window[k];
+    const double t = 3.0 * k / n;
+    s.position = Eigen::Vector3d(speed * t * std::cos(south), speed * t * std::sin(south), -climb * t);
+    s.yaw = wrap_angle(south + crab + deg_to_rad(1.0) * std::sin(2.0 * M_PI * k / n));
+    across.push_back(s);
+  }
+  const auto level_across = held_level_velocity(across);
+  ASSERT_TRUE(level_across.has_value());
+  EXPECT_NEAR(level_across->x(), speed * std::cos(crab), 1e-6);
+  EXPECT_NEAR(level_across->y(), -speed * std::sin(crab), 1e-6);
+
+  // Fewer than two samples, or no time between them: nothing to hold.
+  EXPECT_FALSE(held_level_velocity({}).has_value());
+  EXPECT_FALSE(held_level_velocity({window.front()}).has_value());
+  EXPECT_FALSE(held_level_velocity({window.front(), window.front()}).has_value());
+}
+
+TEST(Coasting, HeldTrackIgnoresAHeadingOscillationTheTrackDoesNotFollow) {
+  // Straight flight; the heading swings 1 deg about the track every 3 s. The
+  // texture goes with the last good frame at a peak of the swing, the worst
+  // moment to take the angle between track and heading from that frame alone.
+  FlightSpec spec = straight_spec();
+  spec.heading_oscillation_deg = 1.0;
+  spec.heading_oscillation_period_s = 3.0;
+  SyntheticFlight flight = test::make_flight(spec);
+  const double track = deg_to_rad(spec.initial_yaw_deg);
+  size_t first = 100;  // deltas [first, last) lost; the last good frame is truth[first]
+  for (size_t k = 100; k < 142; ++k) {
+    if (std::abs(wrap_angle(flight.truth[k].yaw - track)) > std::abs(wrap_angle(flight.truth[first].yaw - track))) {
+      first = k;
+    }
+  }
+  const size_t last = first + 140;  // 10 s
+  lose_texture(&flight, first, last);
+  const auto poses = fly(flight, YawFusionOptions{});
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  const pose_t* end = pose_at(poses, flight.truth[last].utime);
+  ASSERT_NE(end, nullptr);
+  EXPECT_TRUE(end->flags & pose_t::FLAG_COASTING);
+  const double coasted_error = (position(*end) - (flight.truth[last].position - origin)).norm();
+  // The last second's velocity put into the frame of the last frame's
+  // heading and turned with the heading from there on: the track it holds
+  // is off by the swing's amplitude, on average.
+  const test::TruthFrame& from = flight.truth[first];
+  const test::TruthFrame& second_before = flight.truth[first - 14];
+  const Eigen::Vector3d v_level = rotation_from_rpy(0.0, 0.0, -from.yaw) * (from.position - second_before.position) /
+                                  (static_cast<double>(from.utime - second_before.utime) * 1e-6);
+  Eigen::Vector3d last_heading_held = from.position;
+  for (size_t k = first; k < last; ++k) {
+    const double dt = static_cast<double>(flight.truth[k + 1].utime - flight.truth[k].utime) * 1e-6;
+    last_heading_held += rotation_from_rpy(0.0, 0.0, flight.truth[k + 1].yaw) * v_level * dt;
+  }
+  const double last_heading_error = (last_heading_held - flight.truth[last].position).norm();
+  EXPECT_GT(last_heading_error, 3.0);  // 30 m/s for 10 s, ~1 deg off: ~5 m
+  EXPECT_LT(coasted_error, 0.25 * last_heading_error);
   EXPECT_LT(coasted_error, 3.0 * std::sqrt(end->position_covariance[0][0] + end->position_covariance[1][1]));
 }
 

@@ -49,6 +49,11 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
   State state{deg_to_rad(spec.initial_yaw_deg), Eigen::Vector3d::Zero()};
   auto roll_at = [&](double t) { return 0.02 * std::sin(0.7 * t) + 0.3 * yaw_rate(spec, t); };
   auto pitch_at = [&](double t) { return 0.03 + 0.01 * std::cos(0.5 * t); };
+  // state.yaw is the track; the heading oscillates about it.
+  auto heading_at = [&](double t) {
+    return state.yaw + deg_to_rad(spec.heading_oscillation_deg) *
+                           std::sin(2.0 * M_PI * t / spec.heading_oscillation_period_s);
+  };
   size_t next_frame = 0;
   int64_t next_ins = kStartUs;
   int64_t next_alt = kStartUs;
@@ -58,7 +63,7 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
   while (t_us <= end_us) {
     const double t = static_cast<double>(t_us - kStartUs) * 1e-6;
     if (next_frame < frame_times.size() && t_us == frame_times[next_frame]) {
-      flight.truth.push_back({t_us, state.position, wrap_angle(state.yaw), roll_at(t), pitch_at(t)});
+      flight.truth.push_back({t_us, state.position, wrap_angle(heading_at(t)), roll_at(t), pitch_at(t)});
       if (static_cast<int>(next_frame) == spec.terrain_step_frame) terrain_down -= spec.terrain_step_m;
       ++next_frame;
     }
@@ -70,7 +75,7 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
       ins.device_utime = t_us;
       ins.roll = roll_at(t);
       ins.pitch = pitch_at(t);
-      ins.yaw = wrap_angle(state.yaw + deg_to_rad(spec.ins_yaw_stddev_deg) * normal(rng));
+      ins.yaw = wrap_angle(heading_at(t) + deg_to_rad(spec.ins_yaw_stddev_deg) * normal(rng));
       ins.has_stddev = true;
       ins.attitude_stddev[0] = ins.attitude_stddev[1] = deg_to_rad(0.05);
       ins.attitude_stddev[2] = deg_to_rad(spec.reported_ins_yaw_stddev_deg);

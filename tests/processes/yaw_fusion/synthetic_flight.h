@@ -42,6 +42,11 @@ struct FlightSpec {
   double terrain_gradient_east = 0.0;
   double climb_rate_change_s = -1.0;    // from this flight time on (>= 0) the climb rate is ...
   double climb_rate_after_mps = 0.0;    // ... this
+  // The heading (truth, INS and the frames the deltas are measured in)
+  // oscillates about the track by this amplitude with this period; the
+  // track does not follow it (sideslip, a helicopter's yaw wander).
+  double heading_oscillation_deg = 0.0;
+  double heading_oscillation_period_s = 3.0;
   uint32_t seed = 7;
 };
 
