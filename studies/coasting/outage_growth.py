@@ -15,15 +15,12 @@ Usage: outage_growth.py --length 10 --starts 20,45,70 RUN=EVAL_DIR [RUN=EVAL_DIR
   and the rms, median and largest over them.
 """
 import argparse
-import csv
 import math
 import os
+import statistics
 import sys
 
-
-def series(folder):
-    with open(os.path.join(folder, "series.csv")) as f:
-        return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+from coasting_summary import series
 
 
 def error_at(rows, t, before=False):
@@ -65,9 +62,7 @@ def main():
             cells.append(f"{a:.2f} / {b:.2f}")
         print(f"| {start:g} | " + " | ".join(cells) + " |")
     for label, f in (("rms", lambda v: math.sqrt(sum(x * x for x in v) / len(v))),
-                     ("median", lambda v: sorted(v)[len(v) // 2] if len(v) % 2 else
-                      0.5 * (sorted(v)[len(v) // 2 - 1] + sorted(v)[len(v) // 2])),
-                     ("max", max)):
+                     ("median", statistics.median), ("max", max)):
         print(f"| {label} | " + " | ".join(f"{f(table[n][0]):.2f} / {f(table[n][1]):.2f}" for n, _ in runs) + " |")
 
 
