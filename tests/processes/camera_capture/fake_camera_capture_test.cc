@@ -181,10 +181,18 @@ TEST(FakeCameraCapture, SoftwareTriggeredFramesCarryPatternAndScriptedTriggerTim
   EXPECT_EQ(status.state, status_t::STATE_OK) << status.detail;
   EXPECT_EQ(capture.association_counters().frames_matched, kFrames);
   EXPECT_EQ(capture.association_counters().frames_estimated, 0);
-  // The fake camera's first frame after stream start comes late; the next
-  // frame relocks on the arrival window (at most one relock).
-  EXPECT_GE(capture.association_counters().locks, 1);
-  EXPECT_LE(capture.association_counters().locks, 2);
+  // The fake camera stamps a frame when its thread produces it, so on a
+  // loaded machine its delay after the trigger moves by more than the offset
+  // tolerance (4 relocks in one loaded CI run); each move drops the lock and
+  // the next frame relocks on the arrival window, still on its own edge (the
+  // sequence and time checks above). Every lock after the first follows a
+  // counted loss. The relock itself is tested deterministically in
+  // FrameAssociation.ChangedCameraDelayRelocksOnTheArrivalWindow.
+  const AssociationCounters counters = capture.association_counters();
+  EXPECT_GE(counters.locks, 1);
+  EXPECT_EQ(counters.locks, 1 + counters.lock_losses);
+  EXPECT_EQ(counters.frames_unmatched, 0);
+  EXPECT_EQ(counters.frames_ambiguous, 0);
 }
 
 // The HIL path: frames of a (simulator) log served over GigE Vision arrive
