@@ -11,6 +11,7 @@ inline constexpr const char* kIns = "INS";                     // nadir.ins_t
 inline constexpr const char* kAltimeter = "ALTIMETER";         // nadir.altimeter_t
 inline constexpr const char* kTracks = "TRACKS";               // nadir.tracks_t
 inline constexpr const char* kVoDelta = "VO_DELTA";            // nadir.vo_delta_t
+inline constexpr const char* kVoGround = "VO_GROUND";          // nadir.ground_points_t
 inline constexpr const char* kPose = "POSE";                   // nadir.pose_t
 inline constexpr const char* kMapFix = "MAP_FIX";              // nadir.map_fix_t
 inline constexpr const char* kGroundTruth = "GROUND_TRUTH";    // nadir.ground_truth_t

@@ -239,6 +239,22 @@ bool InputGate::admit(const std::string& channel, const vo_delta_t& msg) {
   return admit_time(channel, msg.utime);
 }
 
+bool InputGate::admit(const std::string& channel, const ground_points_t& msg) {
+  const size_t n = static_cast<size_t>(std::max(0, msg.num_points));
+  if (msg.num_points < 0 || msg.position_m.size() != n || msg.depth_sigma_m.size() != n) {
+    return reject(channel, msg.utime, "size", "num_points does not match its arrays");
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const float* p = msg.position_m[i].data();
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]) ||
+        !(msg.depth_sigma_m[i] >= 0.0f) || !std::isfinite(msg.depth_sigma_m[i])) {
+      return reject(channel, msg.utime, "non_finite",
+                    "point " + std::to_string(i) + ": position not finite or depth sigma not a finite value >= 0");
+    }
+  }
+  return admit_time(channel, msg.utime);
+}
+
 void InputGate::add_counters(StatusReport* report) const {
   report->counters.emplace_back("rejected_inputs", static_cast<double>(rejected_total_));
   for (const auto& [key, count] : counts_) report->counters.emplace_back("rejected." + key, static_cast<double>(count));

@@ -27,6 +27,7 @@
 #include "common/options_schema.h"
 #include "common/status.h"
 #include "nadir/altimeter_t.hpp"
+#include "nadir/ground_points_t.hpp"
 #include "nadir/image_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/tracks_t.hpp"
@@ -87,6 +88,7 @@ class InputGate {
   bool admit(const std::string& channel, const tracks_t& msg);
   bool admit(const std::string& channel, const image_t& msg);
   bool admit(const std::string& channel, const vo_delta_t& msg);
+  bool admit(const std::string& channel, const ground_points_t& msg);
 
   const InputCheckOptions& options() const { return options_; }
   int64_t rejected() const { return rejected_total_; }

@@ -25,6 +25,9 @@ bool is_photo_import_config(const LogEvent& event) {
 
 void LogHoleFinder::add(const LogEvent& event) {
   if (event.channel == channels::kConfig && is_photo_import_config(event)) photo_intervals_ = true;
+  // VO_GROUND comes only for frames whose own depths the solver trusts: a
+  // silence is ground not seen (featureless, a restart), not a lost message.
+  if (event.channel == channels::kVoGround) return;
   if (event.channel != channels::kStatus) {
     timestamps_[event.channel].push_back(event.timestamp);
     return;

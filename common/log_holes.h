@@ -15,6 +15,9 @@
 // spacing, not lost messages. Such a log has no holes; each channel is
 // summarised in one line instead, its gaps being the intervals over twice its
 // median (a pause in the survey, a turn without photos).
+//
+// VO_GROUND is never judged: vo_solver publishes it only for frames whose own
+// depths it trusts, so its silences are ground not seen.
 
 #include <cstdint>
 #include <map>

@@ -164,6 +164,7 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
       e.ray = to_curr * e.ray;
       const Eigen::Vector3d point = to_curr * (est.depth_scale * e.depth * u - t);
       e.depth = std::isfinite(e.depth) && point.z() > 0 ? point.z() : nan;
+      e.point = point;
       if (std::isfinite(e.depth)) next[ids[i]] = e;
       continue;
     }
@@ -196,6 +197,7 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
     e.ray = to_curr * ray;
     e.depth = whole.depth;
     e.sigma = whole.depth * whole.relative_sigma;
+    e.point = whole.depth * v;  // on curr's ray, v.z() = 1
     next[ids[i]] = e;
   }
   depths_.swap(next);
@@ -203,6 +205,17 @@ void FeatureDepthMap::update(const std::vector<int64_t>& ids, int64_t curr_utime
   utime_ = curr_utime;
   tilt_ = est.curr_tilt;
   tilt_variance_ = est.curr_tilt_variance;
+}
+
+std::vector<FeatureDepthMap::GroundPoint> FeatureDepthMap::trusted_points(double max_relative_sigma) const {
+  std::vector<GroundPoint> out;
+  for (const auto& [id, e] : depths_) {
+    if (std::isfinite(e.depth) && e.depth > 0.0 && std::isfinite(e.sigma) && e.sigma <= max_relative_sigma * e.depth) {
+      out.push_back({id, e.point, e.sigma});
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const GroundPoint& a, const GroundPoint& b) { return a.track_id < b.track_id; });
+  return out;
 }
 
 }  // namespace nadir::vo

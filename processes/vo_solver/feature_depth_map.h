@@ -44,6 +44,17 @@ class FeatureDepthMap {
   // Tracks off their epipolar line under the solved motion: no depth.
   int64_t off_epipolar() const { return off_epipolar_; }
 
+  // A track's point in the level frame of the map's frame (camera at the
+  // origin) and the standard deviation of its depth.
+  struct GroundPoint {
+    int64_t track_id;
+    Eigen::Vector3d position;
+    double depth_sigma;
+  };
+  // The tracks whose depth sigma is below max_relative_sigma of the depth, by
+  // track id (the points the fit itself would trust).
+  std::vector<GroundPoint> trusted_points(double max_relative_sigma) const;
+
  private:
   // A track: its first ray (origin and direction, from the camera that first
   // saw it) and its depth, all in the level frame of the map's frame. Depth
@@ -51,6 +62,7 @@ class FeatureDepthMap {
   struct Entry {
     Eigen::Vector3d origin = Eigen::Vector3d::Zero(), ray = Eigen::Vector3d::UnitZ();
     double depth = 0, sigma = 0;  // vertical depth below the camera, metres
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  // the track's point (depth finite)
   };
   // Prev's altimeter spot and every earlier one, moved into curr's level
   // frame by the solved motion (to_curr (X - t)).

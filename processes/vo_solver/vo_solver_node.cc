@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/channels.h"
+#include "common/geometry.h"
 #include "common/vo_quality.h"
 #include "processes/vo_solver/delta_uncertainty.h"
 #include "processes/vo_solver/heading_check.h"
@@ -22,7 +23,10 @@ VoSolverNode::VoSolverNode(const VoSolverOptions& options, Bus& bus, const Input
   bus_.subscribe<altimeter_t>(channels::kAltimeter, [this](const altimeter_t& m) { on_altimeter(m); });
 }
 
-std::vector<std::string> VoSolverNode::output_channels() const { return {channels::kVoDelta}; }
+std::vector<std::string> VoSolverNode::output_channels() const {
+  if (options_.solver.variant == vo::Variant::kFeatureDepth) return {channels::kVoDelta, channels::kVoGround};
+  return {channels::kVoDelta};
+}
 
 void VoSolverNode::on_ins(const ins_t& ins) {
   ++received_;
@@ -72,6 +76,7 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   out.utime = tracks.utime;
   out.prev_utime = tracks.prev_utime;
   out.variant = vo::variant_name(options_.solver.variant);
+  ground_ = ground_points_t{};
   int quality = 0;
   const bool first_frame = (tracks.flags & tracks_t::FLAG_FIRST_FRAME) || tracks.prev_utime >= tracks.utime;
   const bool time_gap = !first_frame && tracks.utime - tracks.prev_utime > options_.sync.max_frame_interval_us;
@@ -166,6 +171,7 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   vo::Estimate est = vo::solve(pair, options_.solver);
   if (own_depths) {
     depth_map_.update(ids, tracks.utime, pair, est);
+    fill_ground_points(pair, tracks.utime);
     if (!est.own_depths_used) ++paper_alone_pairs_;
     if (est.scale_carried) ++carried_scale_pairs_;
   }
@@ -199,7 +205,30 @@ vo_delta_t VoSolverNode::solve_frame(const tracks_t& tracks, bool flush) {
   return out;
 }
 
+void VoSolverNode::fill_ground_points(const vo::FramePair& pair, int64_t utime) {
+  const auto points = depth_map_.trusted_points(options_.solver.feature_depth.max_relative_sigma);
+  if (points.empty()) return;
+  // From the camera to the INS reference point: camera = INS + R lever (lever_arm.h).
+  const Eigen::Vector3d lever =
+      rotation_from_rpy(pair.curr_roll, pair.curr_pitch, 0.0) * options_.sync.calibration.camera_lever_arm_m;
+  ground_.utime = utime;
+  ground_.num_points = static_cast<int32_t>(points.size());
+  ground_.position_m.reserve(points.size());
+  ground_.depth_sigma_m.reserve(points.size());
+  for (const auto& p : points) {
+    const Eigen::Vector3d from_ins = p.position + lever;
+    ground_.position_m.push_back({static_cast<float>(from_ins.x()), static_cast<float>(from_ins.y()),
+                                  static_cast<float>(from_ins.z())});
+    ground_.depth_sigma_m.push_back(static_cast<float>(p.depth_sigma));
+  }
+}
+
 void VoSolverNode::publish(const vo_delta_t& delta) {
+  if (ground_.num_points > 0 && ground_.utime == delta.utime) {
+    bus_.publish(channels::kVoGround, ground_);
+    ++ground_published_;
+    ground_ = ground_points_t{};
+  }
   bus_.publish(channels::kVoDelta, delta);
   ++published_;
   last_published_utime_ = std::max(last_published_utime_, delta.utime);
@@ -238,6 +267,7 @@ StatusReport VoSolverNode::status() const {
   if (options_.solver.variant == vo::Variant::kFeatureDepth) {
     r.counters.insert(r.counters.end(), {{"own_depths", static_cast<double>(depth_map_.size())},
                                          {"own_depth_resets", static_cast<double>(depth_map_.resets())},
+                                         {"ground_frames_published", static_cast<double>(ground_published_)},
                                          {"own_depths_rejected", static_cast<double>(depth_map_.rejected_depths())},
                                          {"pairs_paper_alone", static_cast<double>(paper_alone_pairs_)},
                                          {"pairs_scale_carried", static_cast<double>(carried_scale_pairs_)}});

@@ -12,6 +12,7 @@
 #include "common/input_checks.h"
 #include "common/node.h"
 #include "common/vo_quality.h"
+#include "nadir/ground_points_t.hpp"
 #include "nadir/tracks_t.hpp"
 #include "nadir/vo_delta_t.hpp"
 #include "processes/vo_solver/feature_depth_map.h"
@@ -38,13 +39,18 @@ class VoSolverNode : public Node {
 
  private:
   void process_ready();
+  // Also leaves the frame's trusted ground points in ground_ (feature_depth).
   vo_delta_t solve_frame(const tracks_t& tracks, bool flush);
+  // VO_GROUND of the same frame first (when it has points), then VO_DELTA.
   void publish(const vo_delta_t& delta);
+  void fill_ground_points(const vo::FramePair& pair, int64_t utime);
 
   VoSolverOptions options_;
   Bus& bus_;
   vo::FrameSync sync_;
   vo::FeatureDepthMap depth_map_;  // feature_depth variant: per-track depths
+  ground_points_t ground_{};       // the last solved frame's trusted points (VO_GROUND)
+  int64_t ground_published_ = 0;
   vo::LevelVelocity velocity_{0.5};  // moves a range sampled before its frame (range_at_frame.h)
   struct FrameRange {
     int64_t utime = INT64_MIN;

@@ -47,6 +47,12 @@ class CoastTerrain {
   // The ground under the beam stepped (a cliff, a building) by this much
   // (down): the plane moves with it.
   void shift(double down_m) { origin_down_ += down_m; }
+  // The ground at `horizontal` is known to be at `ground_down` (seen by a
+  // frame): the plane goes through it with its slope, its distance from there.
+  void rebase(const Eigen::Vector2d& horizontal, double ground_down) {
+    origin_ = horizontal;
+    origin_down_ = ground_down;
+  }
   // The down coordinate of the anchored ground below (north, east).
   double ground_down(const Eigen::Vector2d& horizontal) const;
   // Horizontal distance (m) from the anchor.

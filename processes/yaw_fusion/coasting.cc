@@ -53,7 +53,15 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
                 "integrated frames whose ground points and patch tilts make that plane", &O::terrain_window_s)
         .number("terrain_slope_stddev", 0.0, 1.0, "m/m",
                 "error of that plane's slope over the coast: weighs it against the held climb rate",
-                &O::terrain_slope_stddev);
+                &O::terrain_slope_stddev)
+        .flag("follow_seen_ground",
+              "while coasting over ground the last frame's VO_GROUND points cover, down = that ground minus the "
+              "levelled range",
+              &O::follow_seen_ground)
+        .number("seen_ground_radius_m", 0.1, 1e4, "m", "points within this distance make the ground below",
+                &O::seen_ground_radius_m)
+        .number("seen_ground_min_points", 1, 100000, "points", "fewer within the radius: that ground was not seen",
+                &O::seen_ground_min_points);
     return s;
   }();
   return schema;

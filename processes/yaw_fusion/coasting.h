@@ -90,6 +90,16 @@ struct CoastOptions {
   // coast is 100-200 m of hills. 1-s means of the patch slope against the
   // true slope along the track, test2 seed 102: 0.024 rms.
   double terrain_slope_stddev = 0.025;
+  // While coasting with a valid range over ground the last integrated frame
+  // saw (its VO_GROUND points, seen_ground.h; at least seen_ground_min_points
+  // within seen_ground_radius_m), the ground's height is known: down = that
+  // ground minus the levelled height, weighted against the held climb by
+  // their variances; the climb rate held beyond it is the one measured so
+  // over the last speed_window_s. Independent of follow_altimeter (the plane
+  // is used only beyond the seen ground, and only with it).
+  bool follow_seen_ground = false;
+  double seen_ground_radius_m = 25.0;
+  int seen_ground_min_points = 5;
 
   // Reads yaw_fusion.coast (keys named with their full path on error).
   static CoastOptions from_config(const Config& coast);

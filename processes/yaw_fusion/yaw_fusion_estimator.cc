@@ -130,6 +130,15 @@ std::vector<pose_t> YawFusionEstimator::add_ins(const ins_t& ins) {
   return out;
 }
 
+void YawFusionEstimator::add_ground_points(const ground_points_t& points) {
+  ++counters_.ground_frames_received;
+  if (!options_.coast.follow_seen_ground || (started_ && points.utime <= last_good_utime_)) return;
+  pending_ground_[points.utime] = points;
+  // Bounded: frames whose delta never comes (not solved, dropped) do not pile up.
+  constexpr size_t kMaxPendingGround = 64;
+  while (pending_ground_.size() > kMaxPendingGround) pending_ground_.erase(pending_ground_.begin());
+}
+
 std::vector<pose_t> YawFusionEstimator::add_altimeter(const altimeter_t& altimeter) {
   ++counters_.altimeter_received;
   std::vector<pose_t> out;
@@ -408,6 +417,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     recent_positions_.clear();
     coast_positions_.clear();
     coast_terrain_.clear();
+    seen_ground_.clear();
     flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.utime);
     flags |= update_height(delta.utime, held_height);
     out->push_back(make_pose(delta.utime, flags));
@@ -508,6 +518,17 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     coast_terrain_.note_frame(delta.utime, filter_.position(), last_altimeter_height_,
                               ground_gradient_ned(delta.ground_roll, delta.ground_pitch, filter_.yaw()));
   }
+  if (options_.coast.follow_seen_ground) {
+    // This frame's points replace the last frame's; none (not solved with own
+    // depths): no seen ground for a coast from here.
+    const auto points = pending_ground_.find(delta.utime);
+    if (points != pending_ground_.end()) {
+      seen_ground_.note_frame(points->second, filter_.position(), filter_.yaw());
+    } else {
+      seen_ground_.clear();
+    }
+    pending_ground_.erase(pending_ground_.begin(), pending_ground_.upper_bound(delta.utime));
+  }
   good_filter_ = filter_;
   good_consecutive_altimeter_rejections_ = consecutive_altimeter_rejections_;
   out->push_back(make_pose(delta.utime, flags));
@@ -557,6 +578,9 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
       coast_terrain_.release();
     }
     coast_held_down_ = good_filter_.position().z();
+    coast_held_since_s_ = 0.0;
+    coast_held_variance_ = 0.0;
+    coast_seen_downs_.clear();
   }
   if (utime <= last_frame_utime_) return 0;
   const double e0 = static_cast<double>(last_frame_utime_ - last_good_utime_) * 1e-6;
@@ -575,8 +599,8 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
   // Variance grown over [e0, e1] of the coast (coast_position_variance).
   const double horizontal = coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e1) -
                             coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e0);
-  const double vertical = coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk, e1) -
-                          coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk, e0);
+  // The vertical from the held climb's anchor (the coast's start, or the last down from seen ground).
+  const double vertical = held_down_variance(e1) - held_down_variance(std::max(e0, coast_held_since_s_));
   const double yaw_var = square(deg_to_rad(options_.gap_yaw_rate_stddev_dps)) * (e1 * e1 - e0 * e0);
   filter_.propagate_without_vo(velocity * (e1 - e0), Eigen::Vector3d(horizontal, horizontal, vertical), yaw_var);
   coast_held_down_ += velocity.z() * (e1 - e0);
@@ -590,9 +614,80 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
   return update_attitude(utime);
 }
 
+double YawFusionEstimator::held_down_variance(double coasted_s) const {
+  const CoastOptions& c = options_.coast;
+  return coast_held_variance_ + coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk,
+                                                        std::max(0.0, coasted_s - coast_held_since_s_));
+}
+
+bool YawFusionEstimator::follow_seen_ground(double height, double coasted_s, double horizontal_step_m) {
+  const CoastOptions& c = options_.coast;
+  const Eigen::Vector2d horizontal = filter_.position().head<2>();
+  const auto ground = seen_ground_.ground_down(horizontal, {c.seen_ground_radius_m, c.seen_ground_min_points});
+  if (!ground) return false;
+  const double seen = ground->down - height;
+  // The beam on something the points do not show (a roof, a tree line): the
+  // held climb (and the plane, which follows such a step) go on.
+  if (std::abs(seen - filter_.position().z()) > coast_detector_.vertical_gate(horizontal_step_m)) return false;
+  // The held climb's down and the seen ground's, independent, weighted by
+  // their variances (the seen ground's: its fit and roughness, and the range).
+  // The held climb is not re-anchored on the seen downs while they last: they
+  // share their points from frame to frame, so their errors do not average.
+  const double held_variance = held_down_variance(coasted_s);
+  const double seen_variance = ground->variance + square(options_.sensor_uncertainty.range_stddev(height));
+  const double sum = held_variance + seen_variance;
+  const double gain = sum > 0.0 ? held_variance / sum : 1.0;
+  const double down = coast_held_down_ + gain * (seen - coast_held_down_);
+  const double variance = sum > 0.0 ? held_variance * seen_variance / sum : 0.0;
+  const double anchor = good_filter_.covariance()(PoseFilter::kDown, PoseFilter::kDown);
+  filter_.set_down(down, anchor + variance);
+  coast_seen_downs_.emplace_back(coasted_s, down);
+  while (coast_seen_downs_.size() > 2 && coasted_s - coast_seen_downs_[1].first >= c.speed_window_s) {
+    coast_seen_downs_.pop_front();
+  }
+  last_seen_variance_ = variance;
+  last_seen_ground_ = Eigen::Vector3d(horizontal.x(), horizontal.y(), ground->down);
+  ++counters_.coast_seen_ground_poses;
+  return true;
+}
+
+void YawFusionEstimator::leave_seen_ground(double coasted_s) {
+  if (coast_seen_downs_.empty() || coast_seen_downs_.back().first <= coast_held_since_s_) return;
+  const auto [last_s, last_down] = coast_seen_downs_.back();
+  // The climb the seen downs measured over the last speed_window_s (least
+  // squares), when they span half of it; else the held one goes on.
+  if (coast_seen_downs_.size() >= 3 && last_s - coast_seen_downs_.front().first >= 0.5 * options_.coast.speed_window_s) {
+    double mean_t = 0.0, mean_down = 0.0;
+    for (const auto& [t, d] : coast_seen_downs_) {
+      mean_t += t;
+      mean_down += d;
+    }
+    mean_t /= static_cast<double>(coast_seen_downs_.size());
+    mean_down /= static_cast<double>(coast_seen_downs_.size());
+    double tt = 0.0, td = 0.0;
+    for (const auto& [t, d] : coast_seen_downs_) {
+      tt += (t - mean_t) * (t - mean_t);
+      td += (t - mean_t) * (d - mean_down);
+    }
+    if (tt > 0.0) coast_velocity_level_.z() = td / tt;  // level z is down: no turn moves it
+  }
+  // The held climb from the last seen down on.
+  coast_held_since_s_ = last_s;
+  coast_held_variance_ = last_seen_variance_;
+  coast_held_down_ = last_down + coast_velocity_level_.z() * (coasted_s - last_s);
+  const double anchor = good_filter_.covariance()(PoseFilter::kDown, PoseFilter::kDown);
+  filter_.set_down(coast_held_down_, anchor + held_down_variance(coasted_s));
+  if (coast_terrain_.anchored()) coast_terrain_.rebase(last_seen_ground_.head<2>(), last_seen_ground_.z());
+}
+
 bool YawFusionEstimator::follow_altimeter(int64_t utime, double coasted_s, double horizontal_step_m) {
   const double height = altimeter_height_at(utime);
-  if (!coast_terrain_.anchored() || !std::isfinite(height)) return false;
+  if (options_.coast.follow_seen_ground && std::isfinite(height) &&
+      follow_seen_ground(height, coasted_s, horizontal_step_m)) {
+    return true;
+  }
+  leave_seen_ground(coasted_s);  // nothing unless seen ground was followed since the held climb's anchor
+  if (!std::isfinite(height) || !coast_terrain_.anchored()) return false;
   const Eigen::Vector2d horizontal = filter_.position().head<2>();
   double terrain = coast_terrain_.ground_down(horizontal) - height;
   const double previous = filter_.position().z();  // the last pose's down moved on by the held climb
@@ -609,7 +704,7 @@ bool YawFusionEstimator::follow_altimeter(int64_t utime, double coasted_s, doubl
   // plane's slope off by terrain_slope_stddev per metre flown, which knows no
   // hill). Each weighted by the other's variance; the anchor's is common.
   const CoastOptions& c = options_.coast;
-  const double held_variance = coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk, coasted_s);
+  const double held_variance = held_down_variance(coasted_s);
   const double slope_error = c.terrain_slope_stddev * coast_terrain_.distance(horizontal);
   const double terrain_variance =
       2.0 * square(options_.sensor_uncertainty.range_stddev(height)) + square(slope_error);

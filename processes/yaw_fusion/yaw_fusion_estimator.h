@@ -55,6 +55,7 @@
 #include <vector>
 
 #include "nadir/altimeter_t.hpp"
+#include "nadir/ground_points_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/map_fix_t.hpp"
 #include "nadir/pose_t.hpp"
@@ -63,6 +64,7 @@
 #include "processes/yaw_fusion/coasting.h"
 #include "processes/yaw_fusion/delta_integration.h"
 #include "processes/yaw_fusion/pose_filter.h"
+#include "processes/yaw_fusion/seen_ground.h"
 #include "processes/yaw_fusion/sensor_history.h"
 #include "processes/yaw_fusion/yaw_fusion_options.h"
 
@@ -101,6 +103,8 @@ struct YawFusionCounters {
   int64_t coast_episodes = 0;
   int64_t coast_expired = 0;               // deltas after coast.max_duration_s (VO gap instead)
   int64_t coast_ground_steps = 0;          // coasting on the altimeter: range jumps taken as the ground's
+  int64_t ground_frames_received = 0;      // VO_GROUND messages (kept only with coast.follow_seen_ground)
+  int64_t coast_seen_ground_poses = 0;     // coasting poses whose down came from ground a frame saw
   int64_t deltas_reverted = 0;             // integrating would have made the state non-finite
   int64_t map_fixes_received = 0;
   int64_t map_fixes_invalid = 0;           // non-finite, a covariance not positive definite, or disabled
@@ -120,6 +124,9 @@ class YawFusionEstimator {
   std::vector<pose_t> add_vo_delta(const vo_delta_t& delta);
   std::vector<pose_t> add_ins(const ins_t& ins);
   std::vector<pose_t> add_altimeter(const altimeter_t& altimeter);
+  // The ground points a frame saw (VO_GROUND): kept for the coast that may
+  // follow once that frame's delta is integrated (coast.follow_seen_ground).
+  void add_ground_points(const ground_points_t& points);
   // Queues a fix; it is applied with the pose it is due at (see above).
   void add_map_fix(const map_fix_t& fix);
 
@@ -240,6 +247,25 @@ class YawFusionEstimator {
   // ground points and patch tilts, anchored when a coast starts.
   CoastTerrain coast_terrain_;
   double coast_held_down_ = 0.0;  // down with the climb rate held since the coast started
+  // The held climb's anchor: the coast time (s) of the last down taken from
+  // seen ground (0: the coast's start) and its variance over the anchor frame's.
+  double coast_held_since_s_ = 0.0, coast_held_variance_ = 0.0;
+  // Ground points by frame time until their delta is integrated; the ground
+  // the last integrated frame saw; downs taken from it in this coast (coast
+  // time, down) over the last speed_window_s, whose slope is the held climb.
+  std::map<int64_t, ground_points_t> pending_ground_;
+  SeenGround seen_ground_;
+  std::deque<std::pair<double, double>> coast_seen_downs_;
+  double last_seen_variance_ = 0.0;  // of the last down taken from seen ground (over the anchor frame's)
+  Eigen::Vector3d last_seen_ground_ = Eigen::Vector3d::Zero();  // north, east and ground down there
+  // Down from the seen ground and the held climb (`height` the levelled
+  // range); false when that ground was not seen or the range does not fit it.
+  bool follow_seen_ground(double height, double coasted_s, double horizontal_step_m);
+  // Past the seen ground: the held climb starts again from the last seen
+  // down, at the climb the seen downs measured over the last speed_window_s.
+  void leave_seen_ground(double coasted_s);
+  // The variance of the held climb's down after `coasted_s` of coasting.
+  double held_down_variance(double coasted_s) const;
   // Map fixes waiting for their pose, by frame time; the poses published over
   // the last few seconds (utime, horizontal position, reported covariance).
   std::multimap<int64_t, map_fix_t> pending_fixes_;

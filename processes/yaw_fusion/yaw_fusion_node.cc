@@ -35,6 +35,9 @@ class YawFusionNode : public Node {
     bus_.subscribe<altimeter_t>(channels::kAltimeter, [this](const altimeter_t& msg) {
       if (gate_.admit(channels::kAltimeter, msg)) publish(estimator_.add_altimeter(msg));
     });
+    bus_.subscribe<ground_points_t>(channels::kVoGround, [this](const ground_points_t& msg) {
+      if (gate_.admit(channels::kVoGround, msg)) estimator_.add_ground_points(msg);
+    });
     bus_.subscribe<map_fix_t>(channels::kMapFix, [this](const map_fix_t& msg) { estimator_.add_map_fix(msg); });
   }
 
@@ -44,7 +47,8 @@ class YawFusionNode : public Node {
   StatusReport status() const override {
     const YawFusionCounters& c = estimator_.counters();
     StatusReport report;
-    report.received = c.vo_deltas_received + c.ins_received + c.altimeter_received + gate_.rejected();
+    report.received =
+        c.vo_deltas_received + c.ins_received + c.altimeter_received + c.ground_frames_received + gate_.rejected();
     report.published = published_;
     report.dropped = c.vo_deltas_late + c.vo_deltas_duplicate;
     report.errors = c.vo_deltas_invalid + c.ins_invalid + c.time_jumps_dropped + c.map_fixes_invalid;
@@ -60,6 +64,8 @@ class YawFusionNode : public Node {
     const PoseFilter& f = estimator_.filter();
     report.counters = {
         {"vo_deltas_integrated", static_cast<double>(c.vo_deltas_integrated)},
+        {"ground_frames_received", static_cast<double>(c.ground_frames_received)},
+        {"coast_seen_ground_poses", static_cast<double>(c.coast_seen_ground_poses)},
         {"vo_deltas_invalid", static_cast<double>(c.vo_deltas_invalid)},
         {"vo_deltas_quality_rejected", static_cast<double>(c.vo_deltas_quality_rejected)},
         {"vo_deltas_before_start", static_cast<double>(c.vo_deltas_before_start)},

@@ -76,6 +76,40 @@ TEST(InputGate, ImpossibleInsValuesAreRejectedAndCountedByReason) {
   EXPECT_EQ(counter("rejected_inputs"), 5);
 }
 
+TEST(InputGate, GroundPointsWithBadSizesOrValuesAreRejectedAndCounted) {
+  InputGate gate{InputCheckOptions()};
+  ground_points_t g{};
+  g.utime = kStart;
+  g.num_points = 2;
+  g.position_m = {{1.0f, 2.0f, 150.0f}, {-3.0f, 4.0f, 149.0f}};
+  g.depth_sigma_m = {0.5f, 0.7f};
+  EXPECT_TRUE(gate.admit(channels::kVoGround, g));
+  ground_points_t short_arrays = g;
+  short_arrays.utime = kStart + 71429;
+  short_arrays.num_points = 3;  // says three, carries two
+  EXPECT_FALSE(gate.admit(channels::kVoGround, short_arrays));
+  ground_points_t nan_point = short_arrays;
+  nan_point.num_points = 2;
+  nan_point.position_m[1][2] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(gate.admit(channels::kVoGround, nan_point));
+  ground_points_t negative_sigma = short_arrays;
+  negative_sigma.num_points = 2;
+  negative_sigma.depth_sigma_m[0] = -1.0f;
+  EXPECT_FALSE(gate.admit(channels::kVoGround, negative_sigma));
+  ground_points_t empty{};
+  empty.utime = kStart + 71429;
+  EXPECT_TRUE(gate.admit(channels::kVoGround, empty));  // nothing seen: nothing wrong
+  StatusReport report;
+  gate.add_counters(&report);
+  double sizes = -1, non_finite = -1;
+  for (const auto& [key, value] : report.counters) {
+    if (key == "rejected.VO_GROUND.size") sizes = value;
+    if (key == "rejected.VO_GROUND.non_finite") non_finite = value;
+  }
+  EXPECT_EQ(sizes, 1);
+  EXPECT_EQ(non_finite, 2);
+}
+
 // An INS that reports 3 deg of white roll/pitch noise per sample (the
 // paper's Fig. 8b) moves 4.2 deg sigma from sample to sample: its steps pass
 // within six sigmas of the two samples' noise; a step the noise cannot explain

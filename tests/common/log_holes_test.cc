@@ -54,6 +54,31 @@ TEST(LogHoles, StatusIsJudgedPerProcess) {
   EXPECT_EQ(holes[0].expected_messages, 6);  // at the mean interval, which the hole lengthens
 }
 
+// VO_GROUND silent for 10 s of featureless ground, beside VO_DELTA every
+// frame: not a hole (vo_solver publishes it only for frames it has points
+// for). VO_DELTA silent as long is one.
+TEST(LogHoles, GroundPointsAreNeverJudged) {
+  LogHoleFinder finder;
+  const int64_t t0 = 1767225600000000;
+  const uint8_t bytes[4] = {0, 0, 0, 0};
+  for (int frame = 0; frame < 14 * 60; ++frame) {
+    const int64_t t = t0 + frame * 71429;
+    const bool featureless = frame >= 14 * 20 && frame < 14 * 30;
+    for (const char* channel : {channels::kVoGround, channels::kVoDelta}) {
+      if (featureless) continue;
+      LogEvent e;
+      e.channel = channel;
+      e.timestamp = t;
+      e.data = bytes;
+      e.size = sizeof bytes;
+      finder.add(e);
+    }
+  }
+  const std::vector<LogHole> holes = finder.holes();
+  ASSERT_EQ(holes.size(), 1u) << format_log_holes(holes);
+  EXPECT_EQ(holes[0].channel, channels::kVoDelta);
+}
+
 void add_config(LogHoleFinder* finder, const std::string& name, const std::string& yaml, int64_t logged_us) {
   config_t c{};
   c.utime = logged_us;

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "common/config.h"
 #include "common/lcm_bus.h"
 #include "nadir/altimeter_t.hpp"
+#include "nadir/ground_points_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/tracks_t.hpp"
 #include "nadir/vo_delta_t.hpp"
@@ -43,6 +45,8 @@ vo_solver:
 
 struct NodeRun {
   std::map<int64_t, vo_delta_t> deltas;
+  std::map<int64_t, ground_points_t> ground;
+  std::vector<std::pair<std::string, int64_t>> order;  // (channel, utime) as received
   StatusReport status;
 };
 
@@ -66,7 +70,14 @@ NodeRun run_node(const std::string& variant, int frames, int dropped_frame, doub
   std::unique_ptr<Node> node = make_vo_solver_node(
       Config::parse(config(variant, max_frame_interval_ms, altimeter.move_ranges), "feature depth node test"), bus);
   NodeRun result;
-  bus.subscribe<vo_delta_t>(channels::kVoDelta, [&](const vo_delta_t& m) { result.deltas[m.utime] = m; });
+  bus.subscribe<vo_delta_t>(channels::kVoDelta, [&](const vo_delta_t& m) {
+    result.deltas[m.utime] = m;
+    result.order.emplace_back(channels::kVoDelta, m.utime);
+  });
+  bus.subscribe<ground_points_t>(channels::kVoGround, [&](const ground_points_t& m) {
+    result.ground[m.utime] = m;
+    result.order.emplace_back(channels::kVoGround, m.utime);
+  });
   auto deliver = [&] {
     while (bus.handle(0) > 0) {
     }
@@ -185,6 +196,39 @@ TEST(FeatureDepthNode, ExactOverReliefAndKeptOverADroppedFrame) {
   EXPECT_GT(std::hypot(paper_over_drop.dx - truth.translation.x(), paper_over_drop.dy - truth.translation.y()), 1e-2);
   EXPECT_EQ(counter(depth.status, "own_depth_resets"), 0);
   EXPECT_GT(counter(depth.status, "own_depths"), 100);
+}
+
+// VO_GROUND: each solved frame's trusted points, published just before its
+// VO_DELTA, are the world's points seen from the frame's level frame.
+TEST(FeatureDepthNode, GroundPointsAreTheWorldPointsInTheFramesLevelFrame) {
+  vo::testing::TerrainSequence seq{vo::testing::TerrainSpec{}};
+  const NodeRun run = run_node("feature_depth", kFrames, kDropped);
+  const auto& world = seq.points();
+  for (int k = 190; k <= 200; k += 5) {
+    const int64_t t = kStart + k * kPeriod;
+    ASSERT_TRUE(run.ground.count(t)) << "frame " << k;
+    const ground_points_t& g = run.ground.at(t);
+    EXPECT_GT(g.num_points, 100) << "frame " << k;
+    const auto delta_at = std::find(run.order.begin(), run.order.end(), std::make_pair(std::string(channels::kVoDelta), t));
+    ASSERT_NE(delta_at, run.order.begin());
+    EXPECT_EQ(*std::prev(delta_at), std::make_pair(std::string(channels::kVoGround), t)) << "frame " << k;
+    const vo::testing::FramePose pose = seq.pose(k);
+    const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+    double worst = 0.0;
+    for (int i = 0; i < g.num_points; ++i) {
+      const Eigen::Vector3d local(g.position_m[i][0], g.position_m[i][1], g.position_m[i][2]);
+      const Eigen::Vector3d placed = pose.position + Eigen::Vector3d(c * local.x() - s * local.y(),
+                                                                     s * local.x() + c * local.y(), local.z());
+      double nearest = 1e9;
+      for (const Eigen::Vector3d& w : world) nearest = std::min(nearest, (w - placed).norm());
+      worst = std::max(worst, nearest);
+      EXPECT_GE(g.depth_sigma_m[i], 0.0f);
+    }
+    EXPECT_LT(worst, 0.01) << "frame " << k;  // the depth filter: ~7 mm at 150 m
+  }
+  EXPECT_GT(counter(run.status, "ground_frames_published"), 100);
+  // The paper variant has no own depths: no VO_GROUND.
+  EXPECT_TRUE(run_node("paper", 20, -1).ground.empty());
 }
 
 TEST(FeatureDepthNode, ClearedByATimeGap) {

@@ -430,7 +430,8 @@ TEST(VoSolverNode, ShippedConfigBuildsTheNode) {
   ASSERT_NE(registry.find("vo_solver"), nullptr);
   const std::unique_ptr<Node> node = (*registry.find("vo_solver"))(config, bus);
   EXPECT_EQ(node->name(), "vo_solver");
-  EXPECT_EQ(node->output_channels(), std::vector<std::string>{channels::kVoDelta});
+  // The default variant (feature_depth) also publishes the ground its frames saw.
+  EXPECT_EQ(node->output_channels(), (std::vector<std::string>{channels::kVoDelta, channels::kVoGround}));
 }
 
 }  // namespace

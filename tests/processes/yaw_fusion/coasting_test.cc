@@ -537,6 +537,75 @@ TEST(Coasting, TextureLossHeightFollowsTheAltimeterOverTheTerrainPlane) {
   }
 }
 
+// 10 s of texture loss over a swell (5 m high, 400 m long) while the climb
+// rate changes from 0 to 2 m/s, the frames' ground points covering 200 m
+// ahead: over the ground the last frame saw, the height is that ground's
+// minus the range (no climb held, no plane guessed); beyond it the climb
+// measured over it is held. The plane through the last frames misses the
+// swell, the held climb misses the climb.
+TEST(Coasting, TextureLossOverSeenGroundFollowsItAndHoldsTheClimbMeasuredOverIt) {
+  FlightSpec spec = straight_spec();
+  spec.terrain_wave_m = 5.0;
+  spec.climb_rate_change_s = 11.0;  // frame ~147, in the coast
+  spec.climb_rate_after_mps = 2.0;
+  spec.ground_points = true;
+  SyntheticFlight flight = test::make_flight(spec);
+  lose_texture(&flight, 100, 240);
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  auto vertical_error = [&](const pose_t& p, size_t k) {
+    return p.position_ned[2] - (flight.truth[k].position.z() - origin.z());
+  };
+  YawFusionOptions seen_options;
+  seen_options.coast.follow_seen_ground = true;
+  YawFusionCounters counters;
+  const auto seen = fly(flight, seen_options, &counters);
+  YawFusionOptions plane_options;
+  plane_options.coast.follow_altimeter = true;
+  const auto plane = fly(flight, plane_options);
+  const auto held = fly(flight, YawFusionOptions{});
+  EXPECT_EQ(counters.ground_frames_received, static_cast<int64_t>(flight.ground.size()));
+  // 30 m/s over 200 m of seen ground and part of the points' radius: ~7 s (~100 frames) of the 10 s coast.
+  EXPECT_GT(counters.coast_seen_ground_poses, 90);
+  EXPECT_LT(counters.coast_seen_ground_poses, 106);
+  const pose_t* before = pose_at(seen, flight.truth[100].utime);
+  ASSERT_NE(before, nullptr);
+  double worst_over_seen = 0.0, worst_seen = 0.0, worst_plane = 0.0, worst_held = 0.0;
+  for (size_t k = 101; k <= 241; ++k) {
+    const pose_t* p = pose_at(seen, flight.truth[k].utime);
+    ASSERT_NE(p, nullptr) << "frame " << k;
+    EXPECT_TRUE(p->flags & pose_t::FLAG_COASTING) << "frame " << k;
+    const double e = std::abs(vertical_error(*p, k));
+    worst_seen = std::max(worst_seen, e);
+    if (k <= 195) {
+      worst_over_seen = std::max(worst_over_seen, e);
+      // Over seen ground the vertical sigma stays that of the ground and the range, the horizontal grows.
+      EXPECT_LT(std::sqrt(p->position_covariance[2][2]), std::hypot(std::sqrt(before->position_covariance[2][2]), 1.0))
+          << "frame " << k;
+    }
+    worst_plane = std::max(worst_plane, std::abs(vertical_error(*pose_at(plane, flight.truth[k].utime), k)));
+    worst_held = std::max(worst_held, std::abs(vertical_error(*pose_at(held, flight.truth[k].utime), k)));
+    EXPECT_LT(e, 3.0 * std::sqrt(p->position_covariance[2][2])) << "frame " << k;
+  }
+  // The newest range is up to 50 ms old at 2 m/s climb and 30 m/s over the swell's 8 % slopes
+  // (~0.1 m), the climb weighed against the held one as it starts (measured: 0.11 m at most).
+  EXPECT_LT(worst_over_seen, 0.2);
+  EXPECT_LT(worst_seen, 0.3);
+  EXPECT_GT(worst_plane, 3.0);
+  EXPECT_GT(worst_held, 8.0);
+  const pose_t* end = pose_at(seen, flight.truth[240].utime);
+  EXPECT_GT(std::sqrt(end->position_covariance[0][0]), 3.0 * std::sqrt(end->position_covariance[2][2]));
+  // After VO resumes nothing is frozen in.
+  EXPECT_EQ(seen.back().flags, 0);
+  EXPECT_LT(std::abs(vertical_error(seen.back(), flight.truth.size() - 1)), 0.3);
+  // With the option but no VO_GROUND (another solver variant): the held climb, as without it.
+  spec.ground_points = false;
+  SyntheticFlight no_points = test::make_flight(spec);
+  lose_texture(&no_points, 100, 240);
+  const auto without = fly(no_points, seen_options);
+  ASSERT_EQ(without.size(), held.size());
+  for (size_t i = 0; i < held.size(); ++i) EXPECT_EQ(without[i].position_ned[2], held[i].position_ned[2]) << i;
+}
+
 // A 30 m terrain step (a cliff) under the beam while coasting on the
 // altimeter is the ground's, not a climb: the plane moves, the height stays.
 TEST(Coasting, AGroundStepWhileFollowingTheAltimeterMovesThePlane) {

@@ -28,6 +28,10 @@ inline std::vector<pose_t> run(YawFusionEstimator& estimator, const std::vector<
       altimeter_t msg;
       EXPECT_GT(msg.decode(m.bytes.data(), 0, static_cast<int>(m.bytes.size())), 0);
       append(estimator.add_altimeter(msg));
+    } else if (m.channel == channels::kVoGround) {
+      ground_points_t msg;
+      EXPECT_GT(msg.decode(m.bytes.data(), 0, static_cast<int>(m.bytes.size())), 0);
+      estimator.add_ground_points(msg);
     } else if (m.channel == channels::kMapFix) {
       map_fix_t msg;
       EXPECT_GT(msg.decode(m.bytes.data(), 0, static_cast<int>(m.bytes.size())), 0);

@@ -59,12 +59,18 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
   int64_t next_alt = kStartUs;
   double terrain_down = spec.height_agl_m;
   const Eigen::Vector2d terrain_gradient(spec.terrain_gradient_north, spec.terrain_gradient_east);
+  // The ground's down coordinate below a horizontal position (the step aside).
+  auto ground_relief = [&](const Eigen::Vector2d& p) {
+    return terrain_gradient.dot(p) + spec.terrain_wave_m * std::sin(2.0 * M_PI * p.x() / spec.terrain_wave_length_m);
+  };
+  std::vector<double> terrain_down_at_frame;
   int64_t t_us = kStartUs;
   while (t_us <= end_us) {
     const double t = static_cast<double>(t_us - kStartUs) * 1e-6;
     if (next_frame < frame_times.size() && t_us == frame_times[next_frame]) {
       flight.truth.push_back({t_us, state.position, wrap_angle(heading_at(t)), roll_at(t), pitch_at(t)});
       if (static_cast<int>(next_frame) == spec.terrain_step_frame) terrain_down -= spec.terrain_step_m;
+      terrain_down_at_frame.push_back(terrain_down);
       ++next_frame;
     }
     // Attitude samples are piecewise linear between INS grid points: roll and
@@ -87,7 +93,7 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
       altimeter_t alt{};
       alt.utime = t_us;
       alt.beam_body[2] = 1.0;
-      const double agl = terrain_down + terrain_gradient.dot(state.position.head<2>()) - state.position.z();
+      const double agl = terrain_down + ground_relief(state.position.head<2>()) - state.position.z();
       const Eigen::Vector3d beam = rotation_from_rpy(roll_at(t), pitch_at(t), 0.0) * Eigen::Vector3d::UnitZ();
       alt.range_m = agl / beam.z();
       alt.signal_quality = 1.0f;
@@ -137,7 +143,7 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
     d.covariance[0][0] = d.covariance[1][1] = d.covariance[2][2] = st * st;
     d.covariance[3][3] = std::pow(deg_to_rad(spec.covariance_dyaw_stddev_deg), 2);
     d.covariance[4][4] = d.covariance[5][5] = std::pow(deg_to_rad(0.5), 2);
-    d.altitude_m = spec.height_agl_m + terrain_gradient.dot(a.position.head<2>()) - a.position.z();
+    d.altitude_m = spec.height_agl_m + ground_relief(a.position.head<2>()) - a.position.z();
     // The terrain plane in the level frame of frame b (x forward, y right):
     // down changes by `forward` per metre ahead and `right` per metre right;
     // its normal (-forward, -right, 1) as the solver's ground roll/pitch.
@@ -151,6 +157,20 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
     d.quality = 0;
     d.variant = "synthetic";
     flight.deltas.push_back(d);
+    if (!spec.ground_points) continue;
+    ground_points_t g{};
+    g.utime = b.utime;
+    const double cb = std::cos(b.yaw), sb = std::sin(b.yaw);
+    for (double x = -100.0; x <= spec.ground_points_ahead_m + 1e-9; x += 10.0) {
+      for (double y = -60.0; y <= 60.0 + 1e-9; y += 10.0) {
+        const Eigen::Vector2d world = b.position.head<2>() + Eigen::Vector2d(cb * x - sb * y, sb * x + cb * y);
+        const double z = terrain_down_at_frame[k] + ground_relief(world) - b.position.z();
+        g.position_m.push_back({static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)});
+        g.depth_sigma_m.push_back(static_cast<float>(spec.ground_points_sigma_m));
+      }
+    }
+    g.num_points = static_cast<int32_t>(g.position_m.size());
+    flight.ground.push_back(std::move(g));
   }
   return flight;
 }
@@ -168,7 +188,9 @@ std::vector<TimedMessage> arrival_order(const SyntheticFlight& flight, int64_t v
     *last_arrival = arrival;
     all.emplace_back(arrival, rank, all.size(), TimedMessage{channel, utime, std::move(bytes)});
   };
-  int64_t last_vo = 0, last_ins = 0, last_alt = 0;
+  int64_t last_vo = 0, last_ins = 0, last_alt = 0, last_ground = 0;
+  // A frame's ground points are published just before its delta (vo_solver).
+  for (const auto& g : flight.ground) add(channels::kVoGround, 0, g.utime, vo_latency_us, encode(g), &last_ground);
   for (const auto& d : flight.deltas) add(channels::kVoDelta, 0, d.utime, vo_latency_us, encode(d), &last_vo);
   for (const auto& m : flight.ins) add(channels::kIns, 1, m.utime, ins_latency_us, encode(m), &last_ins);
   for (const auto& m : flight.altimeter) add(channels::kAltimeter, 2, m.utime, altimeter_latency_us, encode(m), &last_alt);

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 
 #include "nadir/altimeter_t.hpp"
+#include "nadir/ground_points_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/vo_delta_t.hpp"
 
@@ -40,6 +41,16 @@ struct FlightSpec {
   // plane; the deltas carry its tilt as ground_roll/ground_pitch).
   double terrain_gradient_north = 0.0;
   double terrain_gradient_east = 0.0;
+  // A swell on top of the plane: the ground's down moves by
+  // terrain_wave_m * sin(2 pi north / terrain_wave_length_m) (the deltas' ground tilt does not show it).
+  double terrain_wave_m = 0.0;
+  double terrain_wave_length_m = 400.0;
+  // Each frame's ground points (VO_GROUND, as the feature_depth solver would
+  // publish them): a 10 m grid from 100 m behind to ground_points_ahead_m
+  // ahead and 60 m either side, exact, with ground_points_sigma_m reported.
+  bool ground_points = false;
+  double ground_points_ahead_m = 200.0;
+  double ground_points_sigma_m = 0.5;
   double climb_rate_change_s = -1.0;    // from this flight time on (>= 0) the climb rate is ...
   double climb_rate_after_mps = 0.0;    // ... this
   // The heading (truth, INS and the frames the deltas are measured in)
@@ -70,6 +81,7 @@ struct SyntheticFlight {
   std::vector<vo_delta_t> deltas;
   std::vector<ins_t> ins;
   std::vector<altimeter_t> altimeter;
+  std::vector<ground_points_t> ground;  // with FlightSpec::ground_points, one per frame from the second
 };
 
 SyntheticFlight make_flight(const FlightSpec& spec);

@@ -52,6 +52,7 @@ std::vector<Bytes> run_on_lcm(const std::vector<test::TimedMessage>& messages, S
     if (add_garbage && index % 50 == 0) {
       const Bytes garbage(37, static_cast<uint8_t>(index));
       bus.publish_raw(channels::kVoDelta, garbage.data(), garbage.size());
+      bus.publish_raw(channels::kVoGround, garbage.data(), garbage.size());
       bus.publish_raw(channels::kIns, m.bytes.data(), m.bytes.size() / 2);  // truncated
     }
     ++index;
