@@ -241,7 +241,7 @@ bool InputGate::admit(const std::string& channel, const vo_delta_t& msg) {
 
 bool InputGate::admit(const std::string& channel, const ground_points_t& msg) {
   const size_t n = static_cast<size_t>(std::max(0, msg.num_points));
-  if (msg.num_points < 0 || msg.position_m.size() != n || msg.depth_sigma_m.size() != n) {
+  if (msg.num_points < 0 || msg.track_id.size() != n || msg.position_m.size() != n || msg.depth_sigma_m.size() != n) {
     return reject(channel, msg.utime, "size", "num_points does not match its arrays");
   }
   for (size_t i = 0; i < n; ++i) {

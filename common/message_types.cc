@@ -4,6 +4,7 @@
 
 #include "nadir/altimeter_t.hpp"
 #include "nadir/config_t.hpp"
+#include "nadir/ground_points_t.hpp"
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/image_t.hpp"
 #include "nadir/ins_t.hpp"
@@ -34,6 +35,7 @@ std::string message_type_name(const uint8_t* data, size_t size) {
   if (is<altimeter_t>(hash)) return "nadir.altimeter_t";
   if (is<tracks_t>(hash)) return "nadir.tracks_t";
   if (is<vo_delta_t>(hash)) return "nadir.vo_delta_t";
+  if (is<ground_points_t>(hash)) return "nadir.ground_points_t";
   if (is<pose_t>(hash)) return "nadir.pose_t";
   if (is<map_fix_t>(hash)) return "nadir.map_fix_t";
   if (is<ground_truth_t>(hash)) return "nadir.ground_truth_t";

@@ -213,10 +213,12 @@ void VoSolverNode::fill_ground_points(const vo::FramePair& pair, int64_t utime) 
       rotation_from_rpy(pair.curr_roll, pair.curr_pitch, 0.0) * options_.sync.calibration.camera_lever_arm_m;
   ground_.utime = utime;
   ground_.num_points = static_cast<int32_t>(points.size());
+  ground_.track_id.reserve(points.size());
   ground_.position_m.reserve(points.size());
   ground_.depth_sigma_m.reserve(points.size());
   for (const auto& p : points) {
     const Eigen::Vector3d from_ins = p.position + lever;
+    ground_.track_id.push_back(p.track_id);
     ground_.position_m.push_back({static_cast<float>(from_ins.x()), static_cast<float>(from_ins.y()),
                                   static_cast<float>(from_ins.z())});
     ground_.depth_sigma_m.push_back(static_cast<float>(p.depth_sigma));

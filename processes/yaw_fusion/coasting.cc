@@ -58,6 +58,8 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
               "while coasting over ground the last frame's VO_GROUND points cover, down = that ground minus the "
               "levelled range",
               &O::follow_seen_ground)
+        .number("seen_ground_window_s", 0.0, 60.0, "s",
+                "integrated frames whose VO_GROUND points are kept (each track's newest)", &O::seen_ground_window_s)
         .number("seen_ground_radius_m", 0.1, 1e4, "m", "points within this distance make the ground below",
                 &O::seen_ground_radius_m)
         .number("seen_ground_min_points", 1, 100000, "points", "fewer within the radius: that ground was not seen",

@@ -98,8 +98,9 @@ struct CoastOptions {
   // over the last speed_window_s. Independent of follow_altimeter (the plane
   // is used only beyond the seen ground, and only with it).
   bool follow_seen_ground = false;
+  double seen_ground_window_s = 1.0;  // integrated frames whose points are kept (each track's newest)
   double seen_ground_radius_m = 25.0;
-  int seen_ground_min_points = 5;
+  int seen_ground_min_points = 8;
 
   // Reads yaw_fusion.coast (keys named with their full path on error).
   static CoastOptions from_config(const Config& coast);

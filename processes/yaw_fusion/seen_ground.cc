@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <utility>
+#include <vector>
 
 namespace nadir {
 
@@ -14,16 +17,24 @@ constexpr double kMinPointSigmaM = 0.1;
 }  // namespace
 
 void SeenGround::note_frame(const ground_points_t& points, const Eigen::Vector3d& position, double yaw) {
-  points_.clear();
   const double c = std::cos(yaw), s = std::sin(yaw);
-  const size_t n = std::min({static_cast<size_t>(std::max(0, points.num_points)), points.position_m.size(),
-                             points.depth_sigma_m.size()});
-  points_.reserve(n);
+  const size_t n = std::min({static_cast<size_t>(std::max(0, points.num_points)), points.track_id.size(),
+                             points.position_m.size(), points.depth_sigma_m.size()});
   for (size_t i = 0; i < n; ++i) {
     const double x = points.position_m[i][0], y = points.position_m[i][1], z = points.position_m[i][2];
     const double sigma = std::max<double>(points.depth_sigma_m[i], kMinPointSigmaM);
-    const Point p{{position.x() + c * x - s * y, position.y() + s * x + c * y}, position.z() + z, sigma * sigma};
-    if (p.horizontal.allFinite() && std::isfinite(p.down) && std::isfinite(p.variance)) points_.push_back(p);
+    const Point p{{position.x() + c * x - s * y, position.y() + s * x + c * y}, position.z() + z, sigma * sigma,
+                  points.utime};
+    if (p.horizontal.allFinite() && std::isfinite(p.down) && std::isfinite(p.variance)) {
+      points_[points.track_id[i]] = p;
+    }
+  }
+  note_frame_without_points(points.utime);
+}
+
+void SeenGround::note_frame_without_points(int64_t utime) {
+  for (auto it = points_.begin(); it != points_.end();) {
+    it = utime - it->second.utime > window_us_ ? points_.erase(it) : std::next(it);
   }
 }
 
@@ -33,43 +44,48 @@ std::optional<SeenGround::Height> SeenGround::ground_down(const Eigen::Vector2d&
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   double weights = 0.0;
-  int n = 0;
   const double r2 = options.radius_m * options.radius_m;
   auto near = [&](const Point& p) { return (p.horizontal - horizontal).squaredNorm() <= r2; };
-  for (const Point& p : points_) {
-    if (!near(p)) continue;
+  // In track id order: the sums do not depend on the hash table's layout.
+  std::vector<std::pair<int64_t, const Point*>> used;
+  for (const auto& [id, p] : points_) {
+    if (near(p)) used.emplace_back(id, &p);
+  }
+  std::sort(used.begin(), used.end());
+  for (const auto& [id, q] : used) {
+    const Point& p = *q;
     const Eigen::Vector2d d = p.horizontal - horizontal;
     const double w = 1.0 / p.variance;
     const Eigen::Vector3d row(1.0, d.x(), d.y());
     normal += w * row * row.transpose();
     rhs += w * p.down * row;
     weights += w;
-    ++n;
   }
-  if (n < std::max(1, options.min_points)) return std::nullopt;
+  const int n = static_cast<int>(used.size());
+  if (n < std::max(3, options.min_points)) return std::nullopt;
   // The points must lie around the position, not only on one side of it (the
-  // edge of what the frame saw): there a fit would be extrapolated.
-  const Eigen::Matrix3d spread = normal / weights;
-  const Eigen::Vector2d centroid = spread.block<2, 1>(1, 0);
+  // edge of what the frames saw), where the plane would be extrapolated. Their
+  // plain centroid: the weights grow toward the frames' older, better tracks.
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const auto& [id, q] : used) centroid += q->horizontal - horizontal;
+  centroid /= static_cast<double>(n);
   if (centroid.norm() > options.max_centroid_offset * options.radius_m) return std::nullopt;
   // A plane needs the points to span the area (not one line of them): the
-  // smallest eigenvalue of their position spread, against the radius.
-  const Eigen::Matrix2d position_cov = spread.block<2, 2>(1, 1) - centroid * centroid.transpose();
-  const bool plane =
-      n >= 6 && Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(position_cov).eigenvalues()(0) > 0.01 * r2;
-  Eigen::Vector3d coef(rhs(0) / weights, 0.0, 0.0);
-  double fit_variance = 1.0 / weights;  // of the mean, with the points' variances as reported
-  if (plane) {
-    const Eigen::LDLT<Eigen::Matrix3d> ldlt = normal.ldlt();
-    coef = ldlt.solve(rhs);
-    fit_variance = ldlt.solve(Eigen::Vector3d::UnitX())(0);  // of the plane's value here
-  }
-  const int parameters = plane ? 3 : 1;
+  // smallest eigenvalue of their (weighted) position spread, against the radius.
+  const Eigen::Matrix3d spread = normal / weights;
+  const Eigen::Vector2d mean = spread.block<2, 1>(1, 0);
+  const Eigen::Matrix2d position_cov = spread.block<2, 2>(1, 1) - mean * mean.transpose();
+  if (Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(position_cov).eigenvalues()(0) < 0.01 * r2) return std::nullopt;
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt = normal.ldlt();
+  const Eigen::Vector3d coef = ldlt.solve(rhs);
+  // Of the plane's value here, with the points' variances as reported.
+  const double fit_variance = ldlt.solve(Eigen::Vector3d::UnitX())(0);
+  constexpr int parameters = 3;
   // Scatter of the points about the fit against their reported variances:
   // noise and the ground's roughness about the plane together.
   double chi2 = 0.0;
-  for (const Point& p : points_) {
-    if (!near(p)) continue;
+  for (const auto& [id, q] : used) {
+    const Point& p = *q;
     const Eigen::Vector2d d = p.horizontal - horizontal;
     const double e = p.down - coef.dot(Eigen::Vector3d(1.0, d.x(), d.y()));
     chi2 += e * e / p.variance;

@@ -118,12 +118,22 @@ bool AltimeterHistory::add(const RangeSample& sample) {
 }
 
 double vertical_range(double range_m, const Eigen::Vector3d& beam_body, double roll, double pitch) {
-  const Eigen::Vector3d level = rotation_from_rpy(roll, pitch, 0.0) * beam_body.normalized();
-  return range_m * level.z();
+  return level_range(range_m, beam_body, roll, pitch).z();
+}
+
+Eigen::Vector3d level_range(double range_m, const Eigen::Vector3d& beam_body, double roll, double pitch) {
+  return range_m * (rotation_from_rpy(roll, pitch, 0.0) * beam_body.normalized());
 }
 
 std::optional<double> AltimeterHistory::height_agl(int64_t utime, int64_t max_age_us, double roll, double pitch,
                                                    bool use_later) const {
+  const auto beam = beam_level(utime, max_age_us, roll, pitch, use_later);
+  if (!beam) return std::nullopt;
+  return beam->z();
+}
+
+std::optional<Eigen::Vector3d> AltimeterHistory::beam_level(int64_t utime, int64_t max_age_us, double roll,
+                                                            double pitch, bool use_later) const {
   if (samples_.empty()) return std::nullopt;
   // Without later samples only those before the frame count: one stamped
   // exactly at the frame time may arrive after the delta (live) or before it
@@ -136,12 +146,12 @@ std::optional<double> AltimeterHistory::height_agl(int64_t utime, int64_t max_ag
   if (before != nullptr && after != nullptr && after->utime > before->utime) {
     const double f = static_cast<double>(utime - before->utime) / static_cast<double>(after->utime - before->utime);
     const double range = before->range_m + f * (after->range_m - before->range_m);
-    return vertical_range(range, before->beam_body, roll, pitch);
+    return level_range(range, before->beam_body, roll, pitch);
   }
   const RangeSample* nearest = before != nullptr ? before : after;
   if (before != nullptr && after != nullptr && after->utime - utime < utime - before->utime) nearest = after;
   if (nearest == nullptr) return std::nullopt;
-  return vertical_range(nearest->range_m, nearest->beam_body, roll, pitch);
+  return level_range(nearest->range_m, nearest->beam_body, roll, pitch);
 }
 
 void AltimeterHistory::forget_before(int64_t utime) { forget_samples_before(&samples_, utime); }

@@ -104,6 +104,10 @@ class AltimeterHistory {
   // the next sample; the answer cannot depend on whether it has arrived).
   std::optional<double> height_agl(int64_t utime, int64_t max_age_us, double roll, double pitch,
                                    bool use_later = true) const;
+  // The same range as a vector in the level vehicle frame (x forward, y
+  // right, z down: z is height_agl), to the ground spot the beam hits.
+  std::optional<Eigen::Vector3d> beam_level(int64_t utime, int64_t max_age_us, double roll, double pitch,
+                                            bool use_later = true) const;
   void forget_before(int64_t utime);
   int64_t dropped() const { return dropped_; }
 
@@ -117,5 +121,7 @@ class AltimeterHistory {
 // Vertical component of a body-frame beam of length range_m after levelling
 // by roll and pitch (ZYX; yaw does not matter).
 double vertical_range(double range_m, const Eigen::Vector3d& beam_body, double roll, double pitch);
+// The range as a vector in the level frame (its z is vertical_range).
+Eigen::Vector3d level_range(double range_m, const Eigen::Vector3d& beam_body, double roll, double pitch);
 
 }  // namespace nadir

@@ -1,6 +1,7 @@
 #include "processes/yaw_fusion/yaw_fusion_estimator.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 #include <algorithm>
@@ -41,7 +42,8 @@ YawFusionEstimator::YawFusionEstimator(const YawFusionOptions& options)
       ins_jump_candidate_(std::numeric_limits<int64_t>::min()),
       altimeter_jump_candidate_(std::numeric_limits<int64_t>::min()),
       coast_detector_(options.coast),
-      coast_terrain_(options.coast.terrain_window_s) {
+      coast_terrain_(options.coast.terrain_window_s),
+      seen_ground_(options.coast.seen_ground_window_s) {
   options_.Check();
 }
 
@@ -519,13 +521,12 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
                               ground_gradient_ned(delta.ground_roll, delta.ground_pitch, filter_.yaw()));
   }
   if (options_.coast.follow_seen_ground) {
-    // This frame's points replace the last frame's; none (not solved with own
-    // depths): no seen ground for a coast from here.
+    // This frame's points, each replacing its track's older one.
     const auto points = pending_ground_.find(delta.utime);
     if (points != pending_ground_.end()) {
       seen_ground_.note_frame(points->second, filter_.position(), filter_.yaw());
     } else {
-      seen_ground_.clear();
+      seen_ground_.note_frame_without_points(delta.utime);
     }
     pending_ground_.erase(pending_ground_.begin(), pending_ground_.upper_bound(delta.utime));
   }
@@ -620,10 +621,14 @@ double YawFusionEstimator::held_down_variance(double coasted_s) const {
                                                         std::max(0.0, coasted_s - coast_held_since_s_));
 }
 
-bool YawFusionEstimator::follow_seen_ground(double height, double coasted_s, double horizontal_step_m) {
+bool YawFusionEstimator::follow_seen_ground(const Eigen::Vector3d& beam, double coasted_s, double horizontal_step_m) {
   const CoastOptions& c = options_.coast;
-  const Eigen::Vector2d horizontal = filter_.position().head<2>();
-  const auto ground = seen_ground_.ground_down(horizontal, {c.seen_ground_radius_m, c.seen_ground_min_points});
+  const double height = beam.z();
+  // The ground where the beam hits it (a few metres from below the vehicle
+  // when it is tilted: 5 m at 150 m and 2 deg), which the range measures.
+  const Eigen::Vector2d spot =
+      filter_.position().head<2>() + Eigen::Rotation2Dd(filter_.yaw()) * beam.head<2>();
+  const auto ground = seen_ground_.ground_down(spot, {c.seen_ground_radius_m, c.seen_ground_min_points});
   if (!ground) return false;
   const double seen = ground->down - height;
   // The beam on something the points do not show (a roof, a tree line): the
@@ -646,7 +651,7 @@ bool YawFusionEstimator::follow_seen_ground(double height, double coasted_s, dou
     coast_seen_downs_.pop_front();
   }
   last_seen_variance_ = variance;
-  last_seen_ground_ = Eigen::Vector3d(horizontal.x(), horizontal.y(), ground->down);
+  last_seen_ground_ = Eigen::Vector3d(spot.x(), spot.y(), ground->down);
   ++counters_.coast_seen_ground_poses;
   return true;
 }
@@ -681,9 +686,9 @@ void YawFusionEstimator::leave_seen_ground(double coasted_s) {
 }
 
 bool YawFusionEstimator::follow_altimeter(int64_t utime, double coasted_s, double horizontal_step_m) {
-  const double height = altimeter_height_at(utime);
-  if (options_.coast.follow_seen_ground && std::isfinite(height) &&
-      follow_seen_ground(height, coasted_s, horizontal_step_m)) {
+  const Eigen::Vector3d beam = altimeter_beam_at(utime);
+  const double height = beam.z();
+  if (options_.coast.follow_seen_ground && beam.allFinite() && follow_seen_ground(beam, coasted_s, horizontal_step_m)) {
     return true;
   }
   leave_seen_ground(coasted_s);  // nothing unless seen ground was followed since the held climb's anchor
@@ -716,13 +721,15 @@ bool YawFusionEstimator::follow_altimeter(int64_t utime, double coasted_s, doubl
   return true;
 }
 
-double YawFusionEstimator::altimeter_height_at(int64_t utime) const {
+double YawFusionEstimator::altimeter_height_at(int64_t utime) const { return altimeter_beam_at(utime).z(); }
+
+Eigen::Vector3d YawFusionEstimator::altimeter_beam_at(int64_t utime) const {
   const auto attitude = ins_attitude_at(utime);
-  const auto height = altimeter_.height_agl(options_.calibration.exposure_utime(utime),
-                                            static_cast<int64_t>(options_.max_altimeter_age_s * 1e6),
-                                            attitude ? attitude->roll : roll_, attitude ? attitude->pitch : pitch_,
-                                            options_.altimeter_interpolate);
-  return height ? *height : std::numeric_limits<double>::quiet_NaN();
+  const auto beam = altimeter_.beam_level(options_.calibration.exposure_utime(utime),
+                                          static_cast<int64_t>(options_.max_altimeter_age_s * 1e6),
+                                          attitude ? attitude->roll : roll_, attitude ? attitude->pitch : pitch_,
+                                          options_.altimeter_interpolate);
+  return beam ? *beam : Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 }
 
 int32_t YawFusionEstimator::coast_bits(const vo_delta_t& delta) const {

@@ -179,6 +179,8 @@ class YawFusionEstimator {
   int32_t coast_bits(const vo_delta_t& delta) const;
   // Levelled altimeter height at a frame time, NaN without a fresh range.
   double altimeter_height_at(int64_t utime) const;
+  // The levelled range as a vector (x forward, y right, z down = the height), NaN without a fresh range.
+  Eigen::Vector3d altimeter_beam_at(int64_t utime) const;
   // INS yaw update at `utime`; returns pose flags; fills the attitude used.
   int32_t update_attitude(int64_t utime);
   int32_t update_height(int64_t utime, double fallback_height);
@@ -254,13 +256,13 @@ class YawFusionEstimator {
   // the last integrated frame saw; downs taken from it in this coast (coast
   // time, down) over the last speed_window_s, whose slope is the held climb.
   std::map<int64_t, ground_points_t> pending_ground_;
-  SeenGround seen_ground_;
+  SeenGround seen_ground_;  // declared after coast_terrain_ (constructor order)
   std::deque<std::pair<double, double>> coast_seen_downs_;
   double last_seen_variance_ = 0.0;  // of the last down taken from seen ground (over the anchor frame's)
   Eigen::Vector3d last_seen_ground_ = Eigen::Vector3d::Zero();  // north, east and ground down there
-  // Down from the seen ground and the held climb (`height` the levelled
-  // range); false when that ground was not seen or the range does not fit it.
-  bool follow_seen_ground(double height, double coasted_s, double horizontal_step_m);
+  // Down from the seen ground and the held climb (`beam` the levelled range
+  // as a vector); false when that ground was not seen or the range does not fit it.
+  bool follow_seen_ground(const Eigen::Vector3d& beam, double coasted_s, double horizontal_step_m);
   // Past the seen ground: the held climb starts again from the last seen
   // down, at the climb the seen downs measured over the last speed_window_s.
   void leave_seen_ground(double coasted_s);

@@ -1,5 +1,6 @@
 #include "tools/log/log_dump.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <functional>
@@ -13,6 +14,7 @@
 #include "common/message_guard.h"
 #include "common/message_types.h"
 #include "nadir/altimeter_t.hpp"
+#include "nadir/ground_points_t.hpp"
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/pose_t.hpp"
@@ -81,6 +83,16 @@ const std::vector<DumpType>& dump_types() {
                                int64_t{m.age[i]}, double{m.prev_px[i][0]}, double{m.prev_px[i][1]},
                                double{m.curr_px[i][0]}, double{m.curr_px[i][1]}, m.prev_norm[i][0], m.prev_norm[i][1],
                                m.curr_norm[i][0], m.curr_norm[i][1]});
+            }
+          }),
+      make_type<ground_points_t>(
+          "nadir.ground_points_t", {"utime", "track_id", "x_m", "y_m", "z_m", "depth_sigma_m"},
+          [](const ground_points_t& m, std::vector<Row>* rows) {
+            const size_t n = std::min({static_cast<size_t>(std::max(0, m.num_points)), m.track_id.size(),
+                                       m.position_m.size(), m.depth_sigma_m.size()});
+            for (size_t i = 0; i < n; ++i) {
+              rows->push_back({m.utime, m.track_id[i], double{m.position_m[i][0]}, double{m.position_m[i][1]},
+                               double{m.position_m[i][2]}, double{m.depth_sigma_m[i]}});
             }
           }),
       make_type<vo_delta_t>(

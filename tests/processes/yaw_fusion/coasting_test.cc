@@ -538,7 +538,7 @@ TEST(Coasting, TextureLossHeightFollowsTheAltimeterOverTheTerrainPlane) {
 }
 
 // 10 s of texture loss over a swell (5 m high, 400 m long) while the climb
-// rate changes from 0 to 2 m/s, the frames' ground points covering 200 m
+// rate changes from 0 to 2 m/s (2 s into it), the frames' ground points covering 200 m
 // ahead: over the ground the last frame saw, the height is that ground's
 // minus the range (no climb held, no plane guessed); beyond it the climb
 // measured over it is held. The plane through the last frames misses the
@@ -546,9 +546,10 @@ TEST(Coasting, TextureLossHeightFollowsTheAltimeterOverTheTerrainPlane) {
 TEST(Coasting, TextureLossOverSeenGroundFollowsItAndHoldsTheClimbMeasuredOverIt) {
   FlightSpec spec = straight_spec();
   spec.terrain_wave_m = 5.0;
-  spec.climb_rate_change_s = 11.0;  // frame ~147, in the coast
+  spec.climb_rate_change_s = 9.0;  // frame ~119, 2 s into the coast, 3 s before the seen ground ends
   spec.climb_rate_after_mps = 2.0;
   spec.ground_points = true;
+  spec.altimeter_along_beam = true;  // 2 deg pitch at 300 m: the beam hits the ground 10 m behind
   SyntheticFlight flight = test::make_flight(spec);
   lose_texture(&flight, 100, 240);
   const Eigen::Vector3d origin = flight.truth.front().position;
@@ -564,9 +565,9 @@ TEST(Coasting, TextureLossOverSeenGroundFollowsItAndHoldsTheClimbMeasuredOverIt)
   const auto plane = fly(flight, plane_options);
   const auto held = fly(flight, YawFusionOptions{});
   EXPECT_EQ(counters.ground_frames_received, static_cast<int64_t>(flight.ground.size()));
-  // 30 m/s over 200 m of seen ground and part of the points' radius: ~7 s (~100 frames) of the 10 s coast.
-  EXPECT_GT(counters.coast_seen_ground_poses, 90);
-  EXPECT_LT(counters.coast_seen_ground_poses, 106);
+  // 30 m/s over 200 m of seen ground, less the edge where the points lie only behind: ~6 s (~85 frames).
+  EXPECT_GT(counters.coast_seen_ground_poses, 80);
+  EXPECT_LT(counters.coast_seen_ground_poses, 100);
   const pose_t* before = pose_at(seen, flight.truth[100].utime);
   ASSERT_NE(before, nullptr);
   double worst_over_seen = 0.0, worst_seen = 0.0, worst_plane = 0.0, worst_held = 0.0;
@@ -592,8 +593,9 @@ TEST(Coasting, TextureLossOverSeenGroundFollowsItAndHoldsTheClimbMeasuredOverIt)
   EXPECT_LT(worst_seen, 0.3);
   EXPECT_GT(worst_plane, 3.0);
   EXPECT_GT(worst_held, 8.0);
+  // At the coast's end the vertical has grown for the ~3 s since the seen ground, the horizontal for 10 s.
   const pose_t* end = pose_at(seen, flight.truth[240].utime);
-  EXPECT_GT(std::sqrt(end->position_covariance[0][0]), 3.0 * std::sqrt(end->position_covariance[2][2]));
+  EXPECT_GT(std::sqrt(end->position_covariance[0][0]), 2.0 * std::sqrt(end->position_covariance[2][2]));
   // After VO resumes nothing is frozen in.
   EXPECT_EQ(seen.back().flags, 0);
   EXPECT_LT(std::abs(vertical_error(seen.back(), flight.truth.size() - 1)), 0.3);

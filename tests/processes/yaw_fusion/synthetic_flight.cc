@@ -96,6 +96,13 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
       const double agl = terrain_down + ground_relief(state.position.head<2>()) - state.position.z();
       const Eigen::Vector3d beam = rotation_from_rpy(roll_at(t), pitch_at(t), 0.0) * Eigen::Vector3d::UnitZ();
       alt.range_m = agl / beam.z();
+      if (spec.altimeter_along_beam) {
+        const Eigen::Vector3d world_beam = rotation_from_rpy(0.0, 0.0, heading_at(t)) * beam;
+        for (int iteration = 0; iteration < 20; ++iteration) {
+          const Eigen::Vector2d spot = state.position.head<2>() + alt.range_m * world_beam.head<2>();
+          alt.range_m = (terrain_down + ground_relief(spot) - state.position.z()) / world_beam.z();
+        }
+      }
       alt.signal_quality = 1.0f;
       alt.validity = altimeter_t::VALID_OK;
       flight.altimeter.push_back(alt);
@@ -165,6 +172,7 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
       for (double y = -60.0; y <= 60.0 + 1e-9; y += 10.0) {
         const Eigen::Vector2d world = b.position.head<2>() + Eigen::Vector2d(cb * x - sb * y, sb * x + cb * y);
         const double z = terrain_down_at_frame[k] + ground_relief(world) - b.position.z();
+        g.track_id.push_back(static_cast<int64_t>(k) * 100000 + static_cast<int64_t>(g.track_id.size()));
         g.position_m.push_back({static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)});
         g.depth_sigma_m.push_back(static_cast<float>(spec.ground_points_sigma_m));
       }

@@ -49,6 +49,9 @@ struct FlightSpec {
   // publish them): a 10 m grid from 100 m behind to ground_points_ahead_m
   // ahead and 60 m either side, exact, with ground_points_sigma_m reported.
   bool ground_points = false;
+  // The altimeter's range to where its tilted beam hits the ground (the
+  // simulator's ray cast); false: the height below the vehicle over the beam's cosine.
+  bool altimeter_along_beam = false;
   double ground_points_ahead_m = 200.0;
   double ground_points_sigma_m = 0.5;
   double climb_rate_change_s = -1.0;    // from this flight time on (>= 0) the climb rate is ...
