@@ -60,8 +60,9 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
               &O::follow_seen_ground)
         .number("seen_ground_window_s", 0.0, 60.0, "s",
                 "integrated frames whose VO_GROUND points are kept (each track's newest)", &O::seen_ground_window_s)
-        .number("seen_ground_radius_m", 0.1, 1e4, "m", "points within this distance make the ground below",
-                &O::seen_ground_radius_m)
+        .number("seen_ground_radius_of_height", 0.001, 10.0, "",
+                "points within this share of the height (at least 10 m) make the ground below",
+                &O::seen_ground_radius_of_height)
         .number("seen_ground_min_points", 1, 100000, "points", "fewer within the radius: that ground was not seen",
                 &O::seen_ground_min_points);
     return s;

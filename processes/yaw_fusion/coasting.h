@@ -92,14 +92,17 @@ struct CoastOptions {
   double terrain_slope_stddev = 0.025;
   // While coasting with a valid range over ground the last integrated frame
   // saw (its VO_GROUND points, seen_ground.h; at least seen_ground_min_points
-  // within seen_ground_radius_m), the ground's height is known: down = that
+  // within seen_ground_radius_of_height x the height), the ground's height is known: down = that
   // ground minus the levelled height, weighted against the held climb by
   // their variances; the climb rate held beyond it is the one measured so
   // over the last speed_window_s. Independent of follow_altimeter (the plane
   // is used only beyond the seen ground, and only with it).
   bool follow_seen_ground = false;
   double seen_ground_window_s = 1.0;  // integrated frames whose points are kept (each track's newest)
-  double seen_ground_radius_m = 25.0;
+  // The points within this share of the height (the levelled range; at
+  // least 10 m) make the ground below: the points thin out as the height
+  // grows (the same features over a larger footprint). 0.17: 25 m at 150 m.
+  double seen_ground_radius_of_height = 0.17;
   int seen_ground_min_points = 8;
 
   // Reads yaw_fusion.coast (keys named with their full path on error).

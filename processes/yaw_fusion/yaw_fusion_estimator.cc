@@ -628,7 +628,9 @@ bool YawFusionEstimator::follow_seen_ground(const Eigen::Vector3d& beam, double 
   // when it is tilted: 5 m at 150 m and 2 deg), which the range measures.
   const Eigen::Vector2d spot =
       filter_.position().head<2>() + Eigen::Rotation2Dd(filter_.yaw()) * beam.head<2>();
-  const auto ground = seen_ground_.ground_down(spot, {c.seen_ground_radius_m, c.seen_ground_min_points});
+  constexpr double kMinRadiusM = 10.0;
+  const double radius = std::max(kMinRadiusM, c.seen_ground_radius_of_height * height);
+  const auto ground = seen_ground_.ground_down(spot, {radius, c.seen_ground_min_points});
   if (!ground) return false;
   const double seen = ground->down - height;
   // The beam on something the points do not show (a roof, a tree line): the

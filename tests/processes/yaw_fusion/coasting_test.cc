@@ -549,7 +549,8 @@ TEST(Coasting, TextureLossOverSeenGroundFollowsItAndHoldsTheClimbMeasuredOverIt)
   spec.climb_rate_change_s = 9.0;  // frame ~119, 2 s into the coast, 3 s before the seen ground ends
   spec.climb_rate_after_mps = 2.0;
   spec.ground_points = true;
-  spec.altimeter_along_beam = true;  // 2 deg pitch at 300 m: the beam hits the ground 10 m behind
+  spec.height_agl_m = 150.0;  // the points within 25 m make the ground
+  spec.altimeter_along_beam = true;  // 2 deg pitch: the beam hits the ground 5 m behind
   SyntheticFlight flight = test::make_flight(spec);
   lose_texture(&flight, 100, 240);
   const Eigen::Vector3d origin = flight.truth.front().position;
