@@ -582,6 +582,7 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
     coast_held_since_s_ = 0.0;
     coast_held_variance_ = 0.0;
     coast_seen_downs_.clear();
+    anchor_seen_ground();
   }
   if (utime <= last_frame_utime_) return 0;
   const double e0 = static_cast<double>(last_frame_utime_ - last_good_utime_) * 1e-6;
@@ -621,18 +622,42 @@ double YawFusionEstimator::held_down_variance(double coasted_s) const {
                                                         std::max(0.0, coasted_s - coast_held_since_s_));
 }
 
+std::optional<SeenGround::Height> YawFusionEstimator::seen_ground_below(const Eigen::Vector3d& position, double yaw,
+                                                                       const Eigen::Vector3d& beam,
+                                                                       Eigen::Vector2d* spot) const {
+  const CoastOptions& c = options_.coast;
+  // The ground where the beam hits it (a few metres from below the vehicle
+  // when it is tilted: 5 m at 150 m and 2 deg), which the range measures.
+  *spot = position.head<2>() + Eigen::Rotation2Dd(yaw) * beam.head<2>();
+  constexpr double kMinRadiusM = 10.0;
+  const double radius = std::max(kMinRadiusM, c.seen_ground_radius_of_height * beam.z());
+  return seen_ground_.ground_down(*spot, {radius, c.seen_ground_min_points});
+}
+
+void YawFusionEstimator::anchor_seen_ground() {
+  // The last integrated frame's own range says where the ground under its
+  // beam is (its down + the levelled range); the points' fit there differs
+  // by what the cloud's depths are off near it. That offset is carried: the
+  // seen ground gives the ground's shape relative to where the range put it.
+  seen_ground_offset_ = 0.0;
+  seen_ground_anchored_ = false;
+  if (!options_.coast.follow_seen_ground) return;
+  const Eigen::Vector3d beam = altimeter_beam_at(last_good_utime_);
+  if (!beam.allFinite()) return;
+  Eigen::Vector2d spot;
+  const auto ground = seen_ground_below(good_filter_.position(), good_filter_.yaw(), beam, &spot);
+  if (!ground) return;
+  seen_ground_offset_ = good_filter_.position().z() + beam.z() - ground->down;
+  seen_ground_anchored_ = true;
+}
+
 bool YawFusionEstimator::follow_seen_ground(const Eigen::Vector3d& beam, double coasted_s, double horizontal_step_m) {
   const CoastOptions& c = options_.coast;
   const double height = beam.z();
-  // The ground where the beam hits it (a few metres from below the vehicle
-  // when it is tilted: 5 m at 150 m and 2 deg), which the range measures.
-  const Eigen::Vector2d spot =
-      filter_.position().head<2>() + Eigen::Rotation2Dd(filter_.yaw()) * beam.head<2>();
-  constexpr double kMinRadiusM = 10.0;
-  const double radius = std::max(kMinRadiusM, c.seen_ground_radius_of_height * height);
-  const auto ground = seen_ground_.ground_down(spot, {radius, c.seen_ground_min_points});
+  Eigen::Vector2d spot;
+  const auto ground = seen_ground_below(filter_.position(), filter_.yaw(), beam, &spot);
   if (!ground) return false;
-  const double seen = ground->down - height;
+  const double seen = ground->down + seen_ground_offset_ - height;
   // The beam on something the points do not show (a roof, a tree line): the
   // held climb (and the plane, which follows such a step) go on.
   if (std::abs(seen - filter_.position().z()) > coast_detector_.vertical_gate(horizontal_step_m)) return false;
@@ -653,7 +678,7 @@ bool YawFusionEstimator::follow_seen_ground(const Eigen::Vector3d& beam, double 
     coast_seen_downs_.pop_front();
   }
   last_seen_variance_ = variance;
-  last_seen_ground_ = Eigen::Vector3d(spot.x(), spot.y(), ground->down);
+  last_seen_ground_ = Eigen::Vector3d(spot.x(), spot.y(), ground->down + seen_ground_offset_);
   ++counters_.coast_seen_ground_poses;
   return true;
 }

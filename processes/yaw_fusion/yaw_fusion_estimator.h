@@ -263,6 +263,15 @@ class YawFusionEstimator {
   // Down from the seen ground and the held climb (`beam` the levelled range
   // as a vector); false when that ground was not seen or the range does not fit it.
   bool follow_seen_ground(const Eigen::Vector3d& beam, double coasted_s, double horizontal_step_m);
+  // The seen ground's fit where the beam of a vehicle at `position` with
+  // `yaw` and levelled range `beam` hits it (`spot`); nullopt where it was not seen.
+  std::optional<SeenGround::Height> seen_ground_below(const Eigen::Vector3d& position, double yaw,
+                                                      const Eigen::Vector3d& beam, Eigen::Vector2d* spot) const;
+  // When a coast starts: the offset of the seen ground's fit from where the
+  // last integrated frame's range puts the ground under its beam.
+  void anchor_seen_ground();
+  double seen_ground_offset_ = 0.0;
+  bool seen_ground_anchored_ = false;
   // Past the seen ground: the held climb starts again from the last seen
   // down, at the climb the seen downs measured over the last speed_window_s.
   void leave_seen_ground(double coasted_s);

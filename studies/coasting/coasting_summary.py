@@ -4,7 +4,8 @@ clean/, texture/ and texture-held/, each with nadir_eval's series.csv and
 metrics.json) one markdown row per run: final horizontal and vertical error, the
 reported sigmas at the end, and over the outage (START to START + DURATION + 3 s)
 the largest horizontal error, the largest change of the vertical error from just
-before it, and the sigmas at its end."""
+before it, the sigmas at its end, and the final 3-D error over the clean
+flight's. texture/overlay.txt, when there, names the texture run's overlay."""
 import csv
 import json
 import math
@@ -17,7 +18,7 @@ def series(folder):
         return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
 
 
-def row(folder, start, length):
+def row(folder, start, length, clean_3d):
     s = series(folder)
     m = json.load(open(os.path.join(folder, "metrics.json")))
     end = start + length
@@ -30,7 +31,8 @@ def row(folder, start, length):
             f"({m['error_pct_3d']:.3f} %) | {f['sigma_h_m']:.2f} / {f['sigma_d_m']:.2f} | "
             f"{max(r['error_h_m'] for r in inside):.2f} | "
             f"{max(abs(r['error_v_m'] - v0) for r in inside):.2f} | "
-            f"{last_in['sigma_h_m']:.2f} / {last_in['sigma_d_m']:.2f}")
+            f"{last_in['sigma_h_m']:.2f} / {last_in['sigma_d_m']:.2f} | "
+            + (f"{m['final_error_3d_m'] / clean_3d:.2f}" if clean_3d else ""))
 
 
 def main():
@@ -38,18 +40,22 @@ def main():
         print(__doc__)
         return 0 if len(sys.argv) > 1 else 2
     print("| flight | run | final error h (m) | final v (m) | final 3-D (m, % of distance) | σh / σv at end (m) "
-          "| max error h in outage (m) | max vertical excursion in outage (m) | σh / σv at outage end (m) |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "| max error h in outage (m) | max vertical excursion in outage (m) | σh / σv at outage end (m) "
+          "| final 3-D / clean |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for arg in sys.argv[1:]:
         folder, start, length = arg.rsplit(":", 2)
         name = os.path.basename(folder)
-        for run, label in (("clean", "no outage"), ("texture-held", "outage, climb held (before)"),
-                           ("texture", "outage, altimeter followed")):
+        named = os.path.join(folder, "texture", "overlay.txt")
+        overlay = open(named).read().strip() if os.path.exists(named) else "follow_altimeter"
+        clean = os.path.join(folder, "clean", "metrics.json")
+        clean_3d = json.load(open(clean))["final_error_3d_m"] if os.path.exists(clean) else None
+        for run, label in (("clean", "no outage"), ("texture-held", "outage, climb held"),
+                           ("texture", f"outage, {overlay}")):
             path = os.path.join(folder, run)
             if not os.path.exists(os.path.join(path, "series.csv")):
                 continue
-            # The clean flight over the same window: what the outage adds.
-            print(f"| {name} | {label} | {row(path, float(start), float(length))} |")
+            print(f"| {name} | {label} | {row(path, float(start), float(length), clean_3d)} |")
     return 0
 
 

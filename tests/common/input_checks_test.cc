@@ -81,6 +81,7 @@ TEST(InputGate, GroundPointsWithBadSizesOrValuesAreRejectedAndCounted) {
   ground_points_t g{};
   g.utime = kStart;
   g.num_points = 2;
+  g.track_id = {11, 12};
   g.position_m = {{1.0f, 2.0f, 150.0f}, {-3.0f, 4.0f, 149.0f}};
   g.depth_sigma_m = {0.5f, 0.7f};
   EXPECT_TRUE(gate.admit(channels::kVoGround, g));

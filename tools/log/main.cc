@@ -31,8 +31,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   compare->add_flag("--json", json, "machine-readable output");
   CLI::App* dump = app.add_subcommand(
-      "dump", "Writes one channel as CSV (one row per message; TRACKS: one row per track) or JSON lines; "
-              "types: TRACKS, VO_DELTA, INS, ALTIMETER, POSE, GROUND_TRUTH (recognised by fingerprint, any channel name)");
+      "dump", "Writes one channel as CSV (one row per message; TRACKS: one row per track; VO_GROUND: one row per "
+              "point) or JSON lines; types: TRACKS, VO_DELTA, VO_GROUND, INS, ALTIMETER, POSE, GROUND_TRUTH "
+              "(recognised by fingerprint, any channel name)");
   std::string dump_channel_name;
   std::string output;
   dump->add_option("FILE", path, "log file")->required();

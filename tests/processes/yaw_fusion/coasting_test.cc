@@ -557,14 +557,17 @@ TEST(Coasting, TextureLossOverSeenGroundFollowsItAndHoldsTheClimbMeasuredOverIt)
   auto vertical_error = [&](const pose_t& p, size_t k) {
     return p.position_ned[2] - (flight.truth[k].position.z() - origin.z());
   };
-  YawFusionOptions seen_options;
-  seen_options.coast.follow_seen_ground = true;
+  YawFusionOptions seen_options;  // the default
+  ASSERT_TRUE(seen_options.coast.follow_seen_ground);
   YawFusionCounters counters;
   const auto seen = fly(flight, seen_options, &counters);
   YawFusionOptions plane_options;
+  plane_options.coast.follow_seen_ground = false;
   plane_options.coast.follow_altimeter = true;
   const auto plane = fly(flight, plane_options);
-  const auto held = fly(flight, YawFusionOptions{});
+  YawFusionOptions held_options;
+  held_options.coast.follow_seen_ground = false;
+  const auto held = fly(flight, held_options);
   EXPECT_EQ(counters.ground_frames_received, static_cast<int64_t>(flight.ground.size()));
   // 30 m/s over 200 m of seen ground, less the edge where the points lie only behind: ~6 s (~85 frames).
   EXPECT_GT(counters.coast_seen_ground_poses, 80);

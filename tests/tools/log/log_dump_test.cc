@@ -8,6 +8,7 @@
 #include "common/channels.h"
 #include "common/log_file.h"
 #include "common/message_guard.h"
+#include "nadir/ground_points_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/tracks_t.hpp"
 #include "nadir/trigger_t.hpp"
@@ -60,7 +61,7 @@ struct SampleLog {
 };
 
 // TRACKS (2 tracks), VO_DELTA, three INS, a VO_DELTA whose payload is cut short,
-// and a CAMERA_TRIGGER (a type dump does not support).
+// a CAMERA_TRIGGER (a type dump does not support) and a VO_GROUND of two points.
 SampleLog write_sample(const testing::TempDir& dir) {
   SampleLog log{dir.file("sample.lcmlog"), {}};
   LogWriter writer(log.path);
@@ -90,6 +91,13 @@ SampleLog write_sample(const testing::TempDir& dir) {
   trigger_t trig{};
   trig.utime = 1;
   put(channels::kCameraTrigger, encode_message(trig));
+  ground_points_t g{};
+  g.utime = 10000000;
+  g.num_points = 2;
+  g.track_id = {41, 43};
+  g.position_m = {{12.5f, -3.25f, 150.5f}, {-40.0f, 8.0f, 149.75f}};
+  g.depth_sigma_m = {0.5f, 1.25f};
+  put(channels::kVoGround, encode_message(g));
   writer.flush();
   return log;
 }
@@ -108,6 +116,14 @@ Dumped dump_sample(const std::string& channel, DumpFormat format) {
   d.stats = dump_channel(log.path, channel, format, out);
   d.lines = lines_of(out.str());
   return d;
+}
+
+TEST(LogDump, GroundPointsAreOneCsvRowPerPoint) {
+  const Dumped d = dump_sample(channels::kVoGround, DumpFormat::kCsv);
+  ASSERT_EQ(d.lines.size(), 3u);
+  EXPECT_EQ(d.lines[0], "utime,track_id,x_m,y_m,z_m,depth_sigma_m");
+  EXPECT_EQ(d.lines[1], "10000000,41,12.5,-3.25,150.5,0.5");
+  EXPECT_EQ(d.lines[2], "10000000,43,-40,8,149.75,1.25");
 }
 
 TEST(LogDump, TracksAreOneCsvRowPerTrack) {
