@@ -640,7 +640,6 @@ void YawFusionEstimator::anchor_seen_ground() {
   // by what the cloud's depths are off near it. That offset is carried: the
   // seen ground gives the ground's shape relative to where the range put it.
   seen_ground_offset_ = 0.0;
-  seen_ground_anchored_ = false;
   if (!options_.coast.follow_seen_ground) return;
   const Eigen::Vector3d beam = altimeter_beam_at(last_good_utime_);
   if (!beam.allFinite()) return;
@@ -648,7 +647,6 @@ void YawFusionEstimator::anchor_seen_ground() {
   const auto ground = seen_ground_below(good_filter_.position(), good_filter_.yaw(), beam, &spot);
   if (!ground) return;
   seen_ground_offset_ = good_filter_.position().z() + beam.z() - ground->down;
-  seen_ground_anchored_ = true;
 }
 
 bool YawFusionEstimator::follow_seen_ground(const Eigen::Vector3d& beam, double coasted_s, double horizontal_step_m) {

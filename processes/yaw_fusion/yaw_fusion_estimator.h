@@ -23,7 +23,9 @@
 // trusted (no or stale altimeter, no features, inlier drop, dz against the
 // altimeter, HIGH_RESIDUAL majority) is not integrated; the pose coasts on the
 // last velocity held in the level vehicle frame, flagged FLAG_COASTING, its
-// covariance grown by the coast model, for up to coast.max_duration_s.
+// covariance grown by the coast model, for up to coast.max_duration_s. Over
+// ground the last integrated frames saw (VO_GROUND, seen_ground.h) the height
+// is that ground minus the levelled range (coast.follow_seen_ground).
 //
 // Map fixes (MAP_FIX): a fix z of the frame at t_f, whose pose had position
 // x_f and reported horizontal covariance P_f, is applied at the first pose at
@@ -271,7 +273,6 @@ class YawFusionEstimator {
   // last integrated frame's range puts the ground under its beam.
   void anchor_seen_ground();
   double seen_ground_offset_ = 0.0;
-  bool seen_ground_anchored_ = false;
   // Past the seen ground: the held climb starts again from the last seen
   // down, at the climb the seen downs measured over the last speed_window_s.
   void leave_seen_ground(double coasted_s);
