@@ -1,5 +1,5 @@
 #pragma once
-// The ground the last integrated frame saw, for a coast. vo_solver's
+// The ground the last integrated frames saw, for a coast. vo_solver's
 // feature_depth variant triangulates its feature tracks and publishes the
 // points it trusts (VO_GROUND, in the level frame of the frame); a frame's
 // image covers the ground ahead of the vehicle as well as below it (about
