@@ -55,8 +55,8 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
                 "error of that plane's slope over the coast: weighs it against the held climb rate",
                 &O::terrain_slope_stddev)
         .flag("follow_seen_ground",
-              "while coasting over ground the last frame's VO_GROUND points cover, down = that ground minus the "
-              "levelled range",
+              "while coasting over ground the last frames' VO_GROUND points cover, each range measures down (that "
+              "ground minus the levelled range) and, with it, the climb held beyond it",
               &O::follow_seen_ground)
         .number("seen_ground_window_s", 0.0, 60.0, "s",
                 "integrated frames whose VO_GROUND points are kept (each track's newest)", &O::seen_ground_window_s)

@@ -5,9 +5,11 @@
 // integrate them. It coasts: the last good horizontal velocity, held in the
 // level vehicle frame (so it follows the heading the INS measures), for at
 // most coast.max_duration_s; the horizontal covariance grows with the model
-// below. The climb rate is held too, its covariance growing the same way;
-// with follow_altimeter the height above the ground of the last integrated
-// frames (coast_terrain.h) is weighted in while there is a range.
+// below. The climb rate is held too, in a height filter whose covariance
+// grows the same way (coast_vertical.h): over ground the last frames saw
+// (seen_ground.h) each range measures the height and the climb; with
+// follow_altimeter the height above the ground of the last integrated frames
+// (coast_terrain.h) is weighted in elsewhere while there is a range.
 //
 // This file holds the pieces without state of the filter: the options, the
 // covariance growth model and the detector that decides, delta by delta,
@@ -92,10 +94,12 @@ struct CoastOptions {
   double terrain_slope_stddev = 0.025;
   // While coasting with a valid range over ground the last integrated frame
   // saw (its VO_GROUND points, seen_ground.h; at least seen_ground_min_points
-  // within seen_ground_radius_of_height x the height), the ground's height is known: down = that
-  // ground minus the levelled height, weighted against the held climb by
-  // their variances; the climb rate held beyond it is the one measured so
-  // over the last speed_window_s. Independent of follow_altimeter (the plane
+  // within seen_ground_radius_of_height x the height), the ground's height is known: each
+  // range measures down = that ground minus the levelled range, where the
+  // vehicle was when it was measured, in the coast's height filter
+  // (coast_vertical.h), which holds the climb from the frames before and
+  // measures it over the seen ground; beyond it the filter's climb is held.
+  // Independent of follow_altimeter (the plane
   // is used only beyond the seen ground, and only with it). On by default:
   // over 17 flights with a 10 s texture outage (5 of them held out) it ended
   // where a climb starts in the coast 4-16 m closer in height, in level

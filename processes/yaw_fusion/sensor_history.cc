@@ -154,6 +154,14 @@ std::optional<Eigen::Vector3d> AltimeterHistory::beam_level(int64_t utime, int64
   return level_range(nearest->range_m, nearest->beam_body, roll, pitch);
 }
 
+std::vector<RangeSample> AltimeterHistory::between(int64_t from, int64_t to) const {
+  std::vector<RangeSample> out;
+  for (size_t i = upper_index(samples_, from - 1); i < samples_.size() && samples_[i].utime < to; ++i) {
+    out.push_back(samples_[i]);
+  }
+  return out;
+}
+
 void AltimeterHistory::forget_before(int64_t utime) { forget_samples_before(&samples_, utime); }
 
 }  // namespace nadir

@@ -11,6 +11,7 @@
 #include <deque>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include "common/attitude_propagation.h"
 
@@ -108,6 +109,8 @@ class AltimeterHistory {
   // right, z down: z is height_agl), to the ground spot the beam hits.
   std::optional<Eigen::Vector3d> beam_level(int64_t utime, int64_t max_age_us, double roll, double pitch,
                                             bool use_later = true) const;
+  // The valid samples from `from` (inclusive) to `to` (exclusive), oldest first.
+  std::vector<RangeSample> between(int64_t from, int64_t to) const;
   void forget_before(int64_t utime);
   int64_t dropped() const { return dropped_; }
 

@@ -420,6 +420,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
     coast_positions_.clear();
     coast_terrain_.clear();
     seen_ground_.clear();
+    recent_ranges_.clear();
     flags |= pose_t::FLAG_VO_GAP | advance_without_vo(delta.utime);
     flags |= update_height(delta.utime, held_height);
     out->push_back(make_pose(delta.utime, flags));
@@ -529,6 +530,14 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
       seen_ground_.note_frame_without_points(delta.utime);
     }
     pending_ground_.erase(pending_ground_.begin(), pending_ground_.upper_bound(delta.utime));
+    // The ranges measured since the previous frame, where the vehicle was then (the anchor's).
+    for (const PlacedRange& r : place_ranges(delta.prev_utime, delta.utime, filter_.position(), last_velocity_)) {
+      recent_ranges_.push_back(r);
+    }
+    const int64_t seen_window_us = static_cast<int64_t>(options_.coast.seen_ground_window_s * 1e6);
+    while (!recent_ranges_.empty() && recent_ranges_.front().utime < recent_ranges_.back().utime - seen_window_us) {
+      recent_ranges_.pop_front();
+    }
   }
   good_filter_ = filter_;
   good_consecutive_altimeter_rejections_ = consecutive_altimeter_rejections_;
@@ -572,22 +581,23 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
     // Over the speed window when there is one (held_level_velocity), else the published velocity.
     coast_velocity_level_ = held_level_velocity(coast_positions_)
                                 .value_or(rotation_from_rpy(0.0, 0.0, -good_filter_.yaw()) * last_velocity_);
+    anchor_seen_ground();  // before the integrated frames are forgotten
     coast_positions_.clear();
     if (options_.coast.follow_altimeter) {
       coast_terrain_.anchor();
     } else {
       coast_terrain_.release();
     }
-    coast_held_down_ = good_filter_.position().z();
-    coast_held_since_s_ = 0.0;
-    coast_held_variance_ = 0.0;
-    coast_seen_downs_.clear();
-    anchor_seen_ground();
+    coast_vertical_.start(good_filter_.position().z(), coast_velocity_level_.z(),
+                          options_.coast.vertical_velocity_stddev_mps);
+    on_seen_ground_ = false;
+    last_range_utime_ = recent_ranges_.empty() ? 0 : recent_ranges_.back().utime;
   }
   if (utime <= last_frame_utime_) return 0;
   const double e0 = static_cast<double>(last_frame_utime_ - last_good_utime_) * 1e-6;
   const double e1 = static_cast<double>(utime - last_good_utime_) * 1e-6;
-  Eigen::Vector3d level_velocity = coast_velocity_level_;
+  // The climb as the height filter has it (the held one, or the one measured over seen ground).
+  Eigen::Vector3d level_velocity(coast_velocity_level_.x(), coast_velocity_level_.y(), coast_vertical_.climb());
   const double speed = coast_velocity_level_.head<2>().norm();
   const double step = direction != nullptr ? std::hypot(direction->dx, direction->dy) : 0.0;
   if (step > 1e-6 && speed > 0.0) {
@@ -601,13 +611,28 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
   // Variance grown over [e0, e1] of the coast (coast_position_variance).
   const double horizontal = coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e1) -
                             coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e0);
-  // The vertical from the held climb's anchor (the coast's start, or the last down from seen ground).
-  const double vertical = held_down_variance(e1) - held_down_variance(std::max(e0, coast_held_since_s_));
+  // The vertical as the height filter grows it with no measurement
+  // (coast_vertical.h); over seen ground its own down replaces it below.
+  CoastVertical held = coast_vertical_;
+  held.predict(e1 - e0, velocity.z(), c.velocity_random_walk);
+  const double vertical = held.down_variance() - coast_vertical_.down_variance();
   const double yaw_var = square(deg_to_rad(options_.gap_yaw_rate_stddev_dps)) * (e1 * e1 - e0 * e0);
   filter_.propagate_without_vo(velocity * (e1 - e0), Eigen::Vector3d(horizontal, horizontal, vertical), yaw_var);
-  coast_held_down_ += velocity.z() * (e1 - e0);
   velocity_out_ = velocity;
-  if (follow_altimeter(utime, e1, (velocity * (e1 - e0)).head<2>().norm())) {
+  const double horizontal_step = (velocity * (e1 - e0)).head<2>().norm();
+  bool over_seen_ground = false;
+  if (options_.coast.follow_seen_ground) {
+    over_seen_ground = follow_seen_ground(utime, velocity, e0);  // the height filter to e1, with the ranges
+  } else {
+    coast_vertical_ = held;
+  }
+  if (over_seen_ground) {
+    const double anchor = good_filter_.covariance()(PoseFilter::kDown, PoseFilter::kDown);
+    filter_.set_down(coast_vertical_.down(), anchor + coast_vertical_.down_variance());
+  } else {
+    leave_seen_ground();  // nothing unless the last pose was over seen ground
+  }
+  if (over_seen_ground || follow_altimeter(utime, horizontal_step)) {
     // The mean climb of the coast: the per-frame one carries the range noise.
     velocity_out_.z() = (filter_.position().z() - good_filter_.position().z()) / e1;
   }
@@ -616,107 +641,107 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
   return update_attitude(utime);
 }
 
-double YawFusionEstimator::held_down_variance(double coasted_s) const {
-  const CoastOptions& c = options_.coast;
-  return coast_held_variance_ + coast_position_variance(c.vertical_velocity_stddev_mps, c.velocity_random_walk,
-                                                        std::max(0.0, coasted_s - coast_held_since_s_));
-}
-
 std::optional<SeenGround::Height> YawFusionEstimator::seen_ground_below(const Eigen::Vector3d& position, double yaw,
                                                                        const Eigen::Vector3d& beam,
-                                                                       Eigen::Vector2d* spot) const {
+                                                                       Eigen::Vector2d* spot, double* radius) const {
   const CoastOptions& c = options_.coast;
   // The ground where the beam hits it (a few metres from below the vehicle
   // when it is tilted: 5 m at 150 m and 2 deg), which the range measures.
   *spot = position.head<2>() + Eigen::Rotation2Dd(yaw) * beam.head<2>();
   constexpr double kMinRadiusM = 10.0;
-  const double radius = std::max(kMinRadiusM, c.seen_ground_radius_of_height * beam.z());
-  return seen_ground_.ground_down(*spot, {radius, c.seen_ground_min_points});
+  const double r = std::max(kMinRadiusM, c.seen_ground_radius_of_height * beam.z());
+  if (radius != nullptr) *radius = r;
+  return seen_ground_.ground_down(*spot, {r, c.seen_ground_min_points});
 }
 
 void YawFusionEstimator::anchor_seen_ground() {
-  // The last integrated frame's own range says where the ground under its
-  // beam is (its down + the levelled range); the points' fit there differs
-  // by what the cloud's depths are off near it. That offset is carried: the
-  // seen ground gives the ground's shape relative to where the range put it.
+  // Each range says where the ground under its beam is (the vehicle's down
+  // then + the levelled range); the points' fit there differs by what the
+  // cloud's depths are off near it. That offset, averaged over the ranges of
+  // the seen ground's window (one range's noise, 0.3 m at 200 m, would stay in
+  // every down of the coast), is carried: the seen ground gives the ground's
+  // shape relative to where the ranges put it.
   seen_ground_offset_ = 0.0;
-  if (!options_.coast.follow_seen_ground) return;
-  const Eigen::Vector3d beam = altimeter_beam_at(last_good_utime_);
-  if (!beam.allFinite()) return;
-  Eigen::Vector2d spot;
-  const auto ground = seen_ground_below(good_filter_.position(), good_filter_.yaw(), beam, &spot);
-  if (!ground) return;
-  seen_ground_offset_ = good_filter_.position().z() + beam.z() - ground->down;
+  double sum = 0.0;
+  int ranges = 0;
+  for (const PlacedRange& r : recent_ranges_) {
+    Eigen::Vector2d spot;
+    const auto ground = seen_ground_below(r.position, r.yaw, r.beam, &spot);
+    if (!ground) continue;
+    sum += r.position.z() + r.beam.z() - ground->down;
+    ++ranges;
+  }
+  if (ranges > 0) seen_ground_offset_ = sum / ranges;
 }
 
-bool YawFusionEstimator::follow_seen_ground(const Eigen::Vector3d& beam, double coasted_s, double horizontal_step_m) {
+std::vector<YawFusionEstimator::PlacedRange> YawFusionEstimator::place_ranges(int64_t prev_utime, int64_t utime,
+                                                                              const Eigen::Vector3d& position,
+                                                                              const Eigen::Vector3d& velocity) const {
+  std::vector<PlacedRange> placed;
+  const int64_t exposure = options_.calibration.exposure_utime(utime);
+  // From the previous frame's exposure up to (not at) this one's: each range
+  // once, and none whose arrival could be after the frame's delta.
+  for (const RangeSample& sample : altimeter_.between(options_.calibration.exposure_utime(prev_utime), exposure)) {
+    const auto attitude =
+        ins_.at(sample.utime, static_cast<int64_t>(options_.max_ins_bracket_s * 1e6), options_.attitude_policy);
+    if (!attitude) continue;
+    const double before_s = static_cast<double>(exposure - sample.utime) * 1e-6;
+    placed.push_back(PlacedRange{sample.utime, position - velocity * before_s, filter_.yaw(),
+                                 level_range(sample.range_m, sample.beam_body, attitude->roll, attitude->pitch)});
+  }
+  return placed;
+}
+
+bool YawFusionEstimator::follow_seen_ground(int64_t utime, const Eigen::Vector3d& velocity, double e0) {
   const CoastOptions& c = options_.coast;
-  const double height = beam.z();
-  Eigen::Vector2d spot;
-  const auto ground = seen_ground_below(filter_.position(), filter_.yaw(), beam, &spot);
-  if (!ground) return false;
-  const double seen = ground->down + seen_ground_offset_ - height;
-  // The beam on something the points do not show (a roof, a tree line): the
-  // held climb (and the plane, which follows such a step) go on.
-  if (std::abs(seen - filter_.position().z()) > coast_detector_.vertical_gate(horizontal_step_m)) return false;
-  // The held climb's down and the seen ground's, independent, weighted by
-  // their variances (the seen ground's: its fit and roughness, and the range).
-  // The held climb is not re-anchored on the seen downs while they last: they
-  // share their points from frame to frame, so their errors do not average.
-  const double held_variance = held_down_variance(coasted_s);
-  const double seen_variance = ground->variance + square(options_.sensor_uncertainty.range_stddev(height));
-  const double sum = held_variance + seen_variance;
-  const double gain = sum > 0.0 ? held_variance / sum : 1.0;
-  const double down = coast_held_down_ + gain * (seen - coast_held_down_);
-  const double variance = sum > 0.0 ? held_variance * seen_variance / sum : 0.0;
-  const double anchor = good_filter_.covariance()(PoseFilter::kDown, PoseFilter::kDown);
-  filter_.set_down(down, anchor + variance);
-  coast_seen_downs_.emplace_back(coasted_s, down);
-  while (coast_seen_downs_.size() > 2 && coasted_s - coast_seen_downs_[1].first >= c.speed_window_s) {
-    coast_seen_downs_.pop_front();
+  const int64_t start = options_.calibration.exposure_utime(last_good_utime_);
+  const double e1 = static_cast<double>(utime - last_good_utime_) * 1e-6;
+  const double speed = velocity.head<2>().norm();
+  const double step = speed * (e1 - e0);
+  double at = e0;  // the height filter's time (coast seconds)
+  int ranges = 0, used = 0;
+  for (const PlacedRange& r : place_ranges(last_frame_utime_, utime, filter_.position(), velocity)) {
+    ++ranges;
+    const double t = static_cast<double>(r.utime - start) * 1e-6;
+    coast_vertical_.predict(t - at, velocity.z(), c.velocity_random_walk);
+    at = std::max(at, t);
+    const double spacing = last_range_utime_ > 0 ? speed * static_cast<double>(r.utime - last_range_utime_) * 1e-6 : 0.0;
+    last_range_utime_ = r.utime;
+    Eigen::Vector2d spot;
+    double radius = 0.0;
+    const auto ground = seen_ground_below(r.position, r.yaw, r.beam, &spot, &radius);
+    if (!ground) continue;
+    const double seen = ground->down + seen_ground_offset_ - r.beam.z();
+    // The beam on something the points do not show (a roof, a tree line): the
+    // held climb (and the plane, which follows such a step) go on.
+    if (std::abs(seen - coast_vertical_.down()) > coast_detector_.vertical_gate(step)) continue;
+    // The range's variance, and the fit's counted once per radius flown:
+    // spots less than a radius apart share most of their points, so their fit
+    // errors do not average from range to range; counted at every range they
+    // would make the filter trust a few radii of ground as many.
+    const double shared = spacing > 0.0 ? std::max(1.0, radius / spacing) : 1.0;
+    coast_vertical_.update(seen, square(options_.sensor_uncertainty.range_stddev(r.beam.z())) + ground->variance * shared);
+    last_seen_ground_ = Eigen::Vector3d(spot.x(), spot.y(), ground->down + seen_ground_offset_);
+    ++used;
   }
-  last_seen_variance_ = variance;
-  last_seen_ground_ = Eigen::Vector3d(spot.x(), spot.y(), ground->down + seen_ground_offset_);
-  ++counters_.coast_seen_ground_poses;
-  return true;
+  coast_vertical_.predict(e1 - at, velocity.z(), c.velocity_random_walk);
+  if (used > 0) {
+    on_seen_ground_ = true;
+    ++counters_.coast_seen_ground_poses;
+    return true;
+  }
+  // No range since the last frame (the altimeter is slower than the camera): as the last one.
+  return ranges == 0 && on_seen_ground_;
 }
 
-void YawFusionEstimator::leave_seen_ground(double coasted_s) {
-  if (coast_seen_downs_.empty() || coast_seen_downs_.back().first <= coast_held_since_s_) return;
-  const auto [last_s, last_down] = coast_seen_downs_.back();
-  // The climb the seen downs measured over the last speed_window_s (least
-  // squares), when they span half of it; else the held one goes on.
-  if (coast_seen_downs_.size() >= 3 && last_s - coast_seen_downs_.front().first >= 0.5 * options_.coast.speed_window_s) {
-    double mean_t = 0.0, mean_down = 0.0;
-    for (const auto& [t, d] : coast_seen_downs_) {
-      mean_t += t;
-      mean_down += d;
-    }
-    mean_t /= static_cast<double>(coast_seen_downs_.size());
-    mean_down /= static_cast<double>(coast_seen_downs_.size());
-    double tt = 0.0, td = 0.0;
-    for (const auto& [t, d] : coast_seen_downs_) {
-      tt += (t - mean_t) * (t - mean_t);
-      td += (t - mean_t) * (d - mean_down);
-    }
-    if (tt > 0.0) coast_velocity_level_.z() = td / tt;  // level z is down: no turn moves it
-  }
-  // The held climb from the last seen down on.
-  coast_held_since_s_ = last_s;
-  coast_held_variance_ = last_seen_variance_;
-  coast_held_down_ = last_down + coast_velocity_level_.z() * (coasted_s - last_s);
-  const double anchor = good_filter_.covariance()(PoseFilter::kDown, PoseFilter::kDown);
-  filter_.set_down(coast_held_down_, anchor + held_down_variance(coasted_s));
+void YawFusionEstimator::leave_seen_ground() {
+  if (!on_seen_ground_) return;
+  on_seen_ground_ = false;
   if (coast_terrain_.anchored()) coast_terrain_.rebase(last_seen_ground_.head<2>(), last_seen_ground_.z());
 }
 
-bool YawFusionEstimator::follow_altimeter(int64_t utime, double coasted_s, double horizontal_step_m) {
-  const Eigen::Vector3d beam = altimeter_beam_at(utime);
-  const double height = beam.z();
-  if (options_.coast.follow_seen_ground && beam.allFinite() && follow_seen_ground(beam, coasted_s, horizontal_step_m)) {
-    return true;
-  }
-  leave_seen_ground(coasted_s);  // nothing unless seen ground was followed since the held climb's anchor
+bool YawFusionEstimator::follow_altimeter(int64_t utime, double horizontal_step_m) {
+  const double height = altimeter_beam_at(utime).z();
   if (!std::isfinite(height) || !coast_terrain_.anchored()) return false;
   const Eigen::Vector2d horizontal = filter_.position().head<2>();
   double terrain = coast_terrain_.ground_down(horizontal) - height;
@@ -734,13 +759,13 @@ bool YawFusionEstimator::follow_altimeter(int64_t utime, double coasted_s, doubl
   // plane's slope off by terrain_slope_stddev per metre flown, which knows no
   // hill). Each weighted by the other's variance; the anchor's is common.
   const CoastOptions& c = options_.coast;
-  const double held_variance = held_down_variance(coasted_s);
+  const double held_variance = coast_vertical_.down_variance();
   const double slope_error = c.terrain_slope_stddev * coast_terrain_.distance(horizontal);
   const double terrain_variance =
       2.0 * square(options_.sensor_uncertainty.range_stddev(height)) + square(slope_error);
   const double sum = held_variance + terrain_variance;
   const double gain = sum > 0.0 ? held_variance / sum : 1.0;
-  const double down = coast_held_down_ + gain * (terrain - coast_held_down_);
+  const double down = coast_vertical_.down() + gain * (terrain - coast_vertical_.down());
   const double anchor = good_filter_.covariance()(PoseFilter::kDown, PoseFilter::kDown);
   filter_.set_down(down, anchor + (sum > 0.0 ? held_variance * terrain_variance / sum : 0.0));
   return true;

@@ -24,8 +24,9 @@
 // altimeter, HIGH_RESIDUAL majority) is not integrated; the pose coasts on the
 // last velocity held in the level vehicle frame, flagged FLAG_COASTING, its
 // covariance grown by the coast model, for up to coast.max_duration_s. Over
-// ground the last integrated frames saw (VO_GROUND, seen_ground.h) the height
-// is that ground minus the levelled range (coast.follow_seen_ground).
+// ground the last integrated frames saw (VO_GROUND, seen_ground.h) each range
+// measures the height (that ground minus the levelled range) in the coast's
+// height filter (coast_vertical.h; coast.follow_seen_ground).
 //
 // Map fixes (MAP_FIX): a fix z of the frame at t_f, whose pose had position
 // x_f and reported horizontal covariance P_f, is applied at the first pose at
@@ -63,6 +64,7 @@
 #include "nadir/pose_t.hpp"
 #include "nadir/vo_delta_t.hpp"
 #include "processes/yaw_fusion/coast_terrain.h"
+#include "processes/yaw_fusion/coast_vertical.h"
 #include "processes/yaw_fusion/coasting.h"
 #include "processes/yaw_fusion/delta_integration.h"
 #include "processes/yaw_fusion/pose_filter.h"
@@ -165,14 +167,14 @@ class YawFusionEstimator {
   // Coasts from the last frame to `utime` (not integrating a delta); returns
   // pose flags. `direction`: a delta whose direction (not scale) is used.
   int32_t coast_to(int64_t utime, const vo_delta_t* direction = nullptr);
-  // While coasting with a valid range at `utime` and a terrain plane: down =
-  // the held climb's down and the terrain's (the plane below the coasted
-  // position minus the levelled height) weighted by their variances after
-  // `coasted_s` of coasting. A terrain down more than the vertical gate for
+  // While coasting with a valid range at `utime`: over seen ground, the down
+  // measured there updates the height filter; else, with a terrain plane, down =
+  // the height filter's and the terrain's (the plane below the coasted
+  // position minus the levelled height) weighted by their variances. A terrain down more than the vertical gate for
   // this horizontal step from where the last pose and the held climb put it
   // is the ground stepping: the plane moves by the step. False (nothing
   // changed) without a range or a plane.
-  bool follow_altimeter(int64_t utime, double coasted_s, double horizontal_step_m);
+  bool follow_altimeter(int64_t utime, double horizontal_step_m);
   // Reason bits (CoastReason) for coasting over this usable delta; 0 = integrate it.
   int32_t coast_reason(const vo_delta_t& delta, int32_t coast_bits);
   bool held_speed_ready() const;  // coasting, or speed_window_s of integrated motion behind the pose
@@ -250,34 +252,50 @@ class YawFusionEstimator {
   // The ground while coasting (coast.follow_altimeter): the integrated frames'
   // ground points and patch tilts, anchored when a coast starts.
   CoastTerrain coast_terrain_;
-  double coast_held_down_ = 0.0;  // down with the climb rate held since the coast started
-  // The held climb's anchor: the coast time (s) of the last down taken from
-  // seen ground (0: the coast's start) and its variance over the anchor frame's.
-  double coast_held_since_s_ = 0.0, coast_held_variance_ = 0.0;
+  // The height while coasting (coast_vertical.h): down and climb from the
+  // last integrated frame, the climb held, measured over seen ground.
+  CoastVertical coast_vertical_;
   // Ground points by frame time until their delta is integrated; the ground
-  // the last integrated frame saw; downs taken from it in this coast (coast
-  // time, down) over the last speed_window_s, whose slope is the held climb.
+  // the last integrated frame saw.
   std::map<int64_t, ground_points_t> pending_ground_;
   SeenGround seen_ground_;  // declared after coast_terrain_ (constructor order)
-  std::deque<std::pair<double, double>> coast_seen_downs_;
-  double last_seen_variance_ = 0.0;  // of the last down taken from seen ground (over the anchor frame's)
+  bool on_seen_ground_ = false;  // the last coasting pose's down was measured over seen ground
   Eigen::Vector3d last_seen_ground_ = Eigen::Vector3d::Zero();  // north, east and ground down there
-  // Down from the seen ground and the held climb (`beam` the levelled range
-  // as a vector); false when that ground was not seen or the range does not fit it.
-  bool follow_seen_ground(const Eigen::Vector3d& beam, double coasted_s, double horizontal_step_m);
+  // A range sample placed for the seen ground: where the vehicle was when it
+  // was measured (the frame's position less the velocity since), the frame's
+  // heading, and the range levelled with the INS at its own time, as a vector.
+  struct PlacedRange {
+    int64_t utime = 0;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    double yaw = 0.0;
+    Eigen::Vector3d beam = Eigen::Vector3d::Zero();
+  };
+  // The valid ranges from the exposure of the frame at `prev_utime` up to
+  // (not at) the exposure of the one at `utime`, whose position and velocity
+  // are given.
+  std::vector<PlacedRange> place_ranges(int64_t prev_utime, int64_t utime, const Eigen::Vector3d& position,
+                                        const Eigen::Vector3d& velocity) const;
+  std::deque<PlacedRange> recent_ranges_;  // of the integrated frames over coast.seen_ground_window_s
+  int64_t last_range_utime_ = 0;           // the last range the coast placed (0: none yet)
+  // Each range since the last frame over seen ground updates the height
+  // filter with the down measured there (that ground minus the levelled
+  // range), which ends at the coast time of `utime` in any case. True when
+  // the pose is over seen ground (a range was used, or none came since a
+  // frame that was); `velocity` the coast's, `e0` the last frame's coast time.
+  bool follow_seen_ground(int64_t utime, const Eigen::Vector3d& velocity, double e0);
   // The seen ground's fit where the beam of a vehicle at `position` with
-  // `yaw` and levelled range `beam` hits it (`spot`); nullopt where it was not seen.
+  // `yaw` and levelled range `beam` hits it (`spot`, and the radius of the
+  // fit); nullopt where it was not seen.
   std::optional<SeenGround::Height> seen_ground_below(const Eigen::Vector3d& position, double yaw,
-                                                      const Eigen::Vector3d& beam, Eigen::Vector2d* spot) const;
+                                                      const Eigen::Vector3d& beam, Eigen::Vector2d* spot,
+                                                      double* radius = nullptr) const;
   // When a coast starts: the offset of the seen ground's fit from where the
   // last integrated frame's range puts the ground under its beam.
   void anchor_seen_ground();
   double seen_ground_offset_ = 0.0;
-  // Past the seen ground: the held climb starts again from the last seen
-  // down, at the climb the seen downs measured over the last speed_window_s.
-  void leave_seen_ground(double coasted_s);
-  // The variance of the held climb's down after `coasted_s` of coasting.
-  double held_down_variance(double coasted_s) const;
+  // Past the seen ground: the plane of follow_altimeter (when anchored) goes
+  // on from the last ground seen.
+  void leave_seen_ground();
   // Map fixes waiting for their pose, by frame time; the poses published over
   // the last few seconds (utime, horizontal position, reported covariance).
   std::multimap<int64_t, map_fix_t> pending_fixes_;

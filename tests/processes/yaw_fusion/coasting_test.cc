@@ -591,10 +591,11 @@ TEST(Coasting, TextureLossOverSeenGroundFollowsItAndHoldsTheClimbMeasuredOverIt)
     worst_held = std::max(worst_held, std::abs(vertical_error(*pose_at(held, flight.truth[k].utime), k)));
     EXPECT_LT(e, 3.0 * std::sqrt(p->position_covariance[2][2])) << "frame " << k;
   }
-  // The newest range is up to 50 ms old at 2 m/s climb and 30 m/s over the swell's 8 % slopes
-  // (~0.1 m), the climb weighed against the held one as it starts (measured: 0.11 m at most).
-  EXPECT_LT(worst_over_seen, 0.2);
-  EXPECT_LT(worst_seen, 0.3);
+  // Each range is a measurement of the height filter, whose climb follows a
+  // change as fast as the coast model's random walk lets it: an instant 2 m/s
+  // (a real climb starts over seconds) is followed within 0.35 m (measured).
+  EXPECT_LT(worst_over_seen, 0.45);
+  EXPECT_LT(worst_seen, 0.45);
   EXPECT_GT(worst_plane, 3.0);
   EXPECT_GT(worst_held, 8.0);
   // At the coast's end the vertical has grown for the ~3 s since the seen ground, the horizontal for 10 s.
@@ -610,6 +611,47 @@ TEST(Coasting, TextureLossOverSeenGroundFollowsItAndHoldsTheClimbMeasuredOverIt)
   const auto without = fly(no_points, seen_options);
   ASSERT_EQ(without.size(), held.size());
   for (size_t i = 0; i < held.size(); ++i) EXPECT_EQ(without[i].position_ned[2], held[i].position_ned[2]) << i;
+}
+
+// Level flight at 200 m over a swell with the altimeter's noise (0.3 m a
+// range, as the standard sensors at that height): over seen ground each range
+// is one measurement of the height filter, so the noise averages out of the
+// height; the climb carried on past the seen ground (~5 s of it at 200 m and
+// 30 m/s) is the one measured over it. Ten flights.
+TEST(Coasting, TextureLossOverSeenGroundAveragesTheRangesNoise) {
+  const double range_noise = 0.3;
+  double sum_sq_end = 0.0, sum_sq_seen = 0.0;
+  int seen_poses = 0;
+  const int flights = 10;
+  for (int f = 0; f < flights; ++f) {
+    FlightSpec spec = straight_spec();
+    spec.terrain_wave_m = 5.0;
+    spec.ground_points = true;
+    spec.height_agl_m = 200.0;
+    spec.altimeter_along_beam = true;
+    spec.range_stddev_m = range_noise;
+    spec.seed = 100 + static_cast<uint32_t>(f);
+    SyntheticFlight flight = test::make_flight(spec);
+    lose_texture(&flight, 100, 240);
+    const Eigen::Vector3d origin = flight.truth.front().position;
+    YawFusionCounters counters;
+    const auto poses = fly(flight, YawFusionOptions{}, &counters);
+    EXPECT_GT(counters.coast_seen_ground_poses, 40) << f;
+    for (size_t k = 101; k <= 240; ++k) {
+      const pose_t* p = pose_at(poses, flight.truth[k].utime);
+      ASSERT_NE(p, nullptr) << f << " frame " << k;
+      const double e = p->position_ned[2] - (flight.truth[k].position.z() - origin.z());
+      EXPECT_LT(std::abs(e), 3.0 * std::sqrt(p->position_covariance[2][2])) << f << " frame " << k;
+      if (k <= 150) {  // the first 3.5 s: over seen ground on every flight
+        sum_sq_seen += e * e;
+        ++seen_poses;
+      }
+      if (k == 240) sum_sq_end += e * e;
+    }
+  }
+  // Measured: 0.18 m over seen ground, 0.63 m at the end (the climb from ~4 s of ranges, held 6 s).
+  EXPECT_LT(std::sqrt(sum_sq_seen / seen_poses), 0.75 * range_noise);
+  EXPECT_LT(std::sqrt(sum_sq_end / flights), 0.8);
 }
 
 // A 30 m terrain step (a cliff) under the beam while coasting on the

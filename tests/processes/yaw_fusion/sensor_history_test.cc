@@ -126,5 +126,23 @@ TEST(AltimeterHistory, VerticalHeightFromTiltedBeamAndAge) {
   EXPECT_NEAR(*h.height_agl(2500, 1000, 0.0, 0.0), 110.0, 1e-12);
 }
 
+// Frame intervals tile the samples: each one in exactly one [from, to).
+TEST(AltimeterHistory, SamplesBetweenTwoTimesTileTheHistory) {
+  AltimeterHistory h;
+  for (int64_t t = 1000; t <= 9000; t += 1000) h.add({t, static_cast<double>(t), Eigen::Vector3d::UnitZ()});
+  auto times = [&](int64_t from, int64_t to) {
+    std::vector<int64_t> out;
+    for (const RangeSample& s : h.between(from, to)) out.push_back(s.utime);
+    return out;
+  };
+  EXPECT_EQ(times(2000, 4000), (std::vector<int64_t>{2000, 3000}));
+  EXPECT_EQ(times(1500, 2500), (std::vector<int64_t>{2000}));
+  EXPECT_EQ(times(2500, 2900), std::vector<int64_t>{});
+  EXPECT_EQ(times(0, 100000).size(), 9u);
+  size_t total = 0;
+  for (int64_t from = 0; from < 10000; from += 700) total += h.between(from, from + 700).size();
+  EXPECT_EQ(total, 9u);
+}
+
 }  // namespace
 }  // namespace nadir

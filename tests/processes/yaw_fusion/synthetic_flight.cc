@@ -35,6 +35,7 @@ struct State {
 SyntheticFlight make_flight(const FlightSpec& spec) {
   SyntheticFlight flight;
   std::mt19937 rng(spec.seed);
+  std::mt19937 range_rng(spec.seed + 1000003u);
   std::normal_distribution<double> normal(0.0, 1.0);
 
   std::vector<int64_t> frame_times;
@@ -103,6 +104,7 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
           alt.range_m = (terrain_down + ground_relief(spot) - state.position.z()) / world_beam.z();
         }
       }
+      if (spec.range_stddev_m > 0.0) alt.range_m += spec.range_stddev_m * normal(range_rng);
       alt.signal_quality = 1.0f;
       alt.validity = altimeter_t::VALID_OK;
       flight.altimeter.push_back(alt);

@@ -52,6 +52,7 @@ struct FlightSpec {
   // The altimeter's range to where its tilted beam hits the ground (the
   // simulator's ray cast); false: the height below the vehicle over the beam's cosine.
   bool altimeter_along_beam = false;
+  double range_stddev_m = 0.0;          // white noise on each range (its own random stream)
   double ground_points_ahead_m = 200.0;
   double ground_points_sigma_m = 0.5;
   double climb_rate_change_s = -1.0;    // from this flight time on (>= 0) the climb rate is ...
