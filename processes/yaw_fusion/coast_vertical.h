@@ -29,6 +29,15 @@ class CoastVertical {
   // minus predicted) before the update.
   double update(double measured_down, double variance);
 
+  // The state (down, climb) and its covariance, as a model of
+  // CoastVerticalModes mixes them.
+  const Eigen::Vector2d& state() const { return state_; }
+  const Eigen::Matrix2d& covariance() const { return covariance_; }
+  void set(const Eigen::Vector2d& state, const Eigen::Matrix2d& covariance) {
+    state_ = state;
+    covariance_ = covariance;
+  }
+
   double down() const { return state_(0); }
   double climb() const { return state_(1); }  // m/s, down positive
   double down_variance() const { return covariance_(0, 0); }

@@ -64,7 +64,16 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
                 "points within this share of the height (at least 10 m) make the ground below",
                 &O::seen_ground_radius_of_height)
         .number("seen_ground_min_points", 1, 100000, "points", "fewer within the radius: that ground was not seen",
-                &O::seen_ground_min_points);
+                &O::seen_ground_min_points)
+        .number("seen_ground_steady_climb_stddev_mps", 0.0, 100.0, "m/s",
+                "over seen ground, the steady climb model: error of the held climb", &O::seen_ground_steady_climb_stddev_mps)
+        .number("seen_ground_steady_random_walk", 0.0, 100.0, "m/s/sqrt(s)",
+                "... and its random walk (the changing model: vertical_velocity_stddev_mps, velocity_random_walk)",
+                &O::seen_ground_steady_random_walk)
+        .number("seen_ground_changing_probability", 0.0, 1.0, "",
+                "chance at the coast's start that the climb is changing", &O::seen_ground_changing_probability)
+        .number("seen_ground_switch_rate", 0.0, 100.0, "1/s", "rate of switching between the two climb models",
+                &O::seen_ground_switch_rate);
     return s;
   }();
   return schema;

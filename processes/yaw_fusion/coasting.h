@@ -6,7 +6,7 @@
 // level vehicle frame (so it follows the heading the INS measures), for at
 // most coast.max_duration_s; the horizontal covariance grows with the model
 // below. The climb rate is held too, in a height filter whose covariance
-// grows the same way (coast_vertical.h): over ground the last frames saw
+// grows the same way (coast_vertical_modes.h): over ground the last frames saw
 // (seen_ground.h) each range measures the height and the climb; with
 // follow_altimeter the height above the ground of the last integrated frames
 // (coast_terrain.h) is weighted in elsewhere while there is a range.
@@ -97,13 +97,14 @@ struct CoastOptions {
   // within seen_ground_radius_of_height x the height), the ground's height is known: each
   // range measures down = that ground minus the levelled range, where the
   // vehicle was when it was measured, in the coast's height filter
-  // (coast_vertical.h), which holds the climb from the frames before and
+  // (coast_vertical_modes.h), which holds the climb from the frames before and
   // measures it over the seen ground; beyond it the filter's climb is held.
   // Independent of follow_altimeter (the plane
   // is used only beyond the seen ground, and only with it). On by default:
-  // over 17 flights with a 10 s texture outage (5 of them held out) it ended
-  // where a climb starts in the coast 4-16 m closer in height, in level
-  // flight up to 2 m farther (docs/research/2026-12-coasting.md).
+  // over 33 flights with a 10 s texture outage, where a climb starts in the
+  // coast the final height was 2.6-4.6 m closer than with the held climb on
+  // test2 (0.8-7 m over rough relief), in level flight up to 2 m farther
+  // (docs/research/2026-12-coasting.md).
   bool follow_seen_ground = true;
   double seen_ground_window_s = 1.0;  // integrated frames whose points are kept (each track's newest)
   // The points within this share of the height (the levelled range; at
@@ -111,6 +112,16 @@ struct CoastOptions {
   // grows (the same features over a larger footprint). 0.17: 25 m at 150 m.
   double seen_ground_radius_of_height = 0.17;
   int seen_ground_min_points = 8;
+  // Over seen ground the climb has two models (coast_vertical_modes.h):
+  // steady -- the held climb stays, to within this error and random walk --
+  // and changing -- vertical_velocity_stddev_mps and velocity_random_walk,
+  // the coast model's. The ranges' downs weigh them, starting from this
+  // chance that the climb is changing and switching at this rate each way.
+  // Without seen ground at the coast's start: the changing model alone.
+  double seen_ground_steady_climb_stddev_mps = 0.05;
+  double seen_ground_steady_random_walk = 0.02;  // m/s per sqrt(s)
+  double seen_ground_changing_probability = 0.5;
+  double seen_ground_switch_rate = 0.02;  // 1/s
 
   // Reads yaw_fusion.coast (keys named with their full path on error).
   static CoastOptions from_config(const Config& coast);

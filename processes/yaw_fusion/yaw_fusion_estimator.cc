@@ -581,15 +581,21 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
     // Over the speed window when there is one (held_level_velocity), else the published velocity.
     coast_velocity_level_ = held_level_velocity(coast_positions_)
                                 .value_or(rotation_from_rpy(0.0, 0.0, -good_filter_.yaw()) * last_velocity_);
-    anchor_seen_ground();  // before the integrated frames are forgotten
+    const bool seen_ground_below = anchor_seen_ground();
     coast_positions_.clear();
     if (options_.coast.follow_altimeter) {
       coast_terrain_.anchor();
     } else {
       coast_terrain_.release();
     }
-    coast_vertical_.start(good_filter_.position().z(), coast_velocity_level_.z(),
-                          options_.coast.vertical_velocity_stddev_mps);
+    const CoastOptions& c = options_.coast;
+    CoastVerticalModes::Options modes;
+    modes.steady = {c.seen_ground_steady_climb_stddev_mps, c.seen_ground_steady_random_walk};
+    modes.changing = {c.vertical_velocity_stddev_mps, c.velocity_random_walk};
+    // Without seen ground nothing would tell the models apart: the coast model alone.
+    modes.changing_probability = seen_ground_below ? c.seen_ground_changing_probability : 1.0;
+    modes.switch_rate_per_s = seen_ground_below ? c.seen_ground_switch_rate : 0.0;
+    coast_vertical_.start(good_filter_.position().z(), coast_velocity_level_.z(), modes);
     on_seen_ground_ = false;
     last_range_utime_ = recent_ranges_.empty() ? 0 : recent_ranges_.back().utime;
   }
@@ -600,32 +606,34 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
   Eigen::Vector3d level_velocity(coast_velocity_level_.x(), coast_velocity_level_.y(), coast_vertical_.climb());
   const double speed = coast_velocity_level_.head<2>().norm();
   const double step = direction != nullptr ? std::hypot(direction->dx, direction->dy) : 0.0;
+  std::optional<double> direction_climb;
   if (step > 1e-6 && speed > 0.0) {
     // Right direction, wrong scale (a stale range): the held speed along it.
     const double climb = std::clamp(direction->dz / step, -options_.coast.max_climb_ratio,
                                     options_.coast.max_climb_ratio);
     level_velocity = Eigen::Vector3d(direction->dx / step, direction->dy / step, climb) * speed;
+    direction_climb = climb * speed;
   }
   const Eigen::Vector3d velocity = rotation_from_rpy(0.0, 0.0, filter_.yaw()) * level_velocity;
   const CoastOptions& c = options_.coast;
   // Variance grown over [e0, e1] of the coast (coast_position_variance).
   const double horizontal = coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e1) -
                             coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e0);
-  // The vertical as the height filter grows it with no measurement
-  // (coast_vertical.h); over seen ground its own down replaces it below.
-  CoastVertical held = coast_vertical_;
-  held.predict(e1 - e0, velocity.z(), c.velocity_random_walk);
-  const double vertical = held.down_variance() - coast_vertical_.down_variance();
+  // The height filter to e1 (coast_vertical_modes.h), with the ranges over
+  // seen ground; the vertical variance grows as it does (over seen ground
+  // its own down replaces the pose's below).
+  const double vertical_before = coast_vertical_.down_variance();
+  bool over_seen_ground = false;
+  if (options_.coast.follow_seen_ground) {
+    over_seen_ground = follow_seen_ground(utime, filter_.position() + velocity * (e1 - e0), velocity, e0, direction_climb);
+  } else {
+    coast_vertical_.predict(e1 - e0, direction_climb);
+  }
+  const double vertical = std::max(0.0, coast_vertical_.down_variance() - vertical_before);
   const double yaw_var = square(deg_to_rad(options_.gap_yaw_rate_stddev_dps)) * (e1 * e1 - e0 * e0);
   filter_.propagate_without_vo(velocity * (e1 - e0), Eigen::Vector3d(horizontal, horizontal, vertical), yaw_var);
   velocity_out_ = velocity;
   const double horizontal_step = (velocity * (e1 - e0)).head<2>().norm();
-  bool over_seen_ground = false;
-  if (options_.coast.follow_seen_ground) {
-    over_seen_ground = follow_seen_ground(utime, velocity, e0);  // the height filter to e1, with the ranges
-  } else {
-    coast_vertical_ = held;
-  }
   if (over_seen_ground) {
     const double anchor = good_filter_.covariance()(PoseFilter::kDown, PoseFilter::kDown);
     filter_.set_down(coast_vertical_.down(), anchor + coast_vertical_.down_variance());
@@ -654,7 +662,7 @@ std::optional<SeenGround::Height> YawFusionEstimator::seen_ground_below(const Ei
   return seen_ground_.ground_down(*spot, {r, c.seen_ground_min_points});
 }
 
-void YawFusionEstimator::anchor_seen_ground() {
+bool YawFusionEstimator::anchor_seen_ground() {
   // Each range says where the ground under its beam is (the vehicle's down
   // then + the levelled range); the points' fit there differs by what the
   // cloud's depths are off near it. That offset, averaged over the ranges of
@@ -672,6 +680,7 @@ void YawFusionEstimator::anchor_seen_ground() {
     ++ranges;
   }
   if (ranges > 0) seen_ground_offset_ = sum / ranges;
+  return ranges > 0;
 }
 
 std::vector<YawFusionEstimator::PlacedRange> YawFusionEstimator::place_ranges(int64_t prev_utime, int64_t utime,
@@ -692,18 +701,19 @@ std::vector<YawFusionEstimator::PlacedRange> YawFusionEstimator::place_ranges(in
   return placed;
 }
 
-bool YawFusionEstimator::follow_seen_ground(int64_t utime, const Eigen::Vector3d& velocity, double e0) {
-  const CoastOptions& c = options_.coast;
+bool YawFusionEstimator::follow_seen_ground(int64_t utime, const Eigen::Vector3d& position,
+                                            const Eigen::Vector3d& velocity, double e0,
+                                            std::optional<double> direction_climb) {
   const int64_t start = options_.calibration.exposure_utime(last_good_utime_);
   const double e1 = static_cast<double>(utime - last_good_utime_) * 1e-6;
   const double speed = velocity.head<2>().norm();
   const double step = speed * (e1 - e0);
   double at = e0;  // the height filter's time (coast seconds)
   int ranges = 0, used = 0;
-  for (const PlacedRange& r : place_ranges(last_frame_utime_, utime, filter_.position(), velocity)) {
+  for (const PlacedRange& r : place_ranges(last_frame_utime_, utime, position, velocity)) {
     ++ranges;
     const double t = static_cast<double>(r.utime - start) * 1e-6;
-    coast_vertical_.predict(t - at, velocity.z(), c.velocity_random_walk);
+    coast_vertical_.predict(t - at, direction_climb);
     at = std::max(at, t);
     const double spacing = last_range_utime_ > 0 ? speed * static_cast<double>(r.utime - last_range_utime_) * 1e-6 : 0.0;
     last_range_utime_ = r.utime;
@@ -724,7 +734,7 @@ bool YawFusionEstimator::follow_seen_ground(int64_t utime, const Eigen::Vector3d
     last_seen_ground_ = Eigen::Vector3d(spot.x(), spot.y(), ground->down + seen_ground_offset_);
     ++used;
   }
-  coast_vertical_.predict(e1 - at, velocity.z(), c.velocity_random_walk);
+  coast_vertical_.predict(e1 - at, direction_climb);
   if (used > 0) {
     on_seen_ground_ = true;
     ++counters_.coast_seen_ground_poses;

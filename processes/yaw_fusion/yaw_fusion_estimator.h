@@ -26,7 +26,8 @@
 // covariance grown by the coast model, for up to coast.max_duration_s. Over
 // ground the last integrated frames saw (VO_GROUND, seen_ground.h) each range
 // measures the height (that ground minus the levelled range) in the coast's
-// height filter (coast_vertical.h; coast.follow_seen_ground).
+// height filter (coast_vertical_modes.h: a steady and a changing climb;
+// coast.follow_seen_ground).
 //
 // Map fixes (MAP_FIX): a fix z of the frame at t_f, whose pose had position
 // x_f and reported horizontal covariance P_f, is applied at the first pose at
@@ -64,7 +65,7 @@
 #include "nadir/pose_t.hpp"
 #include "nadir/vo_delta_t.hpp"
 #include "processes/yaw_fusion/coast_terrain.h"
-#include "processes/yaw_fusion/coast_vertical.h"
+#include "processes/yaw_fusion/coast_vertical_modes.h"
 #include "processes/yaw_fusion/coasting.h"
 #include "processes/yaw_fusion/delta_integration.h"
 #include "processes/yaw_fusion/pose_filter.h"
@@ -252,9 +253,9 @@ class YawFusionEstimator {
   // The ground while coasting (coast.follow_altimeter): the integrated frames'
   // ground points and patch tilts, anchored when a coast starts.
   CoastTerrain coast_terrain_;
-  // The height while coasting (coast_vertical.h): down and climb from the
-  // last integrated frame, the climb held, measured over seen ground.
-  CoastVertical coast_vertical_;
+  // The height while coasting (coast_vertical_modes.h): down and climb from
+  // the last integrated frame, the climb held, measured over seen ground.
+  CoastVerticalModes coast_vertical_;
   // Ground points by frame time until their delta is integrated; the ground
   // the last integrated frame saw.
   std::map<int64_t, ground_points_t> pending_ground_;
@@ -281,8 +282,11 @@ class YawFusionEstimator {
   // filter with the down measured there (that ground minus the levelled
   // range), which ends at the coast time of `utime` in any case. True when
   // the pose is over seen ground (a range was used, or none came since a
-  // frame that was); `velocity` the coast's, `e0` the last frame's coast time.
-  bool follow_seen_ground(int64_t utime, const Eigen::Vector3d& velocity, double e0);
+  // frame that was); `position` and `velocity` the coast's at `utime`, `e0`
+  // the last frame's coast time.
+  // `direction_climb`: the climb of a stale-range delta's direction, when followed.
+  bool follow_seen_ground(int64_t utime, const Eigen::Vector3d& position, const Eigen::Vector3d& velocity, double e0,
+                          std::optional<double> direction_climb);
   // The seen ground's fit where the beam of a vehicle at `position` with
   // `yaw` and levelled range `beam` hits it (`spot`, and the radius of the
   // fit); nullopt where it was not seen.
@@ -290,8 +294,9 @@ class YawFusionEstimator {
                                                       const Eigen::Vector3d& beam, Eigen::Vector2d* spot,
                                                       double* radius = nullptr) const;
   // When a coast starts: the offset of the seen ground's fit from where the
-  // last integrated frame's range puts the ground under its beam.
-  void anchor_seen_ground();
+  // last integrated frames' ranges put the ground under their beams. False
+  // when none of those ranges was over seen ground.
+  bool anchor_seen_ground();
   double seen_ground_offset_ = 0.0;
   // Past the seen ground: the plane of follow_altimeter (when anchored) goes
   // on from the last ground seen.
