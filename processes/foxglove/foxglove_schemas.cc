@@ -72,6 +72,21 @@ json raw_image() {
   return s;
 }
 
+json point_cloud() {
+  const json field = object("foxglove.PackedElementField",
+                            {{"name", string()}, {"offset", {{"type", "integer"}, {"minimum", 0}}}, {"type", integer()}});
+  json s = object("foxglove.PointCloud",
+                  {{"timestamp", time()},
+                   {"frame_id", string()},
+                   {"pose", object("foxglove.Pose", {{"position", vector3()}, {"orientation", quaternion()}})},
+                   {"point_stride", {{"type", "integer"}, {"minimum", 0}}},
+                   {"fields", array_of(field)},
+                   {"data", string()}});
+  s["properties"]["data"]["contentEncoding"] = "base64";
+  s["description"] = "Points in frame_id, packed little-endian: x, y, z, depth_sigma (float32, m)";
+  return s;
+}
+
 json image_annotations() {
   const json points = object("foxglove.PointsAnnotation", {{"timestamp", time()},
                                                           {"type", integer()},
@@ -112,6 +127,7 @@ json named_schema(const std::string& name) {
   if (name == "foxglove.FrameTransform") return frame_transform();
   if (name == "foxglove.RawImage") return raw_image();
   if (name == "foxglove.ImageAnnotations") return image_annotations();
+  if (name == "foxglove.PointCloud") return point_cloud();
   if (name == "nadir.Pose")
     return plain(name, {"utime", "north_m", "east_m", "down_m", "velocity_n", "velocity_e", "velocity_d", "roll_deg",
                         "pitch_deg", "yaw_deg", "height_agl_m", "sigma_north_m", "sigma_east_m", "sigma_down_m",

@@ -3,12 +3,15 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "common/channels.h"
 #include "common/message_guard.h"
 #include "nadir/altimeter_t.hpp"
 #include "nadir/config_t.hpp"
+#include "nadir/ground_points_t.hpp"
 #include "nadir/ground_truth_t.hpp"
 #include "nadir/image_t.hpp"
 #include "nadir/ins_t.hpp"
@@ -64,7 +67,7 @@ const char* state_name(int8_t state) {
 
 // The Map, 3-D and plain views of one body pose (estimate or truth).
 struct PoseViews {
-  json fix, pose, tf;
+  json fix, pose, tf, level_tf;
 };
 
 PoseViews pose_views(GeodeticTrack* track, int64_t utime, const double ned[3], double roll, double pitch,
@@ -93,7 +96,31 @@ PoseViews pose_views(GeodeticTrack* track, int64_t utime, const double ned[3], d
             {"pose", {{"position", position}, {"orientation", quat(q)}}}};
   v.tf = {{"timestamp", stamp(utime)}, {"parent_frame_id", "map"}, {"child_frame_id", child_frame},
           {"translation", position}, {"rotation", quat(q)}};
+  // The level frame of the same point: heading only, the frame VO_GROUND's
+  // points are in.
+  v.level_tf = {{"timestamp", stamp(utime)}, {"parent_frame_id", "map"}, {"child_frame_id", child_frame + "_level"},
+                {"translation", position}, {"rotation", quat(enu_flu_orientation(0.0, 0.0, yaw))}};
   return v;
+}
+
+// Truth samples kept until the first POSE: 2.5 s of the simulator's 100 Hz.
+constexpr size_t kRecentTruth = 256;
+
+// The truth at `utime`: interpolated between the samples around it (in any
+// arrival order), else the nearest.
+template <typename Samples>
+Eigen::Vector3d truth_near(const Samples& samples, int64_t utime) {
+  const auto* before = &samples.front();
+  const auto* after = &samples.front();
+  bool have_before = false, have_after = false;
+  for (const auto& s : samples) {
+    if (s.utime <= utime && (!have_before || s.utime > before->utime)) before = &s, have_before = true;
+    if (s.utime >= utime && (!have_after || s.utime < after->utime)) after = &s, have_after = true;
+  }
+  if (!have_before) return after->ned;
+  if (!have_after || after->utime == before->utime) return before->ned;
+  const double w = static_cast<double>(utime - before->utime) / static_cast<double>(after->utime - before->utime);
+  return before->ned + w * (after->ned - before->ned);
 }
 
 std::string base64(const uint8_t* data, size_t size) {
@@ -119,6 +146,28 @@ std::string base64(const uint8_t* data, size_t size) {
   return out;
 }
 
+// VO_GROUND as a point cloud in base_link_level (the frame's level frame,
+// forward-left-up: the message's forward-right-down with y and z negated):
+// x, y, z and the depth's sigma as little-endian float32, 16 bytes a point.
+json ground_point_cloud(const ground_points_t& m) {
+  constexpr int kFloats = 4;
+  std::vector<uint8_t> bytes(static_cast<size_t>(m.num_points) * kFloats * sizeof(float));
+  for (int i = 0; i < m.num_points; ++i) {
+    const float point[kFloats] = {m.position_m[i][0], -m.position_m[i][1], -m.position_m[i][2], m.depth_sigma_m[i]};
+    std::memcpy(bytes.data() + static_cast<size_t>(i) * sizeof(point), point, sizeof(point));
+  }
+  json fields = json::array();
+  const char* names[kFloats] = {"x", "y", "z", "depth_sigma"};
+  for (int f = 0; f < kFloats; ++f)
+    fields.push_back({{"name", names[f]}, {"offset", f * static_cast<int>(sizeof(float))}, {"type", 7}});  // FLOAT32
+  return json{{"timestamp", stamp(m.utime)},
+              {"frame_id", "base_link_level"},
+              {"pose", {{"position", xyz(0, 0, 0)}, {"orientation", quat(Eigen::Quaterniond::Identity())}}},
+              {"point_stride", kFloats * static_cast<int>(sizeof(float))},
+              {"fields", fields},
+              {"data", base64(bytes.data(), bytes.size())}};
+}
+
 }  // namespace
 
 FoxgloveTranslator::FoxgloveTranslator(const FoxgloveTranslatorOptions& options)
@@ -128,6 +177,7 @@ FoxgloveTranslator::FoxgloveTranslator(const FoxgloveTranslatorOptions& options)
       {"POSE/fix", ch::kPose, "foxglove.LocationFix"},
       {"POSE/pose", ch::kPose, "foxglove.PoseInFrame"},
       {"POSE/tf", ch::kPose, "foxglove.FrameTransform"},
+      {"POSE/level_tf", ch::kPose, "foxglove.FrameTransform"},
       {"GROUND_TRUTH", ch::kGroundTruth, "nadir.GroundTruth"},
       {"GROUND_TRUTH/fix", ch::kGroundTruth, "foxglove.LocationFix"},
       {"GROUND_TRUTH/pose", ch::kGroundTruth, "foxglove.PoseInFrame"},
@@ -136,6 +186,7 @@ FoxgloveTranslator::FoxgloveTranslator(const FoxgloveTranslatorOptions& options)
       {"TRACKS", ch::kTracks, "foxglove.ImageAnnotations"},
       {"TRACKS/stats", ch::kTracks, "nadir.TrackStats"},
       {"VO_DELTA", ch::kVoDelta, "nadir.VoDelta"},
+      {"VO_GROUND", ch::kVoGround, "foxglove.PointCloud"},
       {"STATUS", ch::kStatus, "nadir.Status"},
       {"INS", ch::kIns, "nadir.Ins"},
       {"ALTIMETER", ch::kAltimeter, "nadir.Altimeter"},
@@ -178,9 +229,27 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
       have_ins_ = true;
     }
   }
+  if (!truth_origin_known_ && channel == ch::kGroundTruth) {
+    ground_truth_t m;
+    std::string ignored;  // a truth that does not decode is reported on its own topic
+    if (decode_message(data, size, &m, &ignored)) {
+      recent_truth_.push_back({m.utime, Eigen::Vector3d(m.position_ned[0], m.position_ned[1], m.position_ned[2])});
+      if (recent_truth_.size() > kRecentTruth) recent_truth_.pop_front();
+    }
+  }
   if (!origin_known_ && channel == ch::kPose && have_ins_) {
     pose_track_ = truth_track_ = GeodeticTrack(last_ins_);
     origin_known_ = true;
+  }
+  if (!truth_origin_known_ && channel == ch::kPose && !recent_truth_.empty()) {
+    pose_t m;
+    std::string ignored;
+    if (decode_message(data, size, &m, &ignored)) {
+      truth_offset_ned_ = truth_near(recent_truth_, m.utime) -
+                          Eigen::Vector3d(m.position_ned[0], m.position_ned[1], m.position_ned[2]);
+      truth_origin_known_ = true;
+      recent_truth_.clear();
+    }
   }
   if (!any_wanted(channel)) return true;  // no topic, or nobody listening: not even decoded
 
@@ -208,11 +277,13 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
     if (origin_known_) emit("POSE/fix", m.utime, [&] { return v.fix; });
     emit("POSE/pose", m.utime, [&] { return v.pose; });
     emit("POSE/tf", m.utime, [&] { return v.tf; });
+    emit("POSE/level_tf", m.utime, [&] { return v.level_tf; });
   } else if (channel == ch::kGroundTruth) {
     ground_truth_t m;
     if (!decode_message(data, size, &m, reason)) return false;
-    const PoseViews v =
-        pose_views(&truth_track_, m.utime, m.position_ned, m.roll, m.pitch, m.yaw, nullptr, "truth_base_link");
+    double ned[3];
+    for (int k = 0; k < 3; ++k) ned[k] = m.position_ned[k] - truth_offset_ned_[k];
+    const PoseViews v = pose_views(&truth_track_, m.utime, ned, m.roll, m.pitch, m.yaw, nullptr, "truth_base_link");
     emit("GROUND_TRUTH", m.utime, [&] {
       return json{{"timestamp", stamp(m.utime)}, {"utime", m.utime}, {"kind", m.kind},
                   {"north_m", m.position_ned[0]}, {"east_m", m.position_ned[1]}, {"down_m", m.position_ned[2]},
@@ -221,9 +292,11 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
                   {"yaw_deg", m.yaw * kDeg}, {"height_agl_m", m.height_agl_m},
                   {"terrain_height_m", m.terrain_height_m}};
     });
-    if (origin_known_) emit("GROUND_TRUTH/fix", m.utime, [&] { return v.fix; });
-    emit("GROUND_TRUTH/pose", m.utime, [&] { return v.pose; });
-    emit("GROUND_TRUTH/tf", m.utime, [&] { return v.tf; });
+    if (truth_origin_known_) {
+      if (origin_known_) emit("GROUND_TRUTH/fix", m.utime, [&] { return v.fix; });
+      emit("GROUND_TRUTH/pose", m.utime, [&] { return v.pose; });
+      emit("GROUND_TRUTH/tf", m.utime, [&] { return v.tf; });
+    }
   } else if (channel == ch::kCameraImage) {
     image_t m;
     if (!decode_message(data, size, &m, reason)) return false;
@@ -300,6 +373,10 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
                   {"quality_heading_contradicts", bit(m.quality, vo_delta_t::QUALITY_HEADING_CONTRADICTS)},
                   {"variant", m.variant}};
     });
+  } else if (channel == ch::kVoGround) {
+    ground_points_t m;
+    if (!decode_message(data, size, &m, reason)) return false;
+    emit("VO_GROUND", m.utime, [&] { return ground_point_cloud(m); });
   } else if (channel == ch::kStatus) {
     status_t m;
     if (!decode_message(data, size, &m, reason)) return false;

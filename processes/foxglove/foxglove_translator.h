@@ -6,10 +6,16 @@
 //
 // World frame "map": east-north-up about POSE's origin (Foxglove's 3-D panel
 // is z-up); bodies "base_link" (estimate) and "truth_base_link" (simulator
-// truth) are forward-left-up.
+// truth) are forward-left-up, "base_link_level" the estimate's level frame
+// (heading only), which VO_GROUND's points are in. The truth's NED origin is
+// the simulator's (on the ground below the start): its map views start at the
+// first POSE, relative to the truth there, as nadir_eval aligns them.
+
+#include <Eigen/Core>
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <string>
 #include <vector>
@@ -64,6 +70,16 @@ class FoxgloveTranslator {
   bool origin_known_ = false;
   bool have_ins_ = false;
   GeodeticPoint last_ins_;
+  // The truth's recent positions until the first POSE (interpolated at its
+  // time: truth and POSE need not arrive in time order), then the truth's NED
+  // less POSE's there.
+  struct TruthSample {
+    int64_t utime;
+    Eigen::Vector3d ned;
+  };
+  std::deque<TruthSample> recent_truth_;
+  bool truth_origin_known_ = false;
+  Eigen::Vector3d truth_offset_ned_ = Eigen::Vector3d::Zero();
   std::vector<FoxgloveTopic> topics_;
   int64_t last_image_bucket_ = -1;
   int64_t images_decimated_ = 0;

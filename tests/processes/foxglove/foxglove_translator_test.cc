@@ -1,14 +1,20 @@
 // FoxgloveTranslator: the views of POSE (frames, covariance, geodetic
-// origin), image decimation, and nothing decoded for unwanted topics.
+// origin), VO_GROUND's points placed by POSE's level frame, image decimation,
+// and nothing decoded for unwanted topics.
 #include "processes/foxglove/foxglove_translator.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
+#include <cstring>
 
 #include "common/channels.h"
 #include "common/message_guard.h"
+#include "nadir/ground_points_t.hpp"
+#include "nadir/ground_truth_t.hpp"
 #include "nadir/image_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "nadir/pose_t.hpp"
@@ -52,7 +58,7 @@ TEST(FoxgloveTranslator, PoseViewsAreEastNorthUpWithTheCovarianceSwapped) {
   o.origin = {47.0, 8.0, 500.0};
   FoxgloveTranslator t(o);
   auto v = translate(t, channels::kPose, encode_message(pose_at(100.0, 50.0, -20.0, M_PI / 2)));
-  ASSERT_EQ(v.size(), 4u);
+  ASSERT_EQ(v.size(), 5u);
   EXPECT_EQ(v["POSE/pose"]["frame_id"], "map");
   EXPECT_DOUBLE_EQ(v["POSE/pose"]["pose"]["position"]["x"].get<double>(), 50.0);   // east
   EXPECT_DOUBLE_EQ(v["POSE/pose"]["pose"]["position"]["y"].get<double>(), 100.0);  // north
@@ -99,6 +105,95 @@ TEST(FoxgloveTranslator, OriginFromTheInsAtTheFirstPose) {
   ASSERT_EQ(v.count("POSE/fix"), 1u);
   EXPECT_DOUBLE_EQ(v["POSE/fix"]["latitude"].get<double>(), 40.5);
   EXPECT_DOUBLE_EQ(v["POSE/fix"]["longitude"].get<double>(), -80.0);
+}
+
+std::vector<uint8_t> base64_decode(const std::string& text) {
+  const std::string table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::vector<uint8_t> out;
+  uint32_t bits = 0;
+  int count = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    bits = (bits << 6) | static_cast<uint32_t>(table.find(c));
+    count += 6;
+    if (count >= 8) {
+      count -= 8;
+      out.push_back(static_cast<uint8_t>((bits >> count) & 0xff));
+    }
+  }
+  return out;
+}
+
+Eigen::Vector3d vec(const json& j) { return {j["x"].get<double>(), j["y"].get<double>(), j["z"].get<double>()}; }
+Eigen::Quaterniond rotation(const json& j) {
+  return Eigen::Quaterniond(j["w"].get<double>(), j["x"].get<double>(), j["y"].get<double>(), j["z"].get<double>());
+}
+
+TEST(FoxgloveTranslator, GroundPointsLandWhereThePoseLevelFramePutsThem) {
+  FoxgloveTranslator t(FoxgloveTranslatorOptions{});
+  const double yaw = 30.0 * M_PI / 180.0;
+  pose_t pose = pose_at(100.0, 50.0, -20.0, yaw);
+  pose.roll = 0.1;  // the level frame ignores roll and pitch
+  pose.pitch = -0.05;
+  ground_points_t g{};
+  g.utime = pose.utime;
+  g.num_points = 2;
+  g.track_id = {7, 9};
+  g.position_m = {{10.0f, 5.0f, 150.0f}, {-40.0f, -12.5f, 149.25f}};  // forward, right, down
+  g.depth_sigma_m = {0.25f, 1.5f};
+  auto p = translate(t, channels::kPose, encode_message(pose));
+  auto v = translate(t, channels::kVoGround, encode_message(g));
+  ASSERT_EQ(v.count("VO_GROUND"), 1u);
+  const json cloud = v["VO_GROUND"];
+  const json level = p["POSE/level_tf"];
+  EXPECT_EQ(cloud["frame_id"], level["child_frame_id"]);
+  EXPECT_EQ(level["child_frame_id"], "base_link_level");
+  EXPECT_EQ(cloud["timestamp"], level["timestamp"]);
+  ASSERT_EQ(cloud["point_stride"], 16);
+  ASSERT_EQ(cloud["fields"].size(), 4u);
+  EXPECT_EQ(cloud["fields"][3]["name"], "depth_sigma");
+  EXPECT_EQ(cloud["fields"][3]["offset"], 12);
+  const std::vector<uint8_t> bytes = base64_decode(cloud["data"]);
+  ASSERT_EQ(bytes.size(), 32u);
+  for (int i = 0; i < 2; ++i) {
+    float f[4];
+    std::memcpy(f, bytes.data() + 16 * i, sizeof f);
+    // The point in map (ENU) through the transform, against the NED sum by hand.
+    const Eigen::Vector3d enu = rotation(level["rotation"]) * Eigen::Vector3d(f[0], f[1], f[2]) + vec(level["translation"]);
+    const double x = g.position_m[i][0], y = g.position_m[i][1], z = g.position_m[i][2];
+    const double north = 100.0 + x * std::cos(yaw) - y * std::sin(yaw);
+    const double east = 50.0 + x * std::sin(yaw) + y * std::cos(yaw);
+    EXPECT_NEAR(enu.x(), east, 1e-9) << i;
+    EXPECT_NEAR(enu.y(), north, 1e-9) << i;
+    EXPECT_NEAR(enu.z(), -(-20.0 + z), 1e-9) << i;
+    EXPECT_EQ(f[3], g.depth_sigma_m[i]);
+  }
+}
+
+TEST(FoxgloveTranslator, TruthStartsAtTheFirstPoseWhereTheTruthWasThen) {
+  FoxgloveTranslator t(FoxgloveTranslatorOptions{});
+  auto truth = [](int64_t utime, double north) {
+    ground_truth_t g{};
+    g.utime = utime;
+    g.kind = ground_truth_t::KIND_INS;
+    g.position_ned[0] = north;
+    g.position_ned[2] = -200.0;  // the simulator's origin is on the ground below the start
+    return encode_message(g);
+  };
+  auto before = translate(t, channels::kGroundTruth, truth(1'000'000, 0.0));
+  EXPECT_EQ(before.count("GROUND_TRUTH"), 1u);  // the plain view as it is
+  EXPECT_EQ(before.count("GROUND_TRUTH/pose"), 0u);
+  translate(t, channels::kGroundTruth, truth(1'100'000, 2.0));
+  pose_t first = pose_at(0.0, 0.0, 0.0, 0.0);  // POSE's origin: the first frame
+  first.utime = 1'050'000;
+  translate(t, channels::kPose, encode_message(first));
+  auto v = translate(t, channels::kGroundTruth, truth(1'200'000, 4.0));
+  ASSERT_EQ(v.count("GROUND_TRUTH/pose"), 1u);
+  const json position = v["GROUND_TRUTH/pose"]["pose"]["position"];
+  EXPECT_NEAR(position["y"].get<double>(), 3.0, 1e-12);  // north: 4 less 1 (the truth at the first POSE)
+  EXPECT_NEAR(position["x"].get<double>(), 0.0, 1e-12);
+  EXPECT_NEAR(position["z"].get<double>(), 0.0, 1e-12);  // at the height of POSE's origin, not 200 m up
+  EXPECT_EQ(v["GROUND_TRUTH"]["down_m"], -200.0);
 }
 
 TEST(FoxgloveTranslator, ImagesAreDecimatedToTheConfiguredRate) {

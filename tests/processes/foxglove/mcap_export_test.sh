@@ -54,9 +54,11 @@ for rate in (0, 2):
         if lcm["messages"] == 0:
             check(t["count"] == 0, f"{topic}: no messages, none on LCM")
             continue
-        if topic.endswith("/fix"):
-            # Geodetic only once the origin is known (the INS position at the first POSE).
+        if topic.endswith("/fix") or topic.startswith("GROUND_TRUTH/"):
+            # Geodetic only once the origin is known (the INS position at the first POSE); the
+            # truth's map views from the first POSE on (relative to the truth there).
             check(0 < t["count"] <= lcm["messages"], f"{topic}: {t['count']} of the {lcm['messages']} (from the first POSE on)")
+            check(int(s["last_publish_ns"]) == lcm["last_utime"] * 1000, f"{topic}: last sensor time equals the log's")
             continue
         check(t["count"] == lcm["messages"], f"{topic}: count equals nadir_log info's {lcm['messages']}")
         check(int(s["first_publish_ns"]) == lcm["first_utime"] * 1000 and int(s["last_publish_ns"]) == lcm["last_utime"] * 1000,
