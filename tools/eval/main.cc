@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -114,6 +115,17 @@ int main(int argc, char** argv) {
                   static_cast<long long>(m.images), static_cast<long long>(m.frames_dropped),
                   static_cast<long long>(m.poses), static_cast<long long>(m.poses_flagged),
                   static_cast<long long>(m.records_not_pipeline));
+      if (!m.coasts.empty()) {
+        double added_h = 0, added_v = 0, longest = 0;
+        for (const nadir::CoastEpisode& c : m.coasts) {
+          added_h = std::max(added_h, c.added_h_m);
+          added_v = std::max(added_v, std::fabs(c.added_v_m));
+          longest = std::max(longest, c.duration_s);
+        }
+        std::printf("coasting            %10zu episode(s), %.1f s in all (longest %.1f s); error added by one: "
+                    "at most %.2f m horizontal, %.2f m vertical\n",
+                    m.coasts.size(), m.coast_s, longest, added_h, added_v);
+      }
       if (m.pairs > 0) {
         const std::string not_solved =
             m.pairs_not_solved_flagged > 0 ? ", " + std::to_string(m.pairs_not_solved_flagged) +

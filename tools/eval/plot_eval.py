@@ -2,7 +2,8 @@
 """Plots an evaluation folder written by nadir_eval: trajectory.png (top view,
 estimate vs truth, start marked), drift.png (Fig. 7a), velocity_errors.png
 (Fig. 7b), consistency.png (north/east position and yaw error against the
-reported +-3 sigma). Usage: plot_eval.py DIR"""
+reported +-3 sigma); the coasts (metrics.json) shaded in drift.png and
+consistency.png. Usage: plot_eval.py DIR"""
 import csv
 import json
 import sys
@@ -26,6 +27,13 @@ def main() -> int:
         print(f"plot_eval: {folder}/series.csv has no rows", file=sys.stderr)
         return 1
     col = lambda k: [r[k] for r in rows]  # noqa: E731
+    coasts = m.get("coasts", [])
+
+    def shade_coasts(ax):
+        """The coasts (VO out, the position held) as shaded time spans."""
+        for i, c in enumerate(coasts):
+            ax.axvspan(c["start_s"], c["start_s"] + c["duration_s"], color="tab:gray", alpha=0.3, lw=0,
+                       label="coasting" if i == 0 else None)
     title = (f"{m['distance_m']:.0f} m flown, final error {m['final_error_3d_m']:.1f} m "
              f"({m['error_pct_3d']:.2f} % of distance)")
 
@@ -46,6 +54,7 @@ def main() -> int:
     fig, ax = plt.subplots(figsize=(8, 4))
     ax.plot(col("t_s"), col("error_h_m"), label="horizontal")
     ax.plot(col("t_s"), [abs(v) for v in col("error_v_m")], label="vertical")
+    shade_coasts(ax)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("accumulated position drift [m]")
     ax.grid(True, alpha=0.3)
@@ -70,6 +79,8 @@ def main() -> int:
         t = col("t_s")
         has_pl = "protection_level_m" in rows[0]
         fig, axes = plt.subplots(4 if has_pl else 3, 1, figsize=(8, 10.5 if has_pl else 8), sharex=True)
+        for ax in axes:
+            shade_coasts(ax)
         series = (("north", [r["est_n"] - r["true_n"] for r in rows], col("sigma_n_m"), "m"),
                   ("east", [r["est_e"] - r["true_e"] for r in rows], col("sigma_e_m"), "m"),
                   ("yaw", col("yaw_error_deg"), col("sigma_yaw_deg"), "deg"))

@@ -31,6 +31,7 @@ table{border-collapse:collapse;font-size:12px;width:100%}th,td{padding:3px 6px;t
 th{position:sticky;top:0;background:#eef2f8;cursor:pointer}td:first-child,th:first-child{text-align:left}
 .scroll{max-height:360px;overflow:auto}tr.bad td{background:#fdecea}
 #readout{font-size:12px;color:#5a6577;min-height:1.2em}label{font-size:12px}
+rect.coast{fill:#8a94a6;opacity:.25}
 </style></head><body data-rendered="no">
 <header><h1>nadir flight report</h1><p>__SUBTITLE__</p></header>
 <main>
@@ -82,6 +83,10 @@ function chart(svg, series, opts) {
   for (const t of ticks(y0, y1, 6)) { el("line", {x1: m.l, x2: W - m.r, y1: Y(t), y2: Y(t)}, g); el("text", {x: m.l - 4, y: Y(t) + 4, "text-anchor": "end"}, svg, t); }
   el("rect", {x: m.l, y: m.t, width: W - m.l - m.r, height: H - m.t - m.b, fill: "none", class: "axis"}, svg);
   let ly = m.t + 14;
+  // Shaded time spans (the coasts), behind the curves.
+  const bands = (opts && opts.bands) || [];
+  for (const [a, b] of bands) el("rect", {x: X(a), y: m.t, width: Math.max(1, X(b) - X(a)), height: H - m.t - m.b, class: "coast"}, svg);
+  if (bands.length) { el("text", {x: W - m.r - 6, y: ly, "text-anchor": "end", class: "legend", style: "fill:#5a6577"}, svg, "coasting (shaded)"); ly += 14; }
   for (const s of series) {
     let d = "";
     for (let i = 0; i < s.x.length; i++) if (Number.isFinite(s.y[i])) d += (d ? "L" : "M") + X(s.x[i]).toFixed(1) + " " + Y(s.y[i]).toFixed(1);
@@ -96,6 +101,8 @@ function chart(svg, series, opts) {
 const S = D.series, col = (k) => S.map((r) => r[k]), t = col("t_s");
 // Key figures.
 const M = D.metrics, F = document.getElementById("figures");
+const coasts = M.coasts || [], coastBands = coasts.map((c) => [c.start_s, c.start_s + c.duration_s]);
+const coastAdded = (k) => Math.max(0, ...coasts.map((c) => Math.abs(c[k])));
 for (const [label, value, note] of [
   ["distance flown", fmt(M.distance_m, 0) + " m in " + fmt(M.duration_s, 0) + " s"],
   ["final error", fmt(M.final_error_3d_m, 2) + " m (" + fmt(M.error_pct_3d, 3) + " %)"],
@@ -110,7 +117,12 @@ for (const [label, value, note] of [
   M.latency_measured === false
     ? ["latency", "not measured", M.imported ? "an imported flight" : "a lockstep replay"]
     : ["latency p50 / p99", fmt(M.latency_p50_ms, 1) + " / " + fmt(M.latency_p99_ms, 1) + " ms"],
-  ["poses (flagged)", M.poses + " (" + M.poses_flagged + ")"]]) {
+  ["poses (flagged)", M.poses + " (" + M.poses_flagged + ")"],
+  coasts.length
+    ? ["coasting", fmt(M.coast_s, 1) + " s in " + coasts.length + (coasts.length === 1 ? " episode" : " episodes"),
+       "VO out, the position held (shaded in the plots); error added by one at most " + fmt(coastAdded("added_h_m"), 2) +
+       " m horizontal, " + fmt(coastAdded("added_v_m"), 2) + " m vertical"]
+    : ["coasting", "none", "VO never out"]]) {
   const d = document.createElement("div");
   d.className = "fig";
   d.innerHTML = "<b></b><span></span>";
@@ -163,14 +175,14 @@ chart(document.getElementById("errors"), [
   {name: "±3σ north", x: t, y: col("sigma_n_m").map((v) => 3 * v), color: "#1f77b4", dash: "4 3", width: 1},
   {name: "", x: t, y: col("sigma_n_m").map((v) => -3 * v), color: "#1f77b4", dash: "4 3", width: 1},
   {name: "±3σ east", x: t, y: col("sigma_e_m").map((v) => 3 * v), color: "#ff7f0e", dash: "4 3", width: 1},
-  {name: "", x: t, y: col("sigma_e_m").map((v) => -3 * v), color: "#ff7f0e", dash: "4 3", width: 1}], {xlabel: "time (s)"});
+  {name: "", x: t, y: col("sigma_e_m").map((v) => -3 * v), color: "#ff7f0e", dash: "4 3", width: 1}], {xlabel: "time (s)", bands: coastBands});
 chart(document.getElementById("protection"), [
   {name: "horizontal error", x: t, y: col("error_h_m"), color: "#1f77b4"},
-  {name: "protection level (99 %)", x: t, y: col("protection_level_m").map((v) => v < 0 ? NaN : v), color: "#d62728"}], {xlabel: "time (s)"});
+  {name: "protection level (99 %)", x: t, y: col("protection_level_m").map((v) => v < 0 ? NaN : v), color: "#d62728"}], {xlabel: "time (s)", bands: coastBands});
 chart(document.getElementById("yaw"), [
   {name: "yaw error", x: t, y: col("yaw_error_deg"), color: "#9467bd"},
   {name: "±3σ", x: t, y: col("sigma_yaw_deg").map((v) => 3 * v), color: "#9467bd", dash: "4 3", width: 1},
-  {name: "", x: t, y: col("sigma_yaw_deg").map((v) => -3 * v), color: "#9467bd", dash: "4 3", width: 1}], {xlabel: "time (s)"});
+  {name: "", x: t, y: col("sigma_yaw_deg").map((v) => -3 * v), color: "#9467bd", dash: "4 3", width: 1}], {xlabel: "time (s)", bands: coastBands});
 // Tables.
 function table(id, columns, rows, bad) {
   const tab = document.getElementById(id);

@@ -99,6 +99,8 @@ EvalResult evaluate(const EvalData& data) {
   std::vector<float> errors_h;
   for (const EvalSample& s : result.samples) errors_h.push_back(static_cast<float>(s.error_h_m));
   m.p95_error_h_m = percentile(errors_h, 95);
+  m.coasts = coast_episodes(result.samples, pose_t::FLAG_COASTING);
+  for (const CoastEpisode& c : m.coasts) m.coast_s += c.duration_s;
   m.map_fixes = map_fix_metrics(data.map_fixes, data.poses, data.truth, *first, truth0);
   const EvalSample& last = result.samples.back();
   const double n = static_cast<double>(result.samples.size());
@@ -215,6 +217,14 @@ std::string metrics_json(const EvalMetrics& m) {
   j.end_object();
   j.field("max_velocity_error_h", m.max_velocity_error_h).field("rms_yaw_error_deg", m.rms_yaw_error_deg);
   j.field("poses", m.poses).field("poses_flagged", m.poses_flagged).field("images", m.images);
+  j.field("coast_s", m.coast_s);
+  j.key("coasts").begin_array();
+  for (const CoastEpisode& c : m.coasts) {
+    j.begin_object().field("start_s", c.start_s).field("duration_s", c.duration_s);
+    j.field("added_h_m", c.added_h_m).field("added_v_m", c.added_v_m);
+    j.field("error_h_m", c.error_h_m).field("sigma_h_m", c.sigma_h_m).end_object();
+  }
+  j.end_array();
   j.field("triggers", m.triggers).field("frames_dropped", m.frames_dropped).field("tracks", m.tracks);
   j.field("capture_corrupt_records", m.capture_corrupt_records).field("capture_truncated", m.capture_truncated);
   j.field("capture_holes", m.capture_holes).field("capture_longest_hole_s", m.capture_hole_seconds);

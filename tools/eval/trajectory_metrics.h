@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "tools/eval/coast_metrics.h"
 #include "tools/eval/eval_data.h"
 #include "tools/eval/map_fix_metrics.h"
 #include "tools/eval/pair_metrics.h"
@@ -58,6 +59,8 @@ struct EvalMetrics {
   bool imported = false;
   int64_t poses = 0;
   int64_t poses_flagged = 0;
+  std::vector<CoastEpisode> coasts;  // POSE flagged COASTING (coast_metrics.h)
+  double coast_s = 0;                // their durations summed
   int64_t images = 0;          // frames: images the tracker answered (tools/eval/pipeline_records.h)
   int64_t triggers = 0;
   int64_t frames_dropped = 0;  // triggers without such a frame

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # nadir_eval's HTML report (report/index.html) opened in headless Chromium:
 # the script ran to its end (body data-rendered="ok"), the trajectory, error,
-# protection-level and yaw plots have their curves, the key figures, process
+# protection-level and yaw plots have their curves, a short coast is shaded in
+# them and counted in the key figures, the key figures, process
 # and pair tables their rows, no console message from the page (errors, warnings,
 # failed requests), and the page references nothing outside itself. A page
 # with a deliberate error checks that the console check sees errors.
@@ -14,7 +15,9 @@ command -v chromium >/dev/null || fail "chromium is not installed (launch_script
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 shot="${1:-}"
 
-nadir_sim --profile demo --seed 2 --duration 12 --out "$work/sim.lcmlog" >/dev/null || fail "nadir_sim failed"
+# 2 s of featureless ground from 6 s: a coast, shaded in the plots and counted in the key figures.
+nadir_sim --profile demo --seed 2 --duration 12 --outage texture:6:2:0.03 --out "$work/sim.lcmlog" >/dev/null ||
+  fail "nadir_sim failed"
 nadir_replay --in "$work/sim.lcmlog" --out "$work/flight.lcmlog" --nodes tracker,vo_solver,yaw_fusion >/dev/null ||
   fail "nadir_replay failed"
 nadir_eval --log "$work/flight.lcmlog" --out "$work/report" --no-plots >/dev/null || fail "nadir_eval failed"
@@ -51,6 +54,9 @@ for i, n in (("trajectory", 2), ("errors", 7), ("protection", 2), ("yaw", 3)):
     check(len(paths) >= n, f"plot {i}: {len(paths)} curves (>= {n})")
 check('class="series truth"' in svg("trajectory") and 'class="series estimate"' in svg("trajectory"), "trajectory: truth and estimate")
 check(len(re.findall(r'class="fig"', dom)) >= 8, "key figures")
+coast = re.findall(r'<rect[^>]*class="coast"', dom)
+check(len(coast) >= 3, f"the coast shaded in the error, protection-level and yaw plots ({len(coast)} spans)")
+check(re.search(r'<b>[0-9.]+ s in 1 episode</b><span>coasting:', dom) is not None, "key figure: coasting, 1 episode")
 procs = re.search(r'<table id="processes">.*?</table>', dom, re.S).group(0)
 check(len(re.findall(r"<tr", procs)) >= 4, f"process table: {len(re.findall(r'<tr', procs)) - 1} processes")
 pairs = re.search(r'<table id="pairs">.*?</table>', dom, re.S).group(0)
