@@ -271,9 +271,10 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
   remember_poses(*out, poses_before);
   if (started_) {
     // Keep what any later query can touch (queries are at or after the last
-    // frame's exposure), so how many frames one call processes -- which depends on
-    // arrival order -- cannot change an answer.
-    const int64_t last_exposure = options_.calibration.exposure_utime(last_frame_utime_);
+    // frame's exposure, or the last good frame's when a delta supersedes the
+    // gap poses after it and coasts from there), so how many frames one call
+    // processes -- which depends on arrival order -- cannot change an answer.
+    const int64_t last_exposure = options_.calibration.exposure_utime(std::min(last_frame_utime_, last_good_utime_));
     altimeter_.forget_before(last_exposure - static_cast<int64_t>(
                                                  std::max(options_.max_altimeter_age_s, options_.coast.max_range_age_s) * 1e6));
     ins_.forget_before(last_exposure);
@@ -614,7 +615,12 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
     level_velocity = Eigen::Vector3d(direction->dx / step, direction->dy / step, climb) * speed;
     direction_climb = climb * speed;
   }
-  const Eigen::Vector3d velocity = rotation_from_rpy(0.0, 0.0, filter_.yaw()) * level_velocity;
+  Eigen::Vector3d velocity = rotation_from_rpy(0.0, 0.0, filter_.yaw()) * level_velocity;
+  // The held velocity along the heading the INS measured over the step; a
+  // direction's delta is in the previous frame's level frame, as it was.
+  const Eigen::Vector3d displacement = direction_climb
+                                           ? Eigen::Vector3d(velocity * (e1 - e0))
+                                           : coast_displacement(last_frame_utime_, utime, level_velocity, &velocity);
   const CoastOptions& c = options_.coast;
   // Variance grown over [e0, e1] of the coast (coast_position_variance).
   const double horizontal = coast_position_variance(c.velocity_stddev_mps, c.velocity_random_walk, e1) -
@@ -625,15 +631,15 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
   const double vertical_before = coast_vertical_.down_variance();
   bool over_seen_ground = false;
   if (options_.coast.follow_seen_ground) {
-    over_seen_ground = follow_seen_ground(utime, filter_.position() + velocity * (e1 - e0), velocity, e0, direction_climb);
+    over_seen_ground = follow_seen_ground(utime, filter_.position() + displacement, velocity, e0, direction_climb);
   } else {
     coast_vertical_.predict(e1 - e0, direction_climb);
   }
   const double vertical = std::max(0.0, coast_vertical_.down_variance() - vertical_before);
   const double yaw_var = square(deg_to_rad(options_.gap_yaw_rate_stddev_dps)) * (e1 * e1 - e0 * e0);
-  filter_.propagate_without_vo(velocity * (e1 - e0), Eigen::Vector3d(horizontal, horizontal, vertical), yaw_var);
+  filter_.propagate_without_vo(displacement, Eigen::Vector3d(horizontal, horizontal, vertical), yaw_var);
   velocity_out_ = velocity;
-  const double horizontal_step = (velocity * (e1 - e0)).head<2>().norm();
+  const double horizontal_step = displacement.head<2>().norm();
   if (over_seen_ground) {
     const double anchor = good_filter_.covariance()(PoseFilter::kDown, PoseFilter::kDown);
     filter_.set_down(coast_vertical_.down(), anchor + coast_vertical_.down_variance());
@@ -647,6 +653,34 @@ int32_t YawFusionEstimator::coast_to(int64_t utime, const vo_delta_t* direction)
   last_frame_utime_ = utime;
   yaw_without_vo_ = true;  // as in a gap: the next INS yaw is taken as it is
   return update_attitude(utime);
+}
+
+Eigen::Vector3d YawFusionEstimator::coast_displacement(int64_t from, int64_t to, const Eigen::Vector3d& level_velocity,
+                                                       Eigen::Vector3d* velocity_at_end) const {
+  // The heading at t: the fused yaw at `from` plus the INS's turn since,
+  // interpolated between the INS samples around t however far apart (a photo
+  // flight's attitude comes with its photos); unchanged where there is none.
+  constexpr int64_t kHeadingStepUs = 100000;
+  const int64_t span = std::max<int64_t>(0, to - from);
+  const int64_t bracket = std::max(static_cast<int64_t>(options_.max_ins_bracket_s * 1e6), span + kHeadingStepUs);
+  auto ins_yaw_at = [&](int64_t t) {
+    const auto a = ins_.at(options_.calibration.exposure_utime(t), bracket, AttitudePolicy::kInterpolate);
+    return a ? std::optional<double>(a->yaw) : std::nullopt;
+  };
+  const auto start = ins_yaw_at(from);
+  auto heading_at = [&](int64_t t) {
+    const auto now = start ? ins_yaw_at(t) : std::nullopt;
+    return filter_.yaw() + (now ? angle_difference(*now, *start) : 0.0);
+  };
+  const int64_t steps = std::max<int64_t>(1, (span + kHeadingStepUs - 1) / kHeadingStepUs);
+  Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
+  for (int64_t k = 0; k < steps; ++k) {
+    const int64_t a = from + span * k / steps, b = from + span * (k + 1) / steps;
+    displacement += rotation_from_rpy(0.0, 0.0, heading_at(a + (b - a) / 2)) * level_velocity *
+                    (static_cast<double>(b - a) * 1e-6);
+  }
+  *velocity_at_end = rotation_from_rpy(0.0, 0.0, heading_at(to)) * level_velocity;
+  return displacement;
 }
 
 std::optional<SeenGround::Height> YawFusionEstimator::seen_ground_below(const Eigen::Vector3d& position, double yaw,

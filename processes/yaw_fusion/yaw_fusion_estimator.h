@@ -168,6 +168,12 @@ class YawFusionEstimator {
   // Coasts from the last frame to `utime` (not integrating a delta); returns
   // pose flags. `direction`: a delta whose direction (not scale) is used.
   int32_t coast_to(int64_t utime, const vo_delta_t* direction = nullptr);
+  // The held level velocity flown from `from` to `to`, turned with the heading
+  // the INS measured along the way (the fused yaw at `from` plus the INS's
+  // turn since), in steps of at most 0.1 s: a photo flight's frames can be
+  // many seconds apart, through a turn. `velocity_at_end`: the world velocity at `to`.
+  Eigen::Vector3d coast_displacement(int64_t from, int64_t to, const Eigen::Vector3d& level_velocity,
+                                     Eigen::Vector3d* velocity_at_end) const;
   // While coasting with a valid range at `utime`: over seen ground, the down
   // measured there updates the height filter; else, with a terrain plane, down =
   // the height filter's and the terrain's (the plane below the coasted

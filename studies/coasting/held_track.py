@@ -16,6 +16,11 @@ yaw, and the displacement D seconds on is predicted with:
                   INS heading over the same seconds (held_level_velocity)
   track fixed     the window's track held in the world, no turn followed
 
+and the window mean integrated in steps of one frame (14 Hz), 5 s (a photo
+flight) and the whole coast, each step turned with the heading at its start
+(yaw fusion before 2026-12-04) or its middle; and along the INS heading every
+0.1 s whatever the step (yaw fusion since).
+
 Usage: held_track.py SIM_LOG [SIM_LOG ...] [--coast-s 10] [--window-s 3]
 Prints, per method, the rms, median, 90th percentile and largest error (metres)
 of the predicted displacement over all start times and logs.
@@ -77,9 +82,23 @@ def predictions(log, coast_s, window_s, step_s=0.0714):
             tracks = np.array([track_at(t) for t in times + durations])
             return speed * np.array([np.sum(durations * np.cos(tracks)), np.sum(durations * np.sin(tracks))])
 
+        def held_at(point, step):
+            """The window's velocity over steps of `step` s, each turned with the heading at
+            its start (0), middle (0.5) or end (1)."""
+            starts = np.arange(t0, t0 + coast_s, step)
+            lengths = np.diff(np.append(starts, t0 + coast_s))
+            tracks = crab_window + heading(starts + point * lengths)
+            return speed * np.array([np.sum(lengths * np.cos(tracks)), np.sum(lengths * np.sin(tracks))])
+
         errors["last frame"].append(np.linalg.norm(held(lambda t: crab_last + heading(t)) - truth_d))
         errors["window mean"].append(np.linalg.norm(held(lambda t: crab_window + heading(t)) - truth_d))
         errors["track fixed"].append(np.linalg.norm(held(lambda t: track_window) - truth_d))
+        for step in (step_s, 5.0, coast_s):
+            for point, name in ((0.0, "its start"), (0.5, "its middle")):
+                errors.setdefault(f"window mean, {step:g} s steps turned with the heading at {name}", []).append(
+                    np.linalg.norm(held_at(point, step) - truth_d))
+        errors.setdefault("window mean, one step along the INS heading every 0.1 s", []).append(
+            np.linalg.norm(held_at(0.5, 0.1) - truth_d))
     return errors
 
 

@@ -201,6 +201,41 @@ TEST(Coasting, HeldVelocityFollowsTheInsHeadingInATurn) {
   EXPECT_LT(coasted_error, 3.0 * std::sqrt(end->position_covariance[0][0] + end->position_covariance[1][1]));
 }
 
+// A photo flight's frames can be seconds apart: one coasted step of 10 s
+// through a 60 deg turn (the pair across it unsolved; it supersedes the gap
+// poses published while waiting for it) follows the INS heading along it, as
+// 140 short steps do.
+TEST(Coasting, OneLongStepFollowsTheInsHeadingThroughATurn) {
+  FlightSpec spec = straight_spec();
+  spec.turn_rate_dps = 6.0;
+  SyntheticFlight many = test::make_flight(spec);
+  SyntheticFlight one = many;
+  lose_texture(&many, 100, 240);
+  // The same outage with no frame in between: one delta from frame 100 to 240.
+  vo_delta_t across{};
+  across.utime = one.truth[240].utime;
+  across.prev_utime = one.truth[100].utime;
+  across.quality = vo_delta_t::QUALITY_TOO_FEW_FEATURES;
+  across.variant = "synthetic";
+  one.deltas.erase(one.deltas.begin() + 100, one.deltas.begin() + 240);
+  one.deltas.insert(one.deltas.begin() + 100, across);
+  one.deltas[101].prev_utime = 0;  // the tracker restarts after it
+  const auto poses_many = fly(many, YawFusionOptions{});
+  const auto poses_one = fly(one, YawFusionOptions{});
+  const pose_t* end_many = pose_at(poses_many, one.truth[240].utime);
+  const pose_t* end_one = pose_at(poses_one, one.truth[240].utime);
+  ASSERT_NE(end_many, nullptr);
+  ASSERT_NE(end_one, nullptr);
+  EXPECT_TRUE(end_one->flags & pose_t::FLAG_COASTING);
+  const Eigen::Vector3d truth = one.truth[240].position - one.truth.front().position;
+  // 300 m flown along a 60 deg arc: held along the heading at either end it
+  // would be ~80 m off; along the INS heading it is where the short steps put it.
+  EXPECT_LT((position(*end_one) - position(*end_many)).head<2>().norm(), 0.5);
+  EXPECT_LT((position(*end_one) - truth).head<2>().norm(), 2.0);
+  EXPECT_NEAR(end_one->position_covariance[0][0], end_many->position_covariance[0][0],
+              0.01 * end_many->position_covariance[0][0]);
+}
+
 TEST(HeldLevelVelocity, TrackOverTheWindowInTheFrameOfItsMeanHeading) {
   // 3 s at 20 m/s on a track of 85 deg, climbing 1 m/s; the heading is the
   // track plus a crab of 2 deg plus an oscillation of 1 deg that sums to zero
