@@ -12,7 +12,7 @@ namespace nadir {
 struct EvalSample;  // trajectory_metrics.h
 
 struct CoastEpisode {
-  double start_s = 0;     // the pose before the first coasting one (the last VO pose), since the first pose
+  double start_s = 0;     // the pose before the first coasting one (the last VO pose, or a gap pose), since the first pose
   double duration_s = 0;  // from there to the last coasting pose
   double added_h_m = 0;   // horizontal error vector at the end less the one at the start, its length
   double added_v_m = 0;   // vertical (down) error at the end less the one at the start, signed
