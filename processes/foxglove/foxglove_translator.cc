@@ -67,7 +67,7 @@ const char* state_name(int8_t state) {
 
 // The Map, 3-D and plain views of one body pose (estimate or truth).
 struct PoseViews {
-  json fix, pose, tf, level_tf;
+  json fix, pose, tf;
 };
 
 PoseViews pose_views(GeodeticTrack* track, int64_t utime, const double ned[3], double roll, double pitch,
@@ -96,10 +96,6 @@ PoseViews pose_views(GeodeticTrack* track, int64_t utime, const double ned[3], d
             {"pose", {{"position", position}, {"orientation", quat(q)}}}};
   v.tf = {{"timestamp", stamp(utime)}, {"parent_frame_id", "map"}, {"child_frame_id", child_frame},
           {"translation", position}, {"rotation", quat(q)}};
-  // The level frame of the same point: heading only, the frame VO_GROUND's
-  // points are in.
-  v.level_tf = {{"timestamp", stamp(utime)}, {"parent_frame_id", "map"}, {"child_frame_id", child_frame + "_level"},
-                {"translation", position}, {"rotation", quat(enu_flu_orientation(0.0, 0.0, yaw))}};
   return v;
 }
 
@@ -277,7 +273,13 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
     if (origin_known_) emit("POSE/fix", m.utime, [&] { return v.fix; });
     emit("POSE/pose", m.utime, [&] { return v.pose; });
     emit("POSE/tf", m.utime, [&] { return v.tf; });
-    emit("POSE/level_tf", m.utime, [&] { return v.level_tf; });
+    // The level frame of the same point: heading only, the frame VO_GROUND's points are in.
+    emit("POSE/level_tf", m.utime, [&] {
+      json level = v.tf;
+      level["child_frame_id"] = "base_link_level";
+      level["rotation"] = quat(enu_flu_orientation(0.0, 0.0, m.yaw));
+      return level;
+    });
   } else if (channel == ch::kGroundTruth) {
     ground_truth_t m;
     if (!decode_message(data, size, &m, reason)) return false;
