@@ -73,7 +73,12 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
         .number("seen_ground_changing_probability", 0.0, 1.0, "",
                 "chance at the coast's start that the climb is changing", &O::seen_ground_changing_probability)
         .number("seen_ground_switch_rate", 0.0, 100.0, "1/s", "rate of switching between the two climb models",
-                &O::seen_ground_switch_rate);
+                &O::seen_ground_switch_rate)
+        .flag("bridge",
+              "a delta from the last integrated frame over the whole coast (the tracker matched across it) ends "
+              "the coast: its climb and heading change with the coast's horizontal",
+              &O::bridge)
+        .flag("bridge_horizontal", "... and its horizontal displacement too", &O::bridge_horizontal);
     return s;
   }();
   return schema;

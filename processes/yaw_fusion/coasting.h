@@ -127,6 +127,18 @@ struct CoastOptions {
   double seen_ground_steady_random_walk = 0.02;  // m/s per sqrt(s)
   double seen_ground_changing_probability = 1.0;
   double seen_ground_switch_rate = 0.0;  // 1/s
+  // When VO returns, a delta from the last integrated frame over the whole
+  // coast (tracker.mode auto matches the first good frame after featureless
+  // ones with the last good one while their footprints still overlap) ends
+  // the coast: the filter goes back to that frame and integrates the delta's
+  // climb, heading change and ground tilt with the coast's horizontal
+  // displacement and variance -- measured on held-out flights the delta's
+  // climb was within 0.2 m where the coast's was 0.4-2 m off, its horizontal
+  // 0.05-5.6 % long along the track where the held velocity was within 0.3 %
+  // (docs/research/2026-12-coasting.md, "Matched across the coast").
+  // bridge_horizontal: its horizontal too.
+  bool bridge = true;
+  bool bridge_horizontal = false;
 
   // Reads yaw_fusion.coast (keys named with their full path on error).
   static CoastOptions from_config(const Config& coast);

@@ -78,7 +78,13 @@ std::vector<pose_t> YawFusionEstimator::add_vo_delta(const vo_delta_t& delta) {
   // A delta coasted over (not integrated) may span any time: the tracker
   // measures from its last good frame while the texture is gone.
   const bool coasted = options_.coast.enabled && (delta.quality & options_.coast.quality_mask) != 0;
-  if (interval <= 0 || (interval > static_cast<int64_t>(options_.max_delta_interval_s * 1e6) && !coasted)) {
+  // Nor may one from the last integrated frame that can bridge a coast (bridges_coast).
+  const int64_t tolerance = static_cast<int64_t>(options_.frame_time_tolerance_s * 1e6);
+  const bool bridging = options_.coast.enabled && options_.coast.bridge && started_ &&
+                        std::abs(delta.prev_utime - last_good_utime_) <= tolerance &&
+                        static_cast<double>(interval) * 1e-6 <= options_.coast.max_duration_s;
+  if (interval <= 0 ||
+      (interval > static_cast<int64_t>(options_.max_delta_interval_s * 1e6) && !coasted && !bridging)) {
     ++counters_.vo_deltas_invalid;
     note_problem(utime_label("VO_DELTA", delta.utime) + "prev_utime " + std::to_string(delta.prev_utime) +
                  " gives an interval outside (0, max_delta_interval_s]");
@@ -218,12 +224,21 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
   while (true) {
     if (!pending_.empty()) {
       const vo_delta_t& next = pending_.begin()->second;
-      if (started_ && supersedes_gap_poses(next)) {
+      const bool bridge = started_ && bridges_coast(next);
+      if (started_ && (bridge || supersedes_gap_poses(next))) {
         filter_ = good_filter_;
         consecutive_altimeter_rejections_ = good_consecutive_altimeter_rejections_;
+        last_altimeter_height_ = good_altimeter_height_;
         last_frame_utime_ = last_good_utime_;
         yaw_without_vo_ = false;  // back to the yaw the delta continues from
-        ++counters_.gap_poses_superseded;
+        if (bridge) {
+          // Integrated in the coast's place, with the coast's horizontal (from that yaw on).
+          next_bridge_ = bridge_delta(next);
+          coasting_ = false;
+          ++counters_.coasts_bridged;
+        } else {
+          ++counters_.gap_poses_superseded;
+        }
       }
       // Texture lost, the tracker keeps measuring from its last good frame:
       // deltas to be coasted over that start before the last pose still
@@ -241,7 +256,8 @@ void YawFusionEstimator::pump(std::vector<pose_t>* out) {
           emit_gap_pose(last_frame_utime_ + period);
           continue;
         }
-        const vo_delta_t delta = next;
+        const vo_delta_t delta = next_bridge_ && next_bridge_->utime == next.utime ? *next_bridge_ : next;
+        next_bridge_.reset();
         pending_.erase(pending_.begin());
         if (!started_) {
           if (!delta_usable(delta)) {
@@ -292,6 +308,39 @@ bool YawFusionEstimator::supersedes_gap_poses(const vo_delta_t& delta) const {
   return last_good_utime_ < last_frame_utime_ && delta.utime > last_frame_utime_ &&
          std::abs(delta.prev_utime - last_good_utime_) <= tolerance &&
          (delta.quality & vo_delta_t::QUALITY_FRAME_GAP) == 0;
+}
+
+bool YawFusionEstimator::bridges_coast(const vo_delta_t& delta) const {
+  if (!coasting_ || !options_.coast.enabled || !options_.coast.bridge) return false;
+  const int64_t tolerance = static_cast<int64_t>(options_.frame_time_tolerance_s * 1e6);
+  std::string why;
+  return delta.utime > last_frame_utime_ && std::abs(delta.prev_utime - last_good_utime_) <= tolerance &&
+         static_cast<double>(delta.utime - delta.prev_utime) * 1e-6 <= options_.coast.max_duration_s &&
+         delta_quality_ok(delta) && (delta.quality & options_.coast.quality_mask) == 0 &&
+         delta_values_valid(delta, &why);
+}
+
+vo_delta_t YawFusionEstimator::bridge_delta(const vo_delta_t& delta) const {
+  vo_delta_t bridged = delta;
+  if (options_.coast.bridge_horizontal) return bridged;
+  // The held velocity over the span (the heading the INS measured along the
+  // way), in the level frame of the last integrated frame the delta starts
+  // from, with the coast model's variance; its climb, heading change and
+  // ground tilt stay the delta's.
+  Eigen::Vector3d velocity_at_end;
+  const Eigen::Vector3d level_velocity(coast_velocity_level_.x(), coast_velocity_level_.y(), 0.0);
+  const Eigen::Vector3d world = coast_displacement(last_good_utime_, delta.utime, level_velocity, &velocity_at_end);
+  const Eigen::Vector3d level = rotation_from_rpy(0.0, 0.0, -good_filter_.yaw()) * world;
+  bridged.dx = level.x();
+  bridged.dy = level.y();
+  const double span_s = static_cast<double>(delta.utime - last_good_utime_) * 1e-6;
+  const double variance =
+      coast_position_variance(options_.coast.velocity_stddev_mps, options_.coast.velocity_random_walk, span_s);
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 6; ++j) bridged.covariance[i][j] = bridged.covariance[j][i] = 0.0;
+    bridged.covariance[i][i] = variance;
+  }
+  return bridged;
 }
 
 bool YawFusionEstimator::resume(int64_t t0) {
@@ -358,6 +407,7 @@ void YawFusionEstimator::start(const vo_delta_t& first, std::vector<pose_t>* out
   }
   good_filter_ = filter_;
   good_consecutive_altimeter_rejections_ = consecutive_altimeter_rejections_;
+  good_altimeter_height_ = last_altimeter_height_;
   out->push_back(make_pose(t0, flags));
 }
 
@@ -542,6 +592,7 @@ void YawFusionEstimator::process_delta(const vo_delta_t& delta, std::vector<pose
   }
   good_filter_ = filter_;
   good_consecutive_altimeter_rejections_ = consecutive_altimeter_rejections_;
+  good_altimeter_height_ = last_altimeter_height_;
   out->push_back(make_pose(delta.utime, flags));
 }
 

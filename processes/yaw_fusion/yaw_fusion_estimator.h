@@ -27,7 +27,11 @@
 // ground the last integrated frames saw (VO_GROUND, seen_ground.h) each range
 // measures the height (that ground minus the levelled range) in the coast's
 // height filter (coast_vertical_modes.h: a steady and a changing climb;
-// coast.follow_seen_ground).
+// coast.follow_seen_ground). When VO returns and its first delta starts at
+// the last integrated frame (the tracker matched across the featureless
+// ground), the filter goes back there and integrates it with the coast's
+// horizontal displacement: its climb ends the coast's vertical error
+// (coast.bridge).
 //
 // Map fixes (MAP_FIX): a fix z of the frame at t_f, whose pose had position
 // x_f and reported horizontal covariance P_f, is applied at the first pose at
@@ -110,6 +114,7 @@ struct YawFusionCounters {
   int64_t coast_ground_steps = 0;          // coasting on the altimeter: range jumps taken as the ground's
   int64_t ground_frames_received = 0;      // VO_GROUND messages (kept only with coast.follow_seen_ground)
   int64_t coast_seen_ground_poses = 0;     // coasting poses whose down came from ground a frame saw
+  int64_t coasts_bridged = 0;              // coasts a delta from the last integrated frame ended (coast.bridge)
   int64_t deltas_reverted = 0;             // integrating would have made the state non-finite
   int64_t map_fixes_received = 0;
   int64_t map_fixes_invalid = 0;           // non-finite, a covariance not positive definite, or disabled
@@ -220,6 +225,16 @@ class YawFusionEstimator {
   // a survey later than the camera period. It replaces them (the filter goes
   // back to the last integrated frame) instead of being dropped as late.
   bool supersedes_gap_poses(const vo_delta_t& delta) const;
+  // While coasting, a usable delta from the last integrated frame to after
+  // the last pose: the tracker (mode auto) matched its last good frame with
+  // the first after the featureless ground. It ends the coast: the filter
+  // goes back to that frame and integrates bridge_delta(it) (coast.bridge).
+  bool bridges_coast(const vo_delta_t& delta) const;
+  // The delta as integrated over a coast: its climb, heading change and ground
+  // tilt, with the coast's horizontal displacement and variance in place of
+  // its own (unless coast.bridge_horizontal).
+  vo_delta_t bridge_delta(const vo_delta_t& delta) const;
+  std::optional<vo_delta_t> next_bridge_;  // the pending delta that bridges the coast, as integrated
 
   YawFusionOptions options_;
   PoseFilter filter_;
@@ -247,6 +262,7 @@ class YawFusionEstimator {
   int consecutive_yaw_rejections_ = 0;
   int consecutive_altimeter_rejections_ = 0;       // barometric
   int good_consecutive_altimeter_rejections_ = 0;  // ... as at last_good_utime_ (with good_filter_)
+  double good_altimeter_height_ = std::numeric_limits<double>::quiet_NaN();  // last_altimeter_height_ then
   int64_t frames_ = 0;
   std::optional<pose_t> resume_;
   // Coasting: the velocity held in the level vehicle frame (x forward, y right,

@@ -66,6 +66,7 @@ class YawFusionNode : public Node {
         {"vo_deltas_integrated", static_cast<double>(c.vo_deltas_integrated)},
         {"ground_frames_received", static_cast<double>(c.ground_frames_received)},
         {"coast_seen_ground_poses", static_cast<double>(c.coast_seen_ground_poses)},
+        {"coasts_bridged", static_cast<double>(c.coasts_bridged)},
         {"vo_deltas_invalid", static_cast<double>(c.vo_deltas_invalid)},
         {"vo_deltas_quality_rejected", static_cast<double>(c.vo_deltas_quality_rejected)},
         {"vo_deltas_before_start", static_cast<double>(c.vo_deltas_before_start)},

@@ -30,6 +30,14 @@ constexpr int64_t kStartUs = 1700000000000000;
 
 Config default_config() { return Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml"); }
 
+// KLT alone, restarting after a second without a good frame.
+Config klt_config() {
+  Config config = default_config();
+  config.apply_override("tracker.mode=klt");
+  config.apply_override("tracker.max_gap_s=1");
+  return config;
+}
+
 const SyntheticScene& scene() {
   static const SyntheticScene s(cv::Size(1400, 1400), 7);
   return s;
@@ -248,7 +256,7 @@ TEST(TrackerNode, OutOfOrderAndDuplicateImagesAreDropped) {
 }
 
 TEST(TrackerNode, FrameGapsFromCounterOrTimeAndRestartAfterLongGaps) {
-  Harness h;
+  Harness h(klt_config());
   h.send(make_image_msg(frame(0), kStartUs, 10));
   h.send(make_image_msg(frame(1), kStartUs + kPeriodUs, 12));           // counter skips
   h.send(make_image_msg(frame(2), kStartUs + 3 * kPeriodUs, 13));       // time skips
@@ -395,7 +403,9 @@ TEST(TrackerNode, DescriptorModeTracksPhotosTensOfSecondsApart) {
 }
 
 TEST(TrackerNode, AutoModeUsesDescriptorsForLongStepsOrWhenKltLosesTrack) {
-  Harness h(survey_config("auto"));
+  Config config = survey_config("auto");
+  config.apply_override("tracker.auto_min_tracks=40");  // the default is 0: long steps only
+  Harness h(config);
   // Steady 14 Hz frames: KLT.
   for (int k = 0; k < 3; ++k) h.send(make_image_msg(frame(k), kStartUs + k * kPeriodUs, k));
   EXPECT_EQ(h.counter("descriptor_frames"), 0);
@@ -423,8 +433,40 @@ TEST(TrackerNode, AutoModeUsesDescriptorsForLongStepsOrWhenKltLosesTrack) {
   EXPECT_EQ(h.tracks[5].prev_utime, later + kPeriodUs);
 }
 
-TEST(TrackerNode, KltModeHasNoDescriptorCounters) {
+// The default configuration over 10 s of featureless ground (flagged, the
+// last good frame kept): the first good frame after it is matched with the
+// last good one (a third of the image still overlaps), not restarted from,
+// and the features land where the known motion puts them; KLT goes on from it.
+TEST(TrackerNode, DefaultMatchesTheLastGoodFrameAcrossTenSecondsOfFeaturelessGround) {
   Harness h;
+  for (int k = 0; k < 3; ++k) h.send(make_image_msg(frame(k), kStartUs + k * kPeriodUs, k));
+  const int last_good = 2, back = 143;
+  for (int k = last_good + 1; k < back; ++k) {
+    h.send(make_image_msg(cv::Mat(kFrame, CV_8UC1, cv::Scalar(90)), kStartUs + k * kPeriodUs, k));
+  }
+  h.send(make_image_msg(frame(back), kStartUs + back * kPeriodUs, back));
+  h.send(make_image_msg(frame(back + 1), kStartUs + (back + 1) * kPeriodUs, back + 1));
+  ASSERT_EQ(h.tracks.size(), static_cast<size_t>(back + 2));
+  EXPECT_EQ(h.counter("restarts"), 0);
+  EXPECT_EQ(h.counter("featureless"), back - last_good - 1);
+  const tracks_t& across = h.tracks[back];
+  EXPECT_EQ(across.prev_utime, kStartUs + last_good * kPeriodUs);
+  EXPECT_EQ(across.flags, tracks_t::FLAG_FRAME_GAP);
+  EXPECT_GT(across.num_tracks, 50);
+  const ViewPose from{{700 + 3.0 * last_good, 700 - 2.0 * last_good}, 0.003 * last_good};
+  const ViewPose to{{700 + 3.0 * back, 700 - 2.0 * back}, 0.003 * back};
+  for (int i = 0; i < across.num_tracks; ++i) {
+    const cv::Point2d expected =
+        SyntheticScene::map_point({across.prev_px[i][0], across.prev_px[i][1]}, from, to, kFrame);
+    EXPECT_LT(std::hypot(expected.x - across.curr_px[i][0], expected.y - across.curr_px[i][1]), 9.0) << i;
+  }
+  EXPECT_EQ(h.tracks[back + 1].prev_utime, kStartUs + back * kPeriodUs);
+  EXPECT_EQ(h.tracks[back + 1].flags, 0);
+  EXPECT_GT(h.tracks[back + 1].num_tracks, 380);
+}
+
+TEST(TrackerNode, KltModeHasNoDescriptorCounters) {
+  Harness h(klt_config());
   h.send(make_image_msg(frame(0), kStartUs, 0));
   for (const auto& [key, value] : h.status().counters) EXPECT_EQ(key.find("descriptor"), std::string::npos) << key;
 }

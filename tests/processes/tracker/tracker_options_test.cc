@@ -69,7 +69,9 @@ TEST(TrackerOptions, BadValuesNameTheKeyAndTheRange) {
 
 TEST(TrackerOptions, ModeAndDescriptorKeysAreCheckedByName) {
   const TrackerOptions o = TrackerOptions::from_config(Config::load_file(NADIR_SOURCE_DIR "/config/default.yaml"));
-  EXPECT_EQ(o.mode, TrackerMode::kKlt) << "KLT stays the default";
+  // KLT, with descriptors only across what KLT cannot follow (featureless ground, a long step).
+  EXPECT_EQ(o.mode, TrackerMode::kAuto);
+  EXPECT_EQ(TrackerOptions{}.mode, TrackerMode::kKlt) << "without a config: KLT alone";
   EXPECT_EQ(o.descriptor.type, "sift");
   EXPECT_EQ(TrackerOptions::from_config(Config::parse("tracker: {mode: auto}", "t.yaml")).mode, TrackerMode::kAuto);
   const TrackerOptions d = TrackerOptions::from_config(

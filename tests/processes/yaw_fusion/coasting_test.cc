@@ -690,6 +690,88 @@ TEST(Coasting, TextureLossOverSeenGroundAveragesTheRangesNoise) {
   EXPECT_LT(std::sqrt(sum_sq_end / flights), 0.8);
 }
 
+// The delta a perfect solver gives from frame `a` to frame `b` (level frame
+// of `a`), flagged as a frame gap: the tracker matched its last good frame
+// with the first after the featureless ground.
+vo_delta_t delta_between(const SyntheticFlight& flight, size_t a, size_t b) {
+  const test::TruthFrame& from = flight.truth[a];
+  const test::TruthFrame& to = flight.truth[b];
+  const Eigen::Vector3d world = to.position - from.position;
+  const double c = std::cos(from.yaw), s = std::sin(from.yaw);
+  vo_delta_t d = flight.deltas[b - 1];
+  d.prev_utime = from.utime;
+  d.utime = to.utime;
+  d.dx = c * world.x() + s * world.y();
+  d.dy = -s * world.x() + c * world.y();
+  d.dz = world.z();
+  d.dyaw = wrap_angle(to.yaw - from.yaw);
+  d.altitude_m = flight.deltas[a].altitude_m;
+  d.inliers = 200;
+  d.quality = vo_delta_t::QUALITY_FRAME_GAP;
+  return d;
+}
+
+// 10 s of texture loss through a turn while the climb changes (the held
+// climb misses it); the first frame after it is matched with the last good
+// one. That delta ends the coast: the filter goes back to the last good frame
+// and integrates its climb and heading change with the coast's horizontal,
+// so the height is where it would have been without the loss, the horizontal
+// the coast's. Without it (coast.bridge off) the coast's height error stays;
+// with coast.bridge_horizontal the delta's horizontal is taken too.
+TEST(Coasting, ADeltaFromTheLastGoodFrameAcrossTheCoastEndsIt) {
+  FlightSpec spec;  // turning at 6 deg/s, climbing
+  spec.frames = 400;
+  spec.climb_rate_change_s = 10.0;
+  spec.climb_rate_after_mps = 3.0;
+  SyntheticFlight flight = test::make_flight(spec);
+  SyntheticFlight bridged = flight;
+  lose_texture(&bridged, 100, 240);
+  bridged.deltas[240] = delta_between(flight, 100, 241);
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  auto error = [&](const pose_t& p, size_t k) -> Eigen::Vector3d {
+    return position(p) - (flight.truth[k].position - origin);
+  };
+  YawFusionCounters counters, coast_counters, whole_counters;
+  const auto poses = fly(bridged, YawFusionOptions{}, &counters);
+  YawFusionOptions no_bridge;
+  no_bridge.coast.bridge = false;
+  const auto coasted = fly(bridged, no_bridge, &coast_counters);
+  YawFusionOptions whole;
+  whole.coast.bridge_horizontal = true;
+  const auto taken = fly(bridged, whole, &whole_counters);
+  EXPECT_EQ(counters.coast_episodes, 1);
+  EXPECT_EQ(counters.coasts_bridged, 1);
+  EXPECT_EQ(counters.vo_deltas_invalid + counters.vo_deltas_late, 0);
+  EXPECT_EQ(coast_counters.coasts_bridged, 0);
+  EXPECT_EQ(coast_counters.vo_deltas_invalid, 1);  // longer than max_delta_interval_s, and nothing to bridge
+  // The coast's poses were published, flagged; the bridged frame and all after it are not.
+  for (size_t k = 101; k <= 240; ++k) {
+    const pose_t* p = pose_at(poses, flight.truth[k].utime);
+    ASSERT_NE(p, nullptr) << "frame " << k;
+    EXPECT_TRUE(p->flags & pose_t::FLAG_COASTING) << "frame " << k;
+  }
+  const pose_t* first = pose_at(poses, flight.truth[241].utime);
+  const pose_t* coast_end = pose_at(poses, flight.truth[240].utime);
+  ASSERT_NE(first, nullptr);
+  EXPECT_FALSE(first->flags & pose_t::FLAG_COASTING);
+  const size_t last = flight.truth.size() - 1;
+  // Noise-free: the height exact; the horizontal is what the coast flew (the
+  // held velocity turned with the INS heading: within centimetres here).
+  EXPECT_LT(std::abs(error(*first, 241).z()), 1e-6);
+  EXPECT_LT(std::abs(error(poses.back(), last).z()), 1e-6);
+  EXPECT_NEAR(error(*first, 241).head<2>().norm(), error(*coast_end, 240).head<2>().norm(), 0.05);
+  EXPECT_LT(error(poses.back(), last).head<2>().norm(), 0.2);
+  EXPECT_LT(error(taken.back(), last).norm(), 1e-6);
+  // The held climb missed the 3 m/s, and without the bridge the error stays.
+  EXPECT_GT(std::abs(error(*coast_end, 240).z()), 5.0);
+  EXPECT_GT(std::abs(error(coasted.back(), last).z()), 5.0);
+  // The vertical variance is the delta's again; the horizontal is the coast's.
+  EXPECT_LT(first->position_covariance[2][2], 0.1 * coast_end->position_covariance[2][2]);
+  EXPECT_GT(first->position_covariance[0][0], 0.9 * coast_end->position_covariance[0][0]);
+  const pose_t* taken_first = pose_at(taken, flight.truth[241].utime);
+  EXPECT_LT(taken_first->position_covariance[0][0], 0.1 * coast_end->position_covariance[0][0]);
+}
+
 // A 30 m terrain step (a cliff) under the beam while coasting on the
 // altimeter is the ground's, not a climb: the plane moves, the height stays.
 TEST(Coasting, AGroundStepWhileFollowingTheAltimeterMovesThePlane) {
