@@ -78,7 +78,13 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
               "a delta from the last integrated frame over the whole coast (the tracker matched across it) ends "
               "the coast: its climb and heading change with the coast's horizontal",
               &O::bridge)
-        .flag("bridge_horizontal", "... and its horizontal displacement too", &O::bridge_horizontal);
+        .choice<BridgeHorizontal>("bridge_horizontal",
+                                  {{"coast", BridgeHorizontal::kCoast},
+                                   {"pair", BridgeHorizontal::kPair},
+                                   {"pair_direction", BridgeHorizontal::kPairDirection}},
+                                  "the bridged horizontal: the coast's, the pair's, or the pair's direction with "
+                                  "the coast's length",
+                                  &O::bridge_horizontal);
     return s;
   }();
   return schema;

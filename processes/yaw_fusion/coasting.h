@@ -29,6 +29,13 @@
 
 namespace nadir {
 
+// Where a bridged coast's horizontal displacement comes from (coast.bridge_horizontal).
+enum class BridgeHorizontal {
+  kCoast,          // the held velocity turned with the INS heading, the coast's variance
+  kPair,           // the pair across the coast as solved
+  kPairDirection,  // the pair's direction, the coast's length: each the one that holds
+};
+
 struct CoastOptions {
   bool enabled = true;
   // VO_DELTA quality bits whose translation is coasted over (checked before
@@ -137,9 +144,10 @@ struct CoastOptions {
   // 3.7 m off, its horizontal 0.05-5.6 % long along the track where the held
   // velocity was within 0.3 % (docs/research/2026-12-coasting.md, "Matched
   // across the coast").
-  // bridge_horizontal: its horizontal too.
+  // bridge_horizontal: whose horizontal -- the coast's (above), the pair's
+  // own, or the pair's direction with the coast's length.
   bool bridge = true;
-  bool bridge_horizontal = false;
+  BridgeHorizontal bridge_horizontal = BridgeHorizontal::kCoast;
 
   // Reads yaw_fusion.coast (keys named with their full path on error).
   static CoastOptions from_config(const Config& coast);

@@ -79,10 +79,7 @@ std::vector<pose_t> YawFusionEstimator::add_vo_delta(const vo_delta_t& delta) {
   // measures from its last good frame while the texture is gone.
   const bool coasted = options_.coast.enabled && (delta.quality & options_.coast.quality_mask) != 0;
   // Nor may one from the last integrated frame that can bridge a coast (bridges_coast).
-  const int64_t tolerance = static_cast<int64_t>(options_.frame_time_tolerance_s * 1e6);
-  const bool bridging = options_.coast.enabled && options_.coast.bridge && started_ &&
-                        std::abs(delta.prev_utime - last_good_utime_) <= tolerance &&
-                        static_cast<double>(interval) * 1e-6 <= options_.coast.max_duration_s;
+  const bool bridging = may_bridge_a_coast(delta);
   if (interval <= 0 ||
       (interval > static_cast<int64_t>(options_.max_delta_interval_s * 1e6) && !coasted && !bridging)) {
     ++counters_.vo_deltas_invalid;
@@ -310,19 +307,23 @@ bool YawFusionEstimator::supersedes_gap_poses(const vo_delta_t& delta) const {
          (delta.quality & vo_delta_t::QUALITY_FRAME_GAP) == 0;
 }
 
-bool YawFusionEstimator::bridges_coast(const vo_delta_t& delta) const {
-  if (!coasting_ || !options_.coast.enabled || !options_.coast.bridge) return false;
+bool YawFusionEstimator::may_bridge_a_coast(const vo_delta_t& delta) const {
+  if (!options_.coast.enabled || !options_.coast.bridge || !started_) return false;
   const int64_t tolerance = static_cast<int64_t>(options_.frame_time_tolerance_s * 1e6);
+  return std::abs(delta.prev_utime - last_good_utime_) <= tolerance &&
+         static_cast<double>(delta.utime - delta.prev_utime) * 1e-6 <= options_.coast.max_duration_s;
+}
+
+bool YawFusionEstimator::bridges_coast(const vo_delta_t& delta) const {
   std::string why;
-  return delta.utime > last_frame_utime_ && std::abs(delta.prev_utime - last_good_utime_) <= tolerance &&
-         static_cast<double>(delta.utime - delta.prev_utime) * 1e-6 <= options_.coast.max_duration_s &&
-         delta_quality_ok(delta) && (delta.quality & options_.coast.quality_mask) == 0 &&
-         delta_values_valid(delta, &why);
+  return coasting_ && may_bridge_a_coast(delta) && delta.utime > last_frame_utime_ && delta_quality_ok(delta) &&
+         (delta.quality & options_.coast.quality_mask) == 0 && delta_values_valid(delta, &why);
 }
 
 vo_delta_t YawFusionEstimator::bridge_delta(const vo_delta_t& delta) const {
   vo_delta_t bridged = delta;
-  if (options_.coast.bridge_horizontal) return bridged;
+  const BridgeHorizontal source = options_.coast.bridge_horizontal;
+  if (source == BridgeHorizontal::kPair) return bridged;
   // The held velocity over the span (the heading the INS measured along the
   // way), in the level frame of the last integrated frame the delta starts
   // from, with the coast model's variance; its climb, heading change and
@@ -330,15 +331,35 @@ vo_delta_t YawFusionEstimator::bridge_delta(const vo_delta_t& delta) const {
   Eigen::Vector3d velocity_at_end;
   const Eigen::Vector3d level_velocity(coast_velocity_level_.x(), coast_velocity_level_.y(), 0.0);
   const Eigen::Vector3d world = coast_displacement(last_good_utime_, delta.utime, level_velocity, &velocity_at_end);
-  const Eigen::Vector3d level = rotation_from_rpy(0.0, 0.0, -good_filter_.yaw()) * world;
-  bridged.dx = level.x();
-  bridged.dy = level.y();
+  const Eigen::Vector2d coast = (rotation_from_rpy(0.0, 0.0, -good_filter_.yaw()) * world).head<2>();
   const double span_s = static_cast<double>(delta.utime - last_good_utime_) * 1e-6;
   const double variance =
       coast_position_variance(options_.coast.velocity_stddev_mps, options_.coast.velocity_random_walk, span_s);
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity() * variance;
+  Eigen::Vector2d horizontal = coast;
+  const Eigen::Vector2d pair(delta.dx, delta.dy);
+  if (source == BridgeHorizontal::kPairDirection && pair.norm() > 0.0 && coast.norm() > 0.0) {
+    // A single-plane solve across the coast is off in scale (the ground at
+    // the images' edges against the range at the nadir), not in direction;
+    // the held velocity is off in direction (the heading's swing about the
+    // track), not in length. The pair's direction, the coast's length; along
+    // it the coast's variance, across it the pair's, scaled to that length.
+    const Eigen::Vector2d along = pair.normalized();
+    const Eigen::Vector2d across(-along.y(), along.x());
+    Eigen::Matrix2d pair_covariance;
+    pair_covariance << delta.covariance[0][0], delta.covariance[0][1], delta.covariance[1][0], delta.covariance[1][1];
+    const double scale = coast.norm() / pair.norm();
+    horizontal = along * coast.norm();
+    covariance = variance * along * along.transpose() +
+                 scale * scale * across.dot(pair_covariance * across) * across * across.transpose();
+  }
+  bridged.dx = horizontal.x();
+  bridged.dy = horizontal.y();
   for (int i = 0; i < 2; ++i) {
     for (int j = 0; j < 6; ++j) bridged.covariance[i][j] = bridged.covariance[j][i] = 0.0;
-    bridged.covariance[i][i] = variance;
+  }
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) bridged.covariance[i][j] = covariance(i, j);
   }
   return bridged;
 }

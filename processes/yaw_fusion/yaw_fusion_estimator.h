@@ -230,9 +230,13 @@ class YawFusionEstimator {
   // the first after the featureless ground. It ends the coast: the filter
   // goes back to that frame and integrates bridge_delta(it) (coast.bridge).
   bool bridges_coast(const vo_delta_t& delta) const;
+  // From the last integrated frame, no longer than a coast may last, with
+  // coast.bridge on: it may end a coast, so it may span more than
+  // max_delta_interval_s.
+  bool may_bridge_a_coast(const vo_delta_t& delta) const;
   // The delta as integrated over a coast: its climb, heading change and ground
-  // tilt, with the coast's horizontal displacement and variance in place of
-  // its own (unless coast.bridge_horizontal).
+  // tilt, with the horizontal displacement and variance coast.bridge_horizontal
+  // names in place of its own.
   vo_delta_t bridge_delta(const vo_delta_t& delta) const;
   std::optional<vo_delta_t> next_bridge_;  // the pending delta that bridges the coast, as integrated
 

@@ -45,7 +45,7 @@ def dump(log, channel):
     return list(csv.DictReader(io.StringIO(out)))
 
 
-def predictions(log, coast_s, window_s, step_s=0.0714):
+def predictions(log, coast_s, window_s, smooth_s=(), smooth_degrees=(1,), turn_deg=(), step_s=0.0714):
     truth = dump(log, "GROUND_TRUTH")
     ins = dump(log, "INS")
     tg = np.array([int(r["utime"]) for r in truth]) * 1e-6
@@ -99,6 +99,39 @@ def predictions(log, coast_s, window_s, step_s=0.0714):
                     np.linalg.norm(held_at(point, step) - truth_d))
         errors.setdefault("window mean, one step along the INS heading every 0.1 s", []).append(
             np.linalg.norm(held_at(0.5, 0.1) - truth_d))
+        # The heading smoothed before it turns the velocity: at each time, a
+        # straight line fitted to the INS headings within +-h s of it (only those
+        # from the window's start to the coast's end: all are known when VO
+        # returns), so a steady turn is followed without lag and a swing shorter
+        # than the fit is not. The window's crab taken against the same heading.
+        lo, hi = t0 - window_s, t0 + coast_s
+        span = (ti >= lo) & (ti <= hi)
+        ts_, ys_ = ti[span], yaw[span]
+
+        def smooth(t, h, degree):
+            m = np.abs(ts_ - t) <= h
+            if m.sum() < degree + 2:
+                return heading(t)
+            return np.polyfit(ts_[m] - t, ys_[m], degree)[-1]
+
+        # A turn or not: the straight line through all the INS headings from the
+        # window's start to the coast's end; where it turns by less than
+        # `threshold` degrees over that span, the window's track is held fixed
+        # (the heading's swing is not followed), else the heading as above.
+        slope = np.polyfit(ts_ - t0, ys_, 1)[0] if len(ts_) > 2 else 0.0
+        for threshold in turn_deg:
+            straight = abs(math.degrees(slope) * (coast_s + window_s)) < threshold
+            pred = held(lambda t: track_window) if straight else held_at(0.5, 0.1)
+            errors.setdefault(f"track fixed unless the heading turns by {threshold:g} deg", []).append(
+                np.linalg.norm(pred - truth_d))
+        for h, degree in ((h, d) for h in smooth_s for d in smooth_degrees):
+            grid = np.arange(t0 - window_s, t0 + coast_s + 1e-9, 0.1)
+            sm = np.array([smooth(t, h, degree) for t in grid])
+            crab_s = track_window - sm[grid <= t0 + 1e-9].mean()
+            mids = np.arange(t0, t0 + coast_s, 0.1) + 0.05
+            tracks = crab_s + np.interp(mids, grid, sm)
+            pred = speed * 0.1 * np.array([np.sum(np.cos(tracks)), np.sum(np.sin(tracks))])
+            errors.setdefault(f"along the INS heading smoothed +-{h:g} s, degree {degree}", []).append(np.linalg.norm(pred - truth_d))
     return errors
 
 
@@ -107,6 +140,12 @@ def main():
     parser.add_argument("logs", nargs="+", help="simulator logs (nadir_sim --out)")
     parser.add_argument("--coast-s", type=float, default=10.0)
     parser.add_argument("--window-s", type=float, default=3.0, help="yaw_fusion.coast.speed_window_s")
+    parser.add_argument("--smooth-s", type=float, nargs="*", default=[],
+                        help="half-widths (s) of the line fitted to the INS heading, one method each")
+    parser.add_argument("--turn-deg", type=float, nargs="*", default=[],
+                        help="thresholds (deg over the window and the coast) below which the track is held fixed")
+    parser.add_argument("--smooth-degrees", type=int, nargs="*", default=[1],
+                        help="degrees of the polynomial fitted over each half-width")
     args = parser.parse_args()
     if not os.access(NADIR_LOG, os.X_OK):
         sys.exit(f"held_track: error: {NADIR_LOG} not built (launch_scripts/setup.sh)")
@@ -114,7 +153,7 @@ def main():
     for log in args.logs:
         if not os.path.isfile(log):
             sys.exit(f"held_track: error: {log}: no such file")
-        for method, e in predictions(log, args.coast_s, args.window_s).items():
+        for method, e in predictions(log, args.coast_s, args.window_s, args.smooth_s, args.smooth_degrees, args.turn_deg).items():
             total.setdefault(method, []).extend(e)
     n = len(next(iter(total.values())))
     print(f"{n} coasts of {args.coast_s:g} s from {len(args.logs)} flight(s), window {args.window_s:g} s")

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 
@@ -737,7 +738,7 @@ TEST(Coasting, ADeltaFromTheLastGoodFrameAcrossTheCoastEndsIt) {
   no_bridge.coast.bridge = false;
   const auto coasted = fly(bridged, no_bridge, &coast_counters);
   YawFusionOptions whole;
-  whole.coast.bridge_horizontal = true;
+  whole.coast.bridge_horizontal = BridgeHorizontal::kPair;
   const auto taken = fly(bridged, whole, &whole_counters);
   EXPECT_EQ(counters.coast_episodes, 1);
   EXPECT_EQ(counters.coasts_bridged, 1);
@@ -770,6 +771,57 @@ TEST(Coasting, ADeltaFromTheLastGoodFrameAcrossTheCoastEndsIt) {
   EXPECT_GT(first->position_covariance[0][0], 0.9 * coast_end->position_covariance[0][0]);
   const pose_t* taken_first = pose_at(taken, flight.truth[241].utime);
   EXPECT_LT(taken_first->position_covariance[0][0], 0.1 * coast_end->position_covariance[0][0]);
+}
+
+// The heading swings about the track (1 deg over 20 s: neither the held
+// velocity's 3 s window nor a 10 s coast averages it) and the pair across the
+// coast is 6 % long (a single-plane solve over the strip at the images'
+// edges can be). The coast's direction is off, the pair's length:
+// bridge_horizontal pair_direction takes the coast's length along the pair's
+// direction, with the coast's variance along it and the pair's across.
+TEST(Coasting, ABridgeCanTakeThePairsDirectionWithTheCoastsLength) {
+  FlightSpec spec = straight_spec();
+  spec.heading_oscillation_deg = 1.0;
+  spec.heading_oscillation_period_s = 20.0;
+  SyntheticFlight flight = test::make_flight(spec);
+  SyntheticFlight bridged = flight;
+  lose_texture(&bridged, 100, 240);
+  vo_delta_t across = delta_between(flight, 100, 241);
+  across.dx *= 1.06;
+  across.dy *= 1.06;
+  bridged.deltas[240] = across;
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  auto horizontal_error = [&](const std::vector<pose_t>& poses, size_t k) {
+    const pose_t* p = pose_at(poses, flight.truth[k].utime);
+    EXPECT_NE(p, nullptr) << "frame " << k;
+    return p ? (position(*p) - (flight.truth[k].position - origin)).head<2>().norm() : 1e9;
+  };
+  std::map<BridgeHorizontal, std::vector<pose_t>> flown;
+  for (BridgeHorizontal source : {BridgeHorizontal::kCoast, BridgeHorizontal::kPair, BridgeHorizontal::kPairDirection}) {
+    YawFusionOptions options;
+    options.coast.bridge_horizontal = source;
+    YawFusionCounters counters;
+    flown[source] = fly(bridged, options, &counters);
+    EXPECT_EQ(counters.coasts_bridged, 1);
+  }
+  const double span_m = (flight.truth[241].position - flight.truth[100].position).norm();
+  EXPECT_GT(horizontal_error(flown[BridgeHorizontal::kCoast], 241), 0.005 * span_m);  // the swing, followed
+  EXPECT_NEAR(horizontal_error(flown[BridgeHorizontal::kPair], 241), 0.06 * span_m, 0.01 * span_m);
+  EXPECT_LT(horizontal_error(flown[BridgeHorizontal::kPairDirection], 241), 0.1);
+  EXPECT_LT(horizontal_error(flown[BridgeHorizontal::kPairDirection], flight.truth.size() - 1), 0.1);
+  // Its variance: the coast's along the track, the pair's across it.
+  auto variance = [&](BridgeHorizontal source, size_t k, const Eigen::Vector2d& axis) {
+    const pose_t* p = pose_at(flown[source], flight.truth[k].utime);
+    Eigen::Matrix2d c;
+    c << p->position_covariance[0][0], p->position_covariance[0][1], p->position_covariance[1][0],
+        p->position_covariance[1][1];
+    return axis.dot(c * axis);
+  };
+  const Eigen::Vector2d track = (flight.truth[241].position - flight.truth[100].position).head<2>().normalized();
+  const Eigen::Vector2d side(-track.y(), track.x());
+  EXPECT_NEAR(variance(BridgeHorizontal::kPairDirection, 241, track), variance(BridgeHorizontal::kCoast, 241, track),
+              0.01 * variance(BridgeHorizontal::kCoast, 241, track));
+  EXPECT_LT(variance(BridgeHorizontal::kPairDirection, 241, side), 0.1 * variance(BridgeHorizontal::kCoast, 241, side));
 }
 
 // A 30 m terrain step (a cliff) under the beam while coasting on the
