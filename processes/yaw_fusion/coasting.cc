@@ -84,7 +84,11 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
                                    {"pair_direction", BridgeHorizontal::kPairDirection}},
                                   "the bridged horizontal: the coast's, the pair's, or the pair's direction with "
                                   "the coast's length",
-                                  &O::bridge_horizontal);
+                                  &O::bridge_horizontal)
+        .flag("bridge_heading_from_ins",
+              "the bridging pair's heading change replaced by the INS's over its span (and what the pair solved "
+              "with it moved along, by its covariance)",
+              &O::bridge_heading_from_ins);
     return s;
   }();
   return schema;

@@ -138,16 +138,26 @@ struct CoastOptions {
   // coast (tracker.mode auto matches the first good frame after featureless
   // ones with the last good one while their footprints still overlap) ends
   // the coast: the filter goes back to that frame and integrates the delta's
-  // climb, heading change and ground tilt with the coast's horizontal
-  // displacement and variance -- on 15 flights with a 10 s texture outage
-  // the delta's climb was 0.15 m rms off where the coast's height was up to
-  // 3.7 m off, its horizontal 0.05-5.6 % long along the track where the held
-  // velocity was within 0.3 % (docs/research/2026-12-coasting.md, "Matched
-  // across the coast").
-  // bridge_horizontal: whose horizontal -- the coast's (above), the pair's
-  // own, or the pair's direction with the coast's length.
+  // climb and ground tilt, the INS's heading change over it, and a horizontal
+  // step along the pair's direction as long as the coast's -- on 15 flights
+  // with a 10 s texture outage the delta's climb was 0.15 m rms off where the
+  // coast's height was up to 3.7 m off, its length 0.05-5.6 % off where the
+  // held velocity's was within 0.3 %, and the held velocity's direction off by
+  // the heading's swing about the track (docs/research/2026-12-coasting.md,
+  // "Matched across the coast", "The pair's direction, the coast's length, the
+  // INS's turn").
+  // bridge_horizontal: whose horizontal -- the coast's (displacement and
+  // variance), the pair's own, or the pair's direction with the coast's
+  // length (the coast's variance along it, the pair's across).
+  // bridge_heading_from_ins: the pair's heading change is replaced by the
+  // INS's over the same span, and its horizontal step moves with it (its
+  // covariance's regression on dyaw). A strip of common ground far from the
+  // nadir tells a turn from a sideways step poorly: the pairs' dyaw was
+  // 0.3-1.1 deg off where they reported 0.06 deg, and their sideways step
+  // off by that angle times the strip's distance.
   bool bridge = true;
-  BridgeHorizontal bridge_horizontal = BridgeHorizontal::kCoast;
+  BridgeHorizontal bridge_horizontal = BridgeHorizontal::kPairDirection;
+  bool bridge_heading_from_ins = true;
 
   // Reads yaw_fusion.coast (keys named with their full path on error).
   static CoastOptions from_config(const Config& coast);

@@ -320,8 +320,55 @@ bool YawFusionEstimator::bridges_coast(const vo_delta_t& delta) const {
          (delta.quality & options_.coast.quality_mask) == 0 && delta_values_valid(delta, &why);
 }
 
+std::optional<YawFusionEstimator::Turn> YawFusionEstimator::ins_turn(int64_t from, int64_t to) const {
+  const int64_t bracket = static_cast<int64_t>(options_.max_ins_bracket_s * 1e6);
+  const auto a = ins_.at(options_.calibration.exposure_utime(from), bracket, AttitudePolicy::kInterpolate);
+  const auto b = ins_.at(options_.calibration.exposure_utime(to), bracket, AttitudePolicy::kInterpolate);
+  if (!a || !b || a->yaw_variance < 0.0 || b->yaw_variance < 0.0) return std::nullopt;
+  const double span_s = static_cast<double>(to - from) * 1e-6;
+  return Turn{angle_difference(b->yaw, a->yaw),
+              a->yaw_variance + b->yaw_variance +
+                  square(deg_to_rad(options_.ins_yaw_bias_walk_deg_per_sqrt_s)) * std::max(0.0, span_s)};
+}
+
+namespace {
+
+// The delta as if its dyaw had been measured as `dyaw` with `variance`.
+void condition_on_heading_change(double dyaw, double variance, vo_delta_t* delta) {
+  Eigen::Matrix<double, 6, 6> covariance;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) covariance(i, j) = delta->covariance[i][j];
+  }
+  const double own = covariance(3, 3);
+  // The horizontal step's regression on dyaw (1 for dyaw itself): moved by
+  // the difference, its variance the part dyaw did not explain plus what the
+  // INS's turn leaves. Not the climb: the solver's dz is the mean of the
+  // forward and the time-reversed solve, in which a dyaw error cancels, while
+  // its covariance row is the forward solve's. Nor the ground tilt.
+  Eigen::Matrix<double, 6, 1> regression = Eigen::Matrix<double, 6, 1>::Unit(3);
+  if (own > 0.0) {
+    regression(0) = covariance(0, 3) / own;
+    regression(1) = covariance(1, 3) / own;
+  }
+  const double difference = angle_difference(dyaw, delta->dyaw);
+  double* values[6] = {&delta->dx, &delta->dy, &delta->dz, &delta->dyaw, &delta->ground_roll, &delta->ground_pitch};
+  for (int i = 0; i < 6; ++i) *values[i] += regression(i) * difference;
+  delta->dyaw = dyaw;
+  covariance += regression * regression.transpose() * (variance - own);
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) delta->covariance[i][j] = covariance(i, j);
+  }
+}
+
+}  // namespace
+
 vo_delta_t YawFusionEstimator::bridge_delta(const vo_delta_t& delta) const {
   vo_delta_t bridged = delta;
+  if (options_.coast.bridge_heading_from_ins) {
+    if (const auto turn = ins_turn(last_good_utime_, delta.utime)) {
+      condition_on_heading_change(turn->dyaw, turn->variance, &bridged);
+    }
+  }
   const BridgeHorizontal source = options_.coast.bridge_horizontal;
   if (source == BridgeHorizontal::kPair) return bridged;
   // The held velocity over the span (the heading the INS measured along the
@@ -337,7 +384,7 @@ vo_delta_t YawFusionEstimator::bridge_delta(const vo_delta_t& delta) const {
       coast_position_variance(options_.coast.velocity_stddev_mps, options_.coast.velocity_random_walk, span_s);
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity() * variance;
   Eigen::Vector2d horizontal = coast;
-  const Eigen::Vector2d pair(delta.dx, delta.dy);
+  const Eigen::Vector2d pair(bridged.dx, bridged.dy);
   if (source == BridgeHorizontal::kPairDirection && pair.norm() > 0.0 && coast.norm() > 0.0) {
     // A single-plane solve across the coast is off in scale (the ground at
     // the images' edges against the range at the nadir), not in direction;
@@ -347,7 +394,8 @@ vo_delta_t YawFusionEstimator::bridge_delta(const vo_delta_t& delta) const {
     const Eigen::Vector2d along = pair.normalized();
     const Eigen::Vector2d across(-along.y(), along.x());
     Eigen::Matrix2d pair_covariance;
-    pair_covariance << delta.covariance[0][0], delta.covariance[0][1], delta.covariance[1][0], delta.covariance[1][1];
+    pair_covariance << bridged.covariance[0][0], bridged.covariance[0][1], bridged.covariance[1][0],
+        bridged.covariance[1][1];
     const double scale = coast.norm() / pair.norm();
     horizontal = along * coast.norm();
     covariance = variance * along * along.transpose() +

@@ -238,6 +238,13 @@ class YawFusionEstimator {
   // tilt, with the horizontal displacement and variance coast.bridge_horizontal
   // names in place of its own.
   vo_delta_t bridge_delta(const vo_delta_t& delta) const;
+  // The INS's heading change between two frames' exposures and its variance
+  // (both ends' and the bias walk's over the span); none without INS at both.
+  struct Turn {
+    double dyaw;
+    double variance;
+  };
+  std::optional<Turn> ins_turn(int64_t from, int64_t to) const;
   std::optional<vo_delta_t> next_bridge_;  // the pending delta that bridges the coast, as integrated
 
   YawFusionOptions options_;

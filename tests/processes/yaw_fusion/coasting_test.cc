@@ -717,8 +717,9 @@ vo_delta_t delta_between(const SyntheticFlight& flight, size_t a, size_t b) {
 // one. That delta ends the coast: the filter goes back to the last good frame
 // and integrates its climb and heading change with the coast's horizontal,
 // so the height is where it would have been without the loss, the horizontal
-// the coast's. Without it (coast.bridge off) the coast's height error stays;
-// with coast.bridge_horizontal the delta's horizontal is taken too.
+// the coast's (bridge_horizontal coast). Without it (coast.bridge off) the
+// coast's height error stays; with bridge_horizontal pair the delta's
+// horizontal is taken too.
 TEST(Coasting, ADeltaFromTheLastGoodFrameAcrossTheCoastEndsIt) {
   FlightSpec spec;  // turning at 6 deg/s, climbing
   spec.frames = 400;
@@ -733,7 +734,9 @@ TEST(Coasting, ADeltaFromTheLastGoodFrameAcrossTheCoastEndsIt) {
     return position(p) - (flight.truth[k].position - origin);
   };
   YawFusionCounters counters, coast_counters, whole_counters;
-  const auto poses = fly(bridged, YawFusionOptions{}, &counters);
+  YawFusionOptions coast_horizontal;
+  coast_horizontal.coast.bridge_horizontal = BridgeHorizontal::kCoast;
+  const auto poses = fly(bridged, coast_horizontal, &counters);
   YawFusionOptions no_bridge;
   no_bridge.coast.bridge = false;
   const auto coasted = fly(bridged, no_bridge, &coast_counters);
@@ -822,6 +825,49 @@ TEST(Coasting, ABridgeCanTakeThePairsDirectionWithTheCoastsLength) {
   EXPECT_NEAR(variance(BridgeHorizontal::kPairDirection, 241, track), variance(BridgeHorizontal::kCoast, 241, track),
               0.01 * variance(BridgeHorizontal::kCoast, 241, track));
   EXPECT_LT(variance(BridgeHorizontal::kPairDirection, 241, side), 0.1 * variance(BridgeHorizontal::kCoast, 241, side));
+}
+
+// The pair across the coast turned 0.5 deg too far and stepped sideways by
+// that angle times 100 m (a strip of common ground 100 m from the nadir: a
+// turn about the nadir and a sideways step move it alike), as its covariance
+// says (dy and dyaw correlated through those 100 m). With the INS's heading
+// change in place of its own the step is moved back with it, and the heading
+// after the coast is the INS's.
+TEST(Coasting, ABridgeTakesTheInsHeadingChangeAndMovesThePairsStepWithIt) {
+  FlightSpec spec;  // turning at 6 deg/s
+  spec.frames = 400;
+  spec.reported_ins_yaw_stddev_deg = 0.05;
+  SyntheticFlight flight = test::make_flight(spec);
+  SyntheticFlight bridged = flight;
+  lose_texture(&bridged, 100, 240);
+  vo_delta_t across = delta_between(flight, 100, 241);
+  const double error_rad = deg_to_rad(0.5), strip_m = 100.0, own_variance = std::pow(deg_to_rad(0.06), 2);
+  across.dyaw += error_rad;
+  across.dy += strip_m * error_rad;
+  across.covariance[3][3] = own_variance;
+  across.covariance[1][3] = across.covariance[3][1] = strip_m * own_variance;
+  across.covariance[1][1] = strip_m * strip_m * own_variance + 0.01;
+  bridged.deltas[240] = across;
+  const Eigen::Vector3d origin = flight.truth.front().position;
+  YawFusionOptions pair_only;
+  pair_only.coast.bridge_horizontal = BridgeHorizontal::kPair;
+  YawFusionOptions own_heading = pair_only;
+  own_heading.coast.bridge_heading_from_ins = false;
+  const auto with_ins = fly(bridged, pair_only);
+  const auto without = fly(bridged, own_heading);
+  const pose_t* a = pose_at(with_ins, flight.truth[241].utime);
+  const pose_t* b = pose_at(without, flight.truth[241].utime);
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  const Eigen::Vector3d truth = flight.truth[241].position - origin;
+  EXPECT_LT((position(*a) - truth).head<2>().norm(), 1e-3);
+  EXPECT_NEAR((position(*b) - truth).head<2>().norm(), strip_m * error_rad, 0.1);
+  EXPECT_LT(std::abs(wrap_angle(a->yaw - flight.truth[241].yaw)), deg_to_rad(0.01));
+  EXPECT_GT(std::abs(wrap_angle(b->yaw - flight.truth[241].yaw)), deg_to_rad(0.1));
+  // The step's variance across: what the heading did not explain, plus the INS's turn times 100 m.
+  const double ins_turn_variance = 2.0 * std::pow(deg_to_rad(0.05), 2);
+  EXPECT_GT(a->position_covariance[0][0] + a->position_covariance[1][1],
+            strip_m * strip_m * ins_turn_variance * 0.5);
 }
 
 // A 30 m terrain step (a cliff) under the beam while coasting on the
