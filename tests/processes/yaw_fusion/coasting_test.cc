@@ -712,6 +712,15 @@ vo_delta_t delta_between(const SyntheticFlight& flight, size_t a, size_t b) {
   return d;
 }
 
+// The flight with the texture lost over frames 100-240 and the coast ended
+// by `across` (the delta from frame 100 to 241, as the tracker matched it).
+SyntheticFlight bridged_by(const SyntheticFlight& flight, const vo_delta_t& across) {
+  SyntheticFlight bridged = flight;
+  lose_texture(&bridged, 100, 240);
+  bridged.deltas[240] = across;
+  return bridged;
+}
+
 // 10 s of texture loss through a turn while the climb changes (the held
 // climb misses it); the first frame after it is matched with the last good
 // one. That delta ends the coast: the filter goes back to the last good frame
@@ -726,9 +735,7 @@ TEST(Coasting, ADeltaFromTheLastGoodFrameAcrossTheCoastEndsIt) {
   spec.climb_rate_change_s = 10.0;
   spec.climb_rate_after_mps = 3.0;
   SyntheticFlight flight = test::make_flight(spec);
-  SyntheticFlight bridged = flight;
-  lose_texture(&bridged, 100, 240);
-  bridged.deltas[240] = delta_between(flight, 100, 241);
+  const SyntheticFlight bridged = bridged_by(flight, delta_between(flight, 100, 241));
   const Eigen::Vector3d origin = flight.truth.front().position;
   auto error = [&](const pose_t& p, size_t k) -> Eigen::Vector3d {
     return position(p) - (flight.truth[k].position - origin);
@@ -787,12 +794,10 @@ TEST(Coasting, ABridgeCanTakeThePairsDirectionWithTheCoastsLength) {
   spec.heading_oscillation_deg = 1.0;
   spec.heading_oscillation_period_s = 20.0;
   SyntheticFlight flight = test::make_flight(spec);
-  SyntheticFlight bridged = flight;
-  lose_texture(&bridged, 100, 240);
   vo_delta_t across = delta_between(flight, 100, 241);
   across.dx *= 1.06;
   across.dy *= 1.06;
-  bridged.deltas[240] = across;
+  const SyntheticFlight bridged = bridged_by(flight, across);
   const Eigen::Vector3d origin = flight.truth.front().position;
   auto horizontal_error = [&](const std::vector<pose_t>& poses, size_t k) {
     const pose_t* p = pose_at(poses, flight.truth[k].utime);
@@ -838,8 +843,6 @@ TEST(Coasting, ABridgeTakesTheInsHeadingChangeAndMovesThePairsStepWithIt) {
   spec.frames = 400;
   spec.reported_ins_yaw_stddev_deg = 0.05;
   SyntheticFlight flight = test::make_flight(spec);
-  SyntheticFlight bridged = flight;
-  lose_texture(&bridged, 100, 240);
   vo_delta_t across = delta_between(flight, 100, 241);
   const double error_rad = deg_to_rad(0.5), strip_m = 100.0, own_variance = std::pow(deg_to_rad(0.06), 2);
   across.dyaw += error_rad;
@@ -847,7 +850,7 @@ TEST(Coasting, ABridgeTakesTheInsHeadingChangeAndMovesThePairsStepWithIt) {
   across.covariance[3][3] = own_variance;
   across.covariance[1][3] = across.covariance[3][1] = strip_m * own_variance;
   across.covariance[1][1] = strip_m * strip_m * own_variance + 0.01;
-  bridged.deltas[240] = across;
+  const SyntheticFlight bridged = bridged_by(flight, across);
   const Eigen::Vector3d origin = flight.truth.front().position;
   YawFusionOptions pair_only;
   pair_only.coast.bridge_horizontal = BridgeHorizontal::kPair;
