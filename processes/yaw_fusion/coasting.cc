@@ -76,7 +76,7 @@ const OptionsSchema<CoastOptions>& CoastOptions::schema() {
                 &O::seen_ground_switch_rate)
         .flag("bridge",
               "a delta from the last integrated frame over the whole coast (the tracker matched across it) ends "
-              "the coast: its climb and heading change with the coast's horizontal",
+              "the coast with its climb (bridge_horizontal, bridge_heading_from_ins: the rest)",
               &O::bridge)
         .choice<BridgeHorizontal>("bridge_horizontal",
                                   {{"coast", BridgeHorizontal::kCoast},

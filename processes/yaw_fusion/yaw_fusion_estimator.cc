@@ -333,12 +333,12 @@ std::optional<YawFusionEstimator::Turn> YawFusionEstimator::ins_turn(int64_t fro
 
 namespace {
 
+// A VO_DELTA's covariance (dx, dy, dz, dyaw, ground roll, ground pitch) in place.
+using DeltaCovariance = Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>;
+
 // The delta as if its dyaw had been measured as `dyaw` with `variance`.
 void condition_on_heading_change(double dyaw, double variance, vo_delta_t* delta) {
-  Eigen::Matrix<double, 6, 6> covariance;
-  for (int i = 0; i < 6; ++i) {
-    for (int j = 0; j < 6; ++j) covariance(i, j) = delta->covariance[i][j];
-  }
+  DeltaCovariance covariance(&delta->covariance[0][0]);
   const double own = covariance(3, 3);
   // The horizontal step's regression on dyaw (1 for dyaw itself): moved by
   // the difference, its variance the part dyaw did not explain plus what the
@@ -351,13 +351,10 @@ void condition_on_heading_change(double dyaw, double variance, vo_delta_t* delta
     regression(1) = covariance(1, 3) / own;
   }
   const double difference = angle_difference(dyaw, delta->dyaw);
-  double* values[6] = {&delta->dx, &delta->dy, &delta->dz, &delta->dyaw, &delta->ground_roll, &delta->ground_pitch};
-  for (int i = 0; i < 6; ++i) *values[i] += regression(i) * difference;
+  delta->dx += regression(0) * difference;
+  delta->dy += regression(1) * difference;
   delta->dyaw = dyaw;
   covariance += regression * regression.transpose() * (variance - own);
-  for (int i = 0; i < 6; ++i) {
-    for (int j = 0; j < 6; ++j) delta->covariance[i][j] = covariance(i, j);
-  }
 }
 
 }  // namespace
@@ -373,8 +370,8 @@ vo_delta_t YawFusionEstimator::bridge_delta(const vo_delta_t& delta) const {
   if (source == BridgeHorizontal::kPair) return bridged;
   // The held velocity over the span (the heading the INS measured along the
   // way), in the level frame of the last integrated frame the delta starts
-  // from, with the coast model's variance; its climb, heading change and
-  // ground tilt stay the delta's.
+  // from, with the coast model's variance; the climb and ground tilt stay the
+  // delta's.
   Eigen::Vector3d velocity_at_end;
   const Eigen::Vector3d level_velocity(coast_velocity_level_.x(), coast_velocity_level_.y(), 0.0);
   const Eigen::Vector3d world = coast_displacement(last_good_utime_, delta.utime, level_velocity, &velocity_at_end);
@@ -393,9 +390,7 @@ vo_delta_t YawFusionEstimator::bridge_delta(const vo_delta_t& delta) const {
     // it the coast's variance, across it the pair's, scaled to that length.
     const Eigen::Vector2d along = pair.normalized();
     const Eigen::Vector2d across(-along.y(), along.x());
-    Eigen::Matrix2d pair_covariance;
-    pair_covariance << bridged.covariance[0][0], bridged.covariance[0][1], bridged.covariance[1][0],
-        bridged.covariance[1][1];
+    const Eigen::Matrix2d pair_covariance = DeltaCovariance(&bridged.covariance[0][0]).topLeftCorner<2, 2>();
     const double scale = coast.norm() / pair.norm();
     horizontal = along * coast.norm();
     covariance = variance * along * along.transpose() +
@@ -403,12 +398,10 @@ vo_delta_t YawFusionEstimator::bridge_delta(const vo_delta_t& delta) const {
   }
   bridged.dx = horizontal.x();
   bridged.dy = horizontal.y();
-  for (int i = 0; i < 2; ++i) {
-    for (int j = 0; j < 6; ++j) bridged.covariance[i][j] = bridged.covariance[j][i] = 0.0;
-  }
-  for (int i = 0; i < 2; ++i) {
-    for (int j = 0; j < 2; ++j) bridged.covariance[i][j] = covariance(i, j);
-  }
+  DeltaCovariance out(&bridged.covariance[0][0]);
+  out.topRows<2>().setZero();
+  out.leftCols<2>().setZero();
+  out.topLeftCorner<2, 2>() = covariance;
   return bridged;
 }
 

@@ -29,9 +29,9 @@
 // height filter (coast_vertical_modes.h: a steady and a changing climb;
 // coast.follow_seen_ground). When VO returns and its first delta starts at
 // the last integrated frame (the tracker matched across the featureless
-// ground), the filter goes back there and integrates it with the coast's
-// horizontal displacement: its climb ends the coast's vertical error
-// (coast.bridge).
+// ground), the filter goes back there and integrates it with the INS's
+// heading change and the coast's length along its direction: its climb ends
+// the coast's vertical error (coast.bridge).
 //
 // Map fixes (MAP_FIX): a fix z of the frame at t_f, whose pose had position
 // x_f and reported horizontal covariance P_f, is applied at the first pose at
@@ -234,9 +234,9 @@ class YawFusionEstimator {
   // coast.bridge on: it may end a coast, so it may span more than
   // max_delta_interval_s.
   bool may_bridge_a_coast(const vo_delta_t& delta) const;
-  // The delta as integrated over a coast: its climb, heading change and ground
-  // tilt, with the horizontal displacement and variance coast.bridge_horizontal
-  // names in place of its own.
+  // The delta as integrated over a coast: its climb and ground tilt, the
+  // INS's heading change (coast.bridge_heading_from_ins), and the horizontal
+  // displacement and variance coast.bridge_horizontal names.
   vo_delta_t bridge_delta(const vo_delta_t& delta) const;
   // The INS's heading change between two frames' exposures and its variance
   // (both ends' and the bias walk's over the span); none without INS at both.
