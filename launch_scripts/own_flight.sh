@@ -4,7 +4,8 @@
 # config the import wrote) and evaluates it against the flight's GPS (nadir_eval).
 # Usage: own_flight.sh --photos DIR [--camera FILE] [--name NAME] [import options...]
 #        own_flight.sh --video FILE (--srt FILE | --csv FILE) [--camera FILE] [--name NAME] [import options...]
-# Import options (nadir_import --help): --focal-px F, --scale S, --interval S, --skip-bad, --config FILE.
+# Import options (nadir_import --help): --focal-px F, --scale S, --interval S, --skip-bad, --config FILE,
+#   --attitude-stddev-deg D, --heading-stddev-deg D (how well the recorded attitude is known).
 # --overlay FILE: a config fragment for the replay (e.g. vo_solver: {variant: homography}).
 # --gps-scale focal|altimeter --calibrate-until S: fit the image scale and the heading offset (the images'
 #   heading against the recorded yaw) to the GPS on the first S seconds (nadir_calibrate --scale-only),
@@ -20,14 +21,15 @@ gps_scale=""
 calibrate_until=""
 while (($#)); do
   case "$1" in
-    -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --name) name="$2"; shift 2 ;;
     --photos|--video) source_path="$2"; import_args+=("$1" "$2"); shift 2 ;;
     --skip-bad) import_args+=("$1"); shift ;;
     --overlay) overlay_args=(--config-overlay "$(realpath "$2")"); shift 2 ;;
     --gps-scale) gps_scale="$2"; shift 2 ;;
     --calibrate-until) calibrate_until="$2"; shift 2 ;;
-    --srt|--csv|--camera|--focal-px|--scale|--interval|--config) import_args+=("$1" "$2"); shift 2 ;;
+    --srt|--csv|--camera|--focal-px|--scale|--interval|--config|--attitude-stddev-deg|--heading-stddev-deg)
+      import_args+=("$1" "$2"); shift 2 ;;
     *) echo "own_flight: error: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done

@@ -236,6 +236,27 @@ void write_message(LogWriter* w, int64_t utime, const char* channel, const Msg& 
 
 std::vector<double> as_vector(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
+// The attitude's accuracy into every key that describes the INS the
+// estimator is given: each pair's sensor covariance (roll/pitch, and the
+// heading for the flow variant), feature_depth's tilt prior (at most its
+// range's 5 deg, where the images already set the tilt) and yaw fusion's INS
+// heading. A zero figure keeps the base config's.
+void write_attitude_accuracy(const AttitudeAccuracy& a, YAML::Node* root) {
+  if (a.from_base_config) return;
+  YAML::Node vo = (*root)["vo_solver"];
+  if (a.roll_pitch_stddev_deg > 0.0) {
+    vo["uncertainty"]["roll_pitch_stddev_deg"] = a.roll_pitch_stddev_deg;
+    vo["feature_depth"]["ins_tilt_sigma_deg"] = std::min(a.roll_pitch_stddev_deg, 5.0);
+  }
+  if (a.heading_stddev_deg > 0.0) {
+    vo["uncertainty"]["yaw_stddev_deg"] = a.heading_stddev_deg;
+    YAML::Node yf = (*root)["yaw_fusion"];
+    yf["ins_yaw_stddev_deg"] = a.heading_stddev_deg;
+    const double max_used = yf["max_ins_yaw_stddev_deg"] ? yf["max_ins_yaw_stddev_deg"].as<double>() : 0.0;
+    if (max_used < a.heading_stddev_deg) yf["max_ins_yaw_stddev_deg"] = a.heading_stddev_deg;
+  }
+}
+
 // config/default.yaml with the camera and the overrides a sparse frame stream needs.
 std::string output_yaml(const ImportOptions& o, const ImportSummary& s) {
   YAML::Node root;
@@ -287,6 +308,7 @@ std::string output_yaml(const ImportOptions& o, const ImportSummary& s) {
     root["yaw_fusion"]["altimeter_gate_sigma"] = 3.0;
     root["yaw_fusion"]["altimeter_max_consecutive_rejections"] = 1;
   }
+  write_attitude_accuracy(s.attitude_accuracy, &root);
   YAML::Emitter out;
   out.SetDoublePrecision(12);
   out << root;
@@ -429,6 +451,14 @@ void ImportOptions::Check() const {
   if (!(interval_s >= 0.0 && interval_s <= 3600.0)) throw std::invalid_argument("--interval must be in [0, 3600] s");
   if (!video.empty() && interval_s > 0.0) throw std::invalid_argument("--interval is for --photos only");
   if (config_path.empty()) throw std::invalid_argument("a base config is required");
+  if (!(attitude_stddev_deg >= 0.0 && attitude_stddev_deg <= kMaxAttitudeStddevDeg)) {
+    throw std::invalid_argument("--attitude-stddev-deg must be in (0, " + std::to_string(int(kMaxAttitudeStddevDeg)) +
+                                "] degrees (leave it out for the attitude source's)");
+  }
+  if (!(heading_stddev_deg >= 0.0 && heading_stddev_deg <= kMaxAttitudeStddevDeg)) {
+    throw std::invalid_argument("--heading-stddev-deg must be in (0, " + std::to_string(int(kMaxAttitudeStddevDeg)) +
+                                "] degrees (leave it out for the attitude source's)");
+  }
 }
 
 // Photos stored turned against the flight (stored_turn.h): every photo read
@@ -577,6 +607,7 @@ ImportSummary run_import(const ImportOptions& o) {
   }
   if (samples.empty()) throw std::runtime_error("no usable frames (" + std::to_string(summary.skipped.size()) + " skipped)");
   summary.attitude_source = attitude_source;
+  summary.attitude_accuracy = attitude_accuracy(attitude_source, o.attitude_stddev_deg, o.heading_stddev_deg);
   summary.altimeter_source = samples.front().height_kind;
   bool all_alt = true;
   for (const Sample& s : samples) all_alt = all_alt && s.has_alt;
@@ -818,6 +849,13 @@ std::string summary_json(const ImportSummary& s) {
       .field("distance_m", s.distance_m)
       .field("altimeter_source", s.altimeter_source)
       .field("attitude_source", s.attitude_source);
+  j.key("attitude_accuracy")
+      .begin_object()
+      .field("roll_pitch_stddev_deg", s.attitude_accuracy.roll_pitch_stddev_deg)
+      .field("heading_stddev_deg", s.attitude_accuracy.heading_stddev_deg)
+      .field("from_base_config", s.attitude_accuracy.from_base_config)
+      .field("basis", s.attitude_accuracy.basis)
+      .end_object();
   j.key("turned_back").begin_array();
   for (const TurnedPhoto& t : s.turned_back) j.begin_object().field("where", t.where).field("degrees", t.degrees).end_object();
   j.end_array();
@@ -855,6 +893,7 @@ std::string summary_text(const ImportSummary& s) {
                 s.altimeter_source.c_str());
   std::string out = text;
   out += "  " + describe(s.resolution) + "\n";
+  out += "  attitude accuracy: " + describe(s.attitude_accuracy) + "\n";
   if (!s.focal_rule.empty()) out += "  focal length: " + s.focal_rule + "\n";
   for (const SkippedInput& k : s.skipped) out += "  skipped " + k.where + ": " + k.reason + "\n";
   for (const std::string& w : s.warnings) out += "  warning: " + w + "\n";

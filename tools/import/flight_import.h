@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "tools/import/attitude_accuracy.h"
 #include "tools/import/photo_metadata.h"
 #include "tools/import/telemetry.h"
 #include "tools/import/working_resolution.h"
@@ -58,6 +59,10 @@ struct ImportOptions {
   double scale = 0.0;            // downscale factor for the images (0, 1]; 0: the working resolution's rule (working_resolution.h)
   double interval_s = 0.0;       // > 0: photo times from file order at this interval (EXIF times ignored)
   bool skip_bad = false;         // skip and count bad inputs instead of failing
+  // > 0: the attitude's accuracy (1 sigma, degrees, per frame) instead of the
+  // attitude source's (attitude_accuracy.h); written into the config.
+  double attitude_stddev_deg = 0.0;  // roll and pitch
+  double heading_stddev_deg = 0.0;
   std::string config_path;       // base config (config/default.yaml)
   bool progress = false;
   void Check() const;            // throws std::invalid_argument naming the option
@@ -84,6 +89,7 @@ struct ImportSummary {
   std::array<double, 3> mount_rpy_deg{0, 0, 0};
   std::string altimeter_source;       // rangefinder | barometric_relative
   std::string attitude_source;        // dji_gimbal | dji_flight | sensefly | srt_gimbal | srt_flight | csv_body
+  AttitudeAccuracy attitude_accuracy;  // ... how well it is known, as written into the config
   std::vector<TurnedPhoto> turned_back;  // photos found stored turned (from the images), turned back
   int64_t orientation_unchecked = 0;     // photos no neighbour could be registered with: orientation as stored
   std::vector<std::string> warnings;

@@ -47,6 +47,13 @@ int main(int argc, char** argv) {
           },
           "(0, 1]"));
   app.add_option("--interval", o.interval_s, "photo times from file order, this many seconds apart (EXIF time ignored)");
+  app.add_option("--attitude-stddev-deg", o.attitude_stddev_deg,
+                 "roll/pitch accuracy of the recorded attitude (1 sigma, degrees, per frame; at most " +
+                     std::to_string(static_cast<int>(nadir::import::kMaxAttitudeStddevDeg)) +
+                     "). Default: the attitude source's (docs/own-flight.md, 'How well the attitude is known')");
+  app.add_option("--heading-stddev-deg", o.heading_stddev_deg,
+                 "heading accuracy of the recorded attitude (1 sigma, degrees, per frame). Default: the attitude "
+                 "source's");
   app.add_flag("--skip-bad", o.skip_bad, "skip and count bad photos / frames / telemetry lines instead of failing");
   app.add_option("--config", o.config_path, "base config to add the camera and overrides to (default config/default.yaml)");
   app.add_flag("--json", json, "print a JSON summary on stdout");

@@ -26,6 +26,7 @@
 #include "nadir/image_t.hpp"
 #include "nadir/ins_t.hpp"
 #include "tests/common/test_support.h"
+#include "tools/import/attitude_accuracy.h"
 #include "tools/import/camera_table.h"
 #include "tools/import/flight_import.h"
 #include "tools/import/photo_camera.h"
@@ -280,6 +281,67 @@ TEST(PhotoImport, SenseflyAttitudeAndInterval) {
     EXPECT_NEAR(m.pitch, deg_to_rad(kSenseflyPitchSign * -3.0), 1e-9);
     EXPECT_NEAR(angle_difference(m.yaw, deg_to_rad(200.0)), 0.0, 1e-9);
     EXPECT_EQ(log.images[static_cast<size_t>(i)].utime - log.images[0].utime, 5000000LL * i);
+  }
+  // The autopilot's angles are not an INS: the config says how well they are known.
+  const Config config = Config::load_file(s.yaml_path);
+  const Config vo = config.section("vo_solver");
+  EXPECT_DOUBLE_EQ(vo.section("uncertainty").get<double>("roll_pitch_stddev_deg"), 4.0);
+  EXPECT_DOUBLE_EQ(vo.section("uncertainty").get<double>("yaw_stddev_deg"), 3.0);
+  EXPECT_DOUBLE_EQ(vo.section("feature_depth").get<double>("ins_tilt_sigma_deg"), 4.0);
+  EXPECT_DOUBLE_EQ(config.section("yaw_fusion").get<double>("ins_yaw_stddev_deg"), 3.0);
+  EXPECT_DOUBLE_EQ(s.attitude_accuracy.roll_pitch_stddev_deg, 4.0);
+  EXPECT_NE(summary_text(s).find("attitude accuracy: roll/pitch 4.00 deg, heading 3.00 deg"), std::string::npos)
+      << summary_text(s);
+  EXPECT_NE(summary_json(s).find("\"attitude_accuracy\":{\"roll_pitch_stddev_deg\":4"), std::string::npos)
+      << summary_json(s);
+
+  // The user's figures replace the source's; the tilt prior stops at its range's 5 deg, and
+  // yaw fusion's limit on a usable INS heading moves up to the heading's sigma.
+  o.attitude_stddev_deg = 8.0;
+  o.heading_stddev_deg = 12.0;
+  const ImportSummary given = run_import(o);
+  const Config given_config = Config::load_file(given.yaml_path);
+  const Config given_vo = given_config.section("vo_solver");
+  EXPECT_DOUBLE_EQ(given_vo.section("uncertainty").get<double>("roll_pitch_stddev_deg"), 8.0);
+  EXPECT_DOUBLE_EQ(given_vo.section("feature_depth").get<double>("ins_tilt_sigma_deg"), 5.0);
+  EXPECT_DOUBLE_EQ(given_config.section("yaw_fusion").get<double>("ins_yaw_stddev_deg"), 12.0);
+  EXPECT_DOUBLE_EQ(given_config.section("yaw_fusion").get<double>("max_ins_yaw_stddev_deg"), 12.0);
+  EXPECT_NE(given.attitude_accuracy.basis.find("as given"), std::string::npos);
+
+  o.attitude_stddev_deg = kMaxAttitudeStddevDeg + 1.0;
+  EXPECT_THROW(
+      {
+        try {
+          run_import(o);
+        } catch (const std::invalid_argument& e) {
+          EXPECT_NE(std::string(e.what()).find("--attitude-stddev-deg must be in (0, 30]"), std::string::npos)
+              << e.what();
+          throw;
+        }
+      },
+      std::invalid_argument);
+  o.attitude_stddev_deg = 0.0;
+  o.heading_stddev_deg = -1.0;
+  EXPECT_THROW(run_import(o), std::invalid_argument);
+}
+
+TEST(AttitudeAccuracy, EverySourceHasFiguresAndAnUnknownOneIsNamed) {
+  for (const std::string source : {"sensefly", "dji_gimbal", "dji_flight", "srt_gimbal", "srt_flight"}) {
+    const AttitudeAccuracy a = attitude_accuracy_of_source(source);
+    EXPECT_FALSE(a.from_base_config) << source;
+    EXPECT_GT(a.roll_pitch_stddev_deg, 0.0) << source;
+    EXPECT_GT(a.heading_stddev_deg, 0.0) << source;
+    EXPECT_FALSE(a.basis.empty()) << source;
+  }
+  // A gimbal holds the camera level better than the body's own angles say it is.
+  EXPECT_LT(attitude_accuracy_of_source("dji_gimbal").roll_pitch_stddev_deg,
+            attitude_accuracy_of_source("dji_flight").roll_pitch_stddev_deg);
+  EXPECT_TRUE(attitude_accuracy_of_source("csv_body").from_base_config);
+  try {
+    attitude_accuracy_of_source("gps");
+    ADD_FAILURE() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'gps'"), std::string::npos) << e.what();
   }
 }
 
@@ -808,6 +870,21 @@ TEST(VideoImport, SrtAndCsv) {
   EXPECT_DOUBLE_EQ(log.altimeter[4].range_m, 39.5);
   // A rangefinder flight keeps the base config's altitude mode.
   EXPECT_EQ(Config::load_file(s.yaml_path).section("yaw_fusion").get<std::string>("altitude_mode"), "vo_dz");
+  // A CSV's attitude is taken to be the base config's INS unless a figure is given; a figure
+  // given alone is written alone.
+  const Config base = Config::load_file(o.config_path);
+  Config written = Config::load_file(s.yaml_path);
+  EXPECT_TRUE(s.attitude_accuracy.from_base_config);
+  EXPECT_DOUBLE_EQ(written.section("vo_solver").section("uncertainty").get<double>("roll_pitch_stddev_deg"),
+                   base.section("vo_solver").section("uncertainty").get<double>("roll_pitch_stddev_deg"));
+  o.heading_stddev_deg = 2.0;
+  s = run_import(o);
+  written = Config::load_file(s.yaml_path);
+  EXPECT_DOUBLE_EQ(written.section("yaw_fusion").get<double>("ins_yaw_stddev_deg"), 2.0);
+  EXPECT_DOUBLE_EQ(written.section("vo_solver").section("uncertainty").get<double>("roll_pitch_stddev_deg"),
+                   base.section("vo_solver").section("uncertainty").get<double>("roll_pitch_stddev_deg"));
+  EXPECT_NE(summary_text(s).find("roll/pitch the base config's, heading 2.00 deg"), std::string::npos)
+      << summary_text(s);
 }
 
 }  // namespace
