@@ -110,6 +110,12 @@ int main(int argc, char** argv) {
       std::printf("velocity error      %10.3f m/s rms horizontal\n", m.rms_velocity_error_h);
       std::printf("yaw error           %10.3f deg rms (fused yaw vs truth yaw at each pose%s)\n", m.rms_yaw_error_deg,
                   m.imported ? "; imported: the truth is the recorded yaw, the estimator's INS input" : "");
+      if (m.nees_samples > 0) {
+        std::printf("uncertainty         %10.2f horizontal NEES, mean over %lld poses (2 when the reported sigma is "
+                    "right, above: over-confident), %.1f %% inside its 95 %% bound; %.2f %% of poses beyond the "
+                    "protection level\n",
+                    m.nees_h_mean, static_cast<long long>(m.nees_samples), m.nees_h_within_95_pct, m.pl_exceeded_pct);
+      }
       std::printf("frames              %10lld images, %lld dropped, %lld poses (%lld flagged); %lld CAMERA_IMAGE, "
                   "TRACKS and VO_DELTA record(s) not the pipeline's, left out\n",
                   static_cast<long long>(m.images), static_cast<long long>(m.frames_dropped),
