@@ -248,6 +248,19 @@ TEST(PhotoImport, DjiSurveyWithTurn) {
 }
 
 // senseFly: roll right wing down +, pitch nose up +, heading clockwise from north (README evidence).
+// The attitude accuracy figures a config holds (attitude_accuracy.h: where the import writes them).
+struct WrittenAttitudeAccuracy {
+  double roll_pitch_deg, vo_yaw_deg, tilt_prior_deg, ins_yaw_deg, max_ins_yaw_deg;
+};
+WrittenAttitudeAccuracy written_attitude_accuracy(const std::string& yaml_path) {
+  const Config config = Config::load_file(yaml_path);
+  const Config uncertainty = config.section("vo_solver").section("uncertainty");
+  const Config yaw_fusion = config.section("yaw_fusion");
+  return {uncertainty.get<double>("roll_pitch_stddev_deg"), uncertainty.get<double>("yaw_stddev_deg"),
+          config.section("vo_solver").section("feature_depth").get<double>("ins_tilt_sigma_deg"),
+          yaw_fusion.get<double>("ins_yaw_stddev_deg"), yaw_fusion.get<double>("max_ins_yaw_stddev_deg")};
+}
+
 TEST(PhotoImport, SenseflyAttitudeAndInterval) {
   TempDir dir("import_sensefly");
   std::filesystem::create_directories(dir.file("photos"));
@@ -283,12 +296,11 @@ TEST(PhotoImport, SenseflyAttitudeAndInterval) {
     EXPECT_EQ(log.images[static_cast<size_t>(i)].utime - log.images[0].utime, 5000000LL * i);
   }
   // The autopilot's angles are not an INS: the config says how well they are known.
-  const Config config = Config::load_file(s.yaml_path);
-  const Config vo = config.section("vo_solver");
-  EXPECT_DOUBLE_EQ(vo.section("uncertainty").get<double>("roll_pitch_stddev_deg"), 4.0);
-  EXPECT_DOUBLE_EQ(vo.section("uncertainty").get<double>("yaw_stddev_deg"), 3.0);
-  EXPECT_DOUBLE_EQ(vo.section("feature_depth").get<double>("ins_tilt_sigma_deg"), 4.0);
-  EXPECT_DOUBLE_EQ(config.section("yaw_fusion").get<double>("ins_yaw_stddev_deg"), 3.0);
+  const WrittenAttitudeAccuracy written = written_attitude_accuracy(s.yaml_path);
+  EXPECT_DOUBLE_EQ(written.roll_pitch_deg, 4.0);
+  EXPECT_DOUBLE_EQ(written.vo_yaw_deg, 3.0);
+  EXPECT_DOUBLE_EQ(written.tilt_prior_deg, 4.0);
+  EXPECT_DOUBLE_EQ(written.ins_yaw_deg, 3.0);
   EXPECT_DOUBLE_EQ(s.attitude_accuracy.roll_pitch_stddev_deg, 4.0);
   EXPECT_NE(summary_text(s).find("attitude accuracy: roll/pitch 4.00 deg, heading 3.00 deg"), std::string::npos)
       << summary_text(s);
@@ -300,12 +312,11 @@ TEST(PhotoImport, SenseflyAttitudeAndInterval) {
   o.attitude_stddev_deg = 8.0;
   o.heading_stddev_deg = 12.0;
   const ImportSummary given = run_import(o);
-  const Config given_config = Config::load_file(given.yaml_path);
-  const Config given_vo = given_config.section("vo_solver");
-  EXPECT_DOUBLE_EQ(given_vo.section("uncertainty").get<double>("roll_pitch_stddev_deg"), 8.0);
-  EXPECT_DOUBLE_EQ(given_vo.section("feature_depth").get<double>("ins_tilt_sigma_deg"), 5.0);
-  EXPECT_DOUBLE_EQ(given_config.section("yaw_fusion").get<double>("ins_yaw_stddev_deg"), 12.0);
-  EXPECT_DOUBLE_EQ(given_config.section("yaw_fusion").get<double>("max_ins_yaw_stddev_deg"), 12.0);
+  const WrittenAttitudeAccuracy given_written = written_attitude_accuracy(given.yaml_path);
+  EXPECT_DOUBLE_EQ(given_written.roll_pitch_deg, 8.0);
+  EXPECT_DOUBLE_EQ(given_written.tilt_prior_deg, 5.0);
+  EXPECT_DOUBLE_EQ(given_written.ins_yaw_deg, 12.0);
+  EXPECT_DOUBLE_EQ(given_written.max_ins_yaw_deg, 12.0);
   EXPECT_NE(given.attitude_accuracy.basis.find("as given"), std::string::npos);
 
   o.attitude_stddev_deg = kMaxAttitudeStddevDeg + 1.0;
@@ -872,17 +883,16 @@ TEST(VideoImport, SrtAndCsv) {
   EXPECT_EQ(Config::load_file(s.yaml_path).section("yaw_fusion").get<std::string>("altitude_mode"), "vo_dz");
   // A CSV's attitude is taken to be the base config's INS unless a figure is given; a figure
   // given alone is written alone.
-  const Config base = Config::load_file(o.config_path);
-  Config written = Config::load_file(s.yaml_path);
+  const WrittenAttitudeAccuracy base = written_attitude_accuracy(o.config_path);
   EXPECT_TRUE(s.attitude_accuracy.from_base_config);
-  EXPECT_DOUBLE_EQ(written.section("vo_solver").section("uncertainty").get<double>("roll_pitch_stddev_deg"),
-                   base.section("vo_solver").section("uncertainty").get<double>("roll_pitch_stddev_deg"));
+  EXPECT_DOUBLE_EQ(written_attitude_accuracy(s.yaml_path).roll_pitch_deg, base.roll_pitch_deg);
+  EXPECT_DOUBLE_EQ(written_attitude_accuracy(s.yaml_path).ins_yaw_deg, base.ins_yaw_deg);
   o.heading_stddev_deg = 2.0;
   s = run_import(o);
-  written = Config::load_file(s.yaml_path);
-  EXPECT_DOUBLE_EQ(written.section("yaw_fusion").get<double>("ins_yaw_stddev_deg"), 2.0);
-  EXPECT_DOUBLE_EQ(written.section("vo_solver").section("uncertainty").get<double>("roll_pitch_stddev_deg"),
-                   base.section("vo_solver").section("uncertainty").get<double>("roll_pitch_stddev_deg"));
+  const WrittenAttitudeAccuracy heading_given = written_attitude_accuracy(s.yaml_path);
+  EXPECT_DOUBLE_EQ(heading_given.ins_yaw_deg, 2.0);
+  EXPECT_DOUBLE_EQ(heading_given.roll_pitch_deg, base.roll_pitch_deg);
+  EXPECT_DOUBLE_EQ(heading_given.tilt_prior_deg, base.tilt_prior_deg);
   EXPECT_NE(summary_text(s).find("roll/pitch the base config's, heading 2.00 deg"), std::string::npos)
       << summary_text(s);
 }
