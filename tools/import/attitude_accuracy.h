@@ -13,6 +13,9 @@ namespace nadir::import {
 
 // The largest figure --attitude-stddev-deg / --heading-stddev-deg take.
 inline constexpr double kMaxAttitudeStddevDeg = 30.0;
+// The largest vo_solver.feature_depth.ins_tilt_sigma_deg its options accept
+// (feature_depth_solver.cc); a tilt prior that wide leaves the tilt to the images.
+inline constexpr double kMaxTiltPriorDeg = 5.0;
 
 struct AttitudeAccuracy {
   double roll_pitch_stddev_deg = 0.0;  // per photo / frame, white

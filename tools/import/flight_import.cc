@@ -238,15 +238,15 @@ std::vector<double> as_vector(const std::array<double, 3>& a) { return {a[0], a[
 
 // The attitude's accuracy into every key that describes the INS the
 // estimator is given: each pair's sensor covariance (roll/pitch, and the
-// heading for the flow variant), feature_depth's tilt prior (at most its
-// range's 5 deg, where the images already set the tilt) and yaw fusion's INS
-// heading. A zero figure keeps the base config's.
+// heading for the flow variant), feature_depth's tilt prior (at most
+// kMaxTiltPriorDeg, where the images already set the tilt) and yaw fusion's
+// INS heading. A zero figure keeps the base config's.
 void write_attitude_accuracy(const AttitudeAccuracy& a, YAML::Node* root) {
   if (a.from_base_config) return;
   YAML::Node vo = (*root)["vo_solver"];
   if (a.roll_pitch_stddev_deg > 0.0) {
     vo["uncertainty"]["roll_pitch_stddev_deg"] = a.roll_pitch_stddev_deg;
-    vo["feature_depth"]["ins_tilt_sigma_deg"] = std::min(a.roll_pitch_stddev_deg, 5.0);
+    vo["feature_depth"]["ins_tilt_sigma_deg"] = std::min(a.roll_pitch_stddev_deg, kMaxTiltPriorDeg);
   }
   if (a.heading_stddev_deg > 0.0) {
     vo["uncertainty"]["yaw_stddev_deg"] = a.heading_stddev_deg;
@@ -451,13 +451,14 @@ void ImportOptions::Check() const {
   if (!(interval_s >= 0.0 && interval_s <= 3600.0)) throw std::invalid_argument("--interval must be in [0, 3600] s");
   if (!video.empty() && interval_s > 0.0) throw std::invalid_argument("--interval is for --photos only");
   if (config_path.empty()) throw std::invalid_argument("a base config is required");
-  if (!(attitude_stddev_deg >= 0.0 && attitude_stddev_deg <= kMaxAttitudeStddevDeg)) {
-    throw std::invalid_argument("--attitude-stddev-deg must be in (0, " + std::to_string(int(kMaxAttitudeStddevDeg)) +
-                                "] degrees (leave it out for the attitude source's)");
-  }
-  if (!(heading_stddev_deg >= 0.0 && heading_stddev_deg <= kMaxAttitudeStddevDeg)) {
-    throw std::invalid_argument("--heading-stddev-deg must be in (0, " + std::to_string(int(kMaxAttitudeStddevDeg)) +
-                                "] degrees (leave it out for the attitude source's)");
+  // 0: not given (the attitude source's figure).
+  for (const auto& [value, option] : {std::pair<double, const char*>{attitude_stddev_deg, "--attitude-stddev-deg"},
+                                      std::pair<double, const char*>{heading_stddev_deg, "--heading-stddev-deg"}}) {
+    if (!(value >= 0.0 && value <= kMaxAttitudeStddevDeg)) {
+      throw std::invalid_argument(std::string(option) + " must be in (0, " +
+                                  std::to_string(static_cast<int>(kMaxAttitudeStddevDeg)) +
+                                  "] degrees (leave it out for the attitude source's)");
+    }
   }
 }
 

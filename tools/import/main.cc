@@ -11,6 +11,24 @@
 #include "common/progress.h"
 #include "tools/import/flight_import.h"
 
+namespace {
+
+// A figure in (0, max]: leaving the option out is how its default is asked for.
+CLI::Validator positive_at_most(double max) {
+  return CLI::Validator(
+      [max](std::string& text) {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        const bool ok = end != text.c_str() && *end == '\0' && v > 0.0 && v <= max;
+        return ok ? std::string()
+                  : "must be in (0, " + std::to_string(static_cast<int>(max)) +
+                        "] (leave it out for the attitude source's), not " + text;
+      },
+      "(0, " + std::to_string(static_cast<int>(max)) + "]");
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   nadir::import::ImportOptions o;
   bool json = false;
@@ -50,10 +68,12 @@ int main(int argc, char** argv) {
   app.add_option("--attitude-stddev-deg", o.attitude_stddev_deg,
                  "roll/pitch accuracy of the recorded attitude (1 sigma, degrees, per frame; at most " +
                      std::to_string(static_cast<int>(nadir::import::kMaxAttitudeStddevDeg)) +
-                     "). Default: the attitude source's (docs/own-flight.md, 'How well the attitude is known')");
+                     "). Default: the attitude source's (docs/own-flight.md, 'How well the attitude is known')")
+      ->check(positive_at_most(nadir::import::kMaxAttitudeStddevDeg));
   app.add_option("--heading-stddev-deg", o.heading_stddev_deg,
                  "heading accuracy of the recorded attitude (1 sigma, degrees, per frame). Default: the attitude "
-                 "source's");
+                 "source's")
+      ->check(positive_at_most(nadir::import::kMaxAttitudeStddevDeg));
   app.add_flag("--skip-bad", o.skip_bad, "skip and count bad photos / frames / telemetry lines instead of failing");
   app.add_option("--config", o.config_path, "base config to add the camera and overrides to (default config/default.yaml)");
   app.add_flag("--json", json, "print a JSON summary on stdout");

@@ -557,6 +557,28 @@ TEST(PhotoImport, ToolExitsTwoOnBadInput) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("o.lcmlog")));
 }
 
+// The binary: an attitude figure out of (0, 30] is refused before anything is read, naming the option.
+TEST(PhotoImport, ToolRefusesAttitudeFiguresOutOfRange) {
+  TempDir dir("import_attitude_figures");
+  const char* bin = std::getenv("NADIR_BIN_DIR");
+  ASSERT_NE(bin, nullptr);
+  for (const std::string option : {"--attitude-stddev-deg", "--heading-stddev-deg"}) {
+    for (const std::string value : {"0", "-1", "31", "many"}) {
+      const std::string cmd = std::string(bin) + "/nadir_import --photos " + dir.file("none") + " " + option + " " +
+                              value + " --out " + dir.file("o") + " 2> " + dir.file("err.txt");
+      const int rc = std::system(cmd.c_str());
+      ASSERT_TRUE(WIFEXITED(rc));
+      EXPECT_NE(WEXITSTATUS(rc), 0) << option << " " << value;
+      std::ifstream in(dir.file("err.txt"));
+      const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      EXPECT_NE(err.find(option + ": must be in (0, 30] (leave it out for the attitude source's), not " + value),
+                std::string::npos)
+          << err;
+    }
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.file("o.lcmlog")));
+}
+
 // The binary: --scale out of (0, 1] is refused before anything is read (0 is not "automatic": leave it out).
 TEST(PhotoImport, ToolRefusesScaleOutOfRange) {
   TempDir dir("import_scale");
