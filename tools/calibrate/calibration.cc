@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <optional>
 #include <random>
@@ -569,6 +570,22 @@ double ins_attitude_sigma_of_mean(double sigma, double correlation_s, double seg
   return sigma * std::sqrt(2.0 * ratio * (1.0 - ratio * -std::expm1(-1.0 / ratio)));
 }
 
+double segment_for_ins_sigma_of_mean(double sigma, double correlation_s, double target) {
+  if (sigma <= target) return 0.0;
+  if (!(correlation_s > 0) || !(target > 0)) return std::numeric_limits<double>::infinity();
+  // The sigma of the mean falls monotonically with the segment: bracket, then bisect.
+  double lo = 0.0, hi = correlation_s;
+  while (ins_attitude_sigma_of_mean(sigma, correlation_s, hi) > target) {
+    lo = hi;
+    hi *= 2.0;
+  }
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (ins_attitude_sigma_of_mean(sigma, correlation_s, mid) > target ? lo : hi) = mid;
+  }
+  return hi;
+}
+
 CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera_root,
                             const CalibrationOptions& options) {
   options.Check();
@@ -673,6 +690,29 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
                                  ins_attitude_sigma_of_mean(options.ins_attitude_accuracy_deg[static_cast<size_t>(k)],
                                                             options.ins_attitude_correlation_s, result.segment_s)),
                       camera_data, options.boresight_sigma_limit_deg);
+  // A boresight pitch error turns every forward step into a climb of the
+  // step times the error. When the INS's slowly varying levelling error,
+  // averaged over the segment, is most of the pitch's sigma, only a longer
+  // segment reduces it: say how long.
+  if (camera_data && options.ins_attitude_correlation_s > 0) {
+    const double ins_part = ins_attitude_sigma_of_mean(options.ins_attitude_accuracy_deg[1],
+                                                       options.ins_attitude_correlation_s, result.segment_s);
+    const double fit_part = rad_to_deg(std::sqrt(cam.cov(1, 1)));
+    if (ins_part > fit_part) {
+      const double halving_s = segment_for_ins_sigma_of_mean(options.ins_attitude_accuracy_deg[1],
+                                                             options.ins_attitude_correlation_s, 0.5 * ins_part);
+      const double sigma = result.boresight[1].sigma;
+      result.warnings.push_back(
+          fmt("boresight_pitch_deg: most of its sigma (%.4f deg) is the INS's levelling error averaged over this "
+              "%.0f s segment",
+              sigma, result.segment_s) +
+          fmt(" (%.4f deg); a pitch error turns every step into a climb, %.3f %% of the distance flown at 1 sigma.",
+              ins_part, 100.0 * deg_to_rad(sigma)) +
+          fmt(" Only a longer segment reduces it: about %.0f s halves it (docs/calibration.md, 'A ten-minute "
+              "calibration flight')",
+              halving_s));
+    }
+  }
   result.time_offset_ms = make_estimate("time_offset_ms", cam.theta[3] * 1e3, std::sqrt(cam.cov(3, 3)) * 1e3,
                                         camera_data, options.time_offset_sigma_limit_ms);
   result.focal_scale = make_estimate("focal_scale", 1.0 + cam.theta[4], std::sqrt(cam.cov(4, 4)),

@@ -171,6 +171,11 @@ struct CalibrationResult {
 // sigma^2 (2 tau / T) (1 - (tau / T)(1 - exp(-T / tau))).
 double ins_attitude_sigma_of_mean(double sigma, double correlation_s, double segment_s);
 
+// The shortest segment (s) whose mean of that process has at most `target`
+// standard deviation: 0 when `sigma` is within it already, infinity when no
+// segment gets there (a constant error, or a target of 0).
+double segment_for_ins_sigma_of_mean(double sigma, double correlation_s, double target);
+
 // `camera:` section (intrinsics and mount the TRACKS were normalized with).
 CalibrationResult calibrate(const FlightData& data, const Config& camera_root, const CalibrationOptions& options);
 

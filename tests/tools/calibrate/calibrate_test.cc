@@ -169,6 +169,27 @@ TEST(Calibrate, RealisticInstallationWithItsLeverArmsIsRecovered) {
   EXPECT_NEAR(r.distortion[0], configured[0] + r.distortion_k1_error.value, 1e-12);
   EXPECT_NEAR(r.distortion[1], configured[1] + r.distortion_k2_error.value, 1e-12);
   EXPECT_NE(r.config_fragment("test").find("  distortion: ["), std::string::npos);
+  // The INS's levelling error is slow (a Gauss-Markov error over roll_pitch_gm_tau_s): over 97 s
+  // its mean is most of the pitch's sigma, and the fit says so, with the segment that would halve it.
+  auto pitch_warning = [](const CalibrationResult& result) {
+    for (const std::string& w : result.warnings) {
+      if (w.rfind("boresight_pitch_deg: most of its sigma", 0) == 0) return w;
+    }
+    return std::string();
+  };
+  EXPECT_EQ(pitch_warning(r), "") << "a constant INS error: a longer segment would not help";
+  CalibrationOptions slow = options;
+  slow.ins_attitude_correlation_s = truth.ins.roll_pitch_gm_tau_s;
+  const CalibrationResult slow_result = calibrate(flight->data, config, slow);
+  const std::string warning = pitch_warning(slow_result);
+  const double halving =
+      segment_for_ins_sigma_of_mean(truth.ins.roll_pitch_gm_sigma_deg, truth.ins.roll_pitch_gm_tau_s,
+                                    0.5 * ins_attitude_sigma_of_mean(truth.ins.roll_pitch_gm_sigma_deg,
+                                                                     truth.ins.roll_pitch_gm_tau_s,
+                                                                     slow_result.segment_s));
+  EXPECT_NE(warning.find("about " + std::to_string(static_cast<int>(std::lround(halving))) + " s halves it"),
+            std::string::npos)
+      << warning;
   const Config without_levers = Config::load_file(kSource + "/config/default.yaml");  // (copies share their tree)
   const CalibrationResult plain = calibrate(flight->data, without_levers, options);
   EXPECT_GT(std::fabs(plain.boresight[1].value - truth.camera.boresight_rpy_deg[1]), 3.0 * plain.boresight[1].sigma)

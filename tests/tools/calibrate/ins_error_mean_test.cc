@@ -18,6 +18,19 @@ TEST(InsErrorMean, LimitsOfTheFormula) {
   EXPECT_NEAR(ins_attitude_sigma_of_mean(0.015, 1.0, 1e5), 0.015 * std::sqrt(2.0 / 1e5), 1e-9);
 }
 
+// The segment that brings the mean's sigma to a target is the formula's inverse.
+TEST(InsErrorMean, SegmentForATargetSigmaInvertsTheFormula) {
+  const double sigma = 0.015, tau = 60.0;
+  const double at_97 = ins_attitude_sigma_of_mean(sigma, tau, 97.0);
+  const double halving = segment_for_ins_sigma_of_mean(sigma, tau, 0.5 * at_97);
+  EXPECT_NEAR(ins_attitude_sigma_of_mean(sigma, tau, halving), 0.5 * at_97, 1e-9);
+  EXPECT_GT(halving, 600.0);  // the 600 s flight leaves 0.0064, just over half of 0.0118
+  EXPECT_LT(halving, 800.0);
+  EXPECT_EQ(segment_for_ins_sigma_of_mean(sigma, tau, sigma), 0.0);  // already there
+  EXPECT_TRUE(std::isinf(segment_for_ins_sigma_of_mean(sigma, 0.0, 0.5 * sigma)));  // a constant error
+  EXPECT_TRUE(std::isinf(segment_for_ins_sigma_of_mean(sigma, tau, 0.0)));
+}
+
 // 4000 segments of the simulator's process at 100 Hz: the spread of their
 // means within 5 % (about 4 standard errors) of the formula, for a 97 s and
 // a 600 s calibration flight with a 60 s correlation time.
