@@ -693,8 +693,12 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   // A boresight pitch error turns every forward step into a climb of the
   // step times the error. When the INS's slowly varying levelling error,
   // averaged over the segment, is most of the pitch's sigma, only a longer
-  // segment reduces it: say how long.
-  if (camera_data && options.ins_attitude_correlation_s > 0) {
+  // segment reduces it: say how long. Over a few correlation times the mean
+  // falls only as 1 / sqrt(length) (a segment four times as long halves it):
+  // the segment has done what a calibration flight can, and nothing is said.
+  constexpr double kLongSegmentCorrelationTimes = 5.0;
+  if (camera_data && options.ins_attitude_correlation_s > 0 &&
+      result.segment_s < kLongSegmentCorrelationTimes * options.ins_attitude_correlation_s) {
     const double ins_part = ins_attitude_sigma_of_mean(options.ins_attitude_accuracy_deg[1],
                                                        options.ins_attitude_correlation_s, result.segment_s);
     const double fit_part = rad_to_deg(std::sqrt(cam.cov(1, 1)));
