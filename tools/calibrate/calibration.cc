@@ -683,13 +683,16 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   result.outliers = cam.outliers;
   result.camera_rms_rad = cam.rms;
   const char* names[3] = {"boresight_roll_deg", "boresight_pitch_deg", "boresight_yaw_deg"};
-  for (int k = 0; k < 3; ++k)
+  // Per axis: the fit's own sigma and the INS error's mean over the segment (deg).
+  double fit_sigma_deg[3], ins_sigma_deg[3];
+  for (int k = 0; k < 3; ++k) {
+    fit_sigma_deg[k] = rad_to_deg(std::sqrt(cam.cov(k, k)));
+    ins_sigma_deg[k] = ins_attitude_sigma_of_mean(options.ins_attitude_accuracy_deg[static_cast<size_t>(k)],
+                                                  options.ins_attitude_correlation_s, result.segment_s);
     result.boresight[static_cast<size_t>(k)] =
-        make_estimate(names[k], rad_to_deg(cam.theta[k]),
-                      std::hypot(rad_to_deg(std::sqrt(cam.cov(k, k))),
-                                 ins_attitude_sigma_of_mean(options.ins_attitude_accuracy_deg[static_cast<size_t>(k)],
-                                                            options.ins_attitude_correlation_s, result.segment_s)),
-                      camera_data, options.boresight_sigma_limit_deg);
+        make_estimate(names[k], rad_to_deg(cam.theta[k]), std::hypot(fit_sigma_deg[k], ins_sigma_deg[k]), camera_data,
+                      options.boresight_sigma_limit_deg);
+  }
   // A boresight pitch error turns every forward step into a climb of the
   // step times the error. When the INS's slowly varying levelling error,
   // averaged over the segment, is most of the pitch's sigma, only a longer
@@ -699,10 +702,8 @@ CalibrationResult calibrate(const FlightData& whole_flight, const Config& camera
   constexpr double kLongSegmentCorrelationTimes = 5.0;
   if (camera_data && options.ins_attitude_correlation_s > 0 &&
       result.segment_s < kLongSegmentCorrelationTimes * options.ins_attitude_correlation_s) {
-    const double ins_part = ins_attitude_sigma_of_mean(options.ins_attitude_accuracy_deg[1],
-                                                       options.ins_attitude_correlation_s, result.segment_s);
-    const double fit_part = rad_to_deg(std::sqrt(cam.cov(1, 1)));
-    if (ins_part > fit_part) {
+    const double ins_part = ins_sigma_deg[1];
+    if (ins_part > fit_sigma_deg[1]) {
       const double halving_s = segment_for_ins_sigma_of_mean(options.ins_attitude_accuracy_deg[1],
                                                              options.ins_attitude_correlation_s, 0.5 * ins_part);
       const double sigma = result.boresight[1].sigma;

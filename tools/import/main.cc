@@ -13,18 +13,18 @@
 
 namespace {
 
-// A figure in (0, max]: leaving the option out is how its default is asked for.
-CLI::Validator positive_at_most(double max) {
+// A number in (0, max], `max` whole; `hint` says what to do instead of 0
+// (leaving the option out is how its default is asked for).
+CLI::Validator positive_at_most(int max, const std::string& hint) {
+  const std::string range = "(0, " + std::to_string(max) + "]";
   return CLI::Validator(
-      [max](std::string& text) {
+      [max, range, hint](std::string& text) {
         char* end = nullptr;
         const double v = std::strtod(text.c_str(), &end);
         const bool ok = end != text.c_str() && *end == '\0' && v > 0.0 && v <= max;
-        return ok ? std::string()
-                  : "must be in (0, " + std::to_string(static_cast<int>(max)) +
-                        "] (leave it out for the attitude source's), not " + text;
+        return ok ? std::string() : "must be in " + range + " (" + hint + "), not " + text;
       },
-      "(0, " + std::to_string(static_cast<int>(max)) + "]");
+      range);
 }
 
 }  // namespace
@@ -56,24 +56,19 @@ int main(int argc, char** argv) {
                  "the working resolution, 1/k with the smallest whole k that brings the long side to at most " +
                      std::to_string(nadir::import::kWorkingLongSidePx) +
                      " px (docs/own-flight.md, 'The working resolution')")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            char* end = nullptr;
-            const double v = std::strtod(text.c_str(), &end);
-            const bool ok = end != text.c_str() && *end == '\0' && v > 0.0 && v <= 1.0;
-            return ok ? std::string() : "must be in (0, 1] (1: full size; leave it out for the working resolution), not " + text;
-          },
-          "(0, 1]"));
+      ->check(positive_at_most(1, "1: full size; leave it out for the working resolution"));
   app.add_option("--interval", o.interval_s, "photo times from file order, this many seconds apart (EXIF time ignored)");
+  const CLI::Validator attitude_figure = positive_at_most(static_cast<int>(nadir::import::kMaxAttitudeStddevDeg),
+                                                         "leave it out for the attitude source's");
   app.add_option("--attitude-stddev-deg", o.attitude_stddev_deg,
                  "roll/pitch accuracy of the recorded attitude (1 sigma, degrees, per frame; at most " +
                      std::to_string(static_cast<int>(nadir::import::kMaxAttitudeStddevDeg)) +
                      "). Default: the attitude source's (docs/own-flight.md, 'How well the attitude is known')")
-      ->check(positive_at_most(nadir::import::kMaxAttitudeStddevDeg));
+      ->check(attitude_figure);
   app.add_option("--heading-stddev-deg", o.heading_stddev_deg,
                  "heading accuracy of the recorded attitude (1 sigma, degrees, per frame). Default: the attitude "
                  "source's")
-      ->check(positive_at_most(nadir::import::kMaxAttitudeStddevDeg));
+      ->check(attitude_figure);
   app.add_flag("--skip-bad", o.skip_bad, "skip and count bad photos / frames / telemetry lines instead of failing");
   app.add_option("--config", o.config_path, "base config to add the camera and overrides to (default config/default.yaml)");
   app.add_flag("--json", json, "print a JSON summary on stdout");
