@@ -79,8 +79,9 @@ cv::Mat relief_around(const map::ReferenceMap& map, const map::LocalProjection& 
 
 }  // namespace
 
-MapMatcher::MapMatcher(const MapMatcherOptions& options, const CameraModel& camera, map::ReferenceMap map)
-    : options_(options), camera_(camera), map_(std::move(map)) {
+MapMatcher::MapMatcher(const MapMatcherOptions& options, const CameraModel& camera, map::ReferenceMap map,
+                       const Eigen::Vector3d& camera_lever_arm_m)
+    : options_(options), camera_(camera), map_(std::move(map)), camera_lever_arm_m_(camera_lever_arm_m) {
   options_.Check();
 }
 
@@ -91,11 +92,17 @@ FixAttempt MapMatcher::attempt(const image_t& image, const pose_t& pose, const m
   fix.prior_ne[0] = pose.position_ned[0];
   fix.prior_ne[1] = pose.position_ned[1];
   fix.gsd_m = options_.gsd_m;
+  fix.ground_down_variance = -1.0;
   const double h = pose.height_agl_m;
   if (!(h > 0.0)) return refused(a, FixRefusal::kNoHeight, "the pose has no height above ground");
   const Eigen::Matrix3d world_from_body = rotation_from_rpy(pose.roll, pose.pitch, pose.yaw);
   const Eigen::Vector3d axis = world_from_body * camera_.body_from_camera * Eigen::Vector3d::UnitZ();
   const double tilt_deg = rad_to_deg(std::acos(std::clamp(axis.z(), -1.0, 1.0)));
+  // The camera centre lies camera.lever_arm_m from the INS reference point the
+  // pose is of: the frame is orthorectified about the camera, and the fix
+  // taken back to the reference point.
+  const Eigen::Vector3d lever = world_from_body * camera_lever_arm_m_;
+  const double camera_height = h - lever.z();
   if (tilt_deg > options_.max_tilt_deg) {
     return refused(a, FixRefusal::kTilted, format("camera %.1f deg from nadir (max_tilt_deg %.1f)", tilt_deg,
                                                   options_.max_tilt_deg));
@@ -112,14 +119,15 @@ FixAttempt MapMatcher::attempt(const image_t& image, const pose_t& pose, const m
     return refused(a, FixRefusal::kPriorUncertain, format("search radius %.1f m over max_search_radius_m %.1f",
                                                           radius_m, options_.max_search_radius_m));
   }
-  const int t = static_cast<int>(options_.template_fraction * nadir_square_side_m(camera_, h) / options_.gsd_m);
+  const int t =
+      static_cast<int>(options_.template_fraction * nadir_square_side_m(camera_, camera_height) / options_.gsd_m);
   if (t < options_.min_template_px) {
     return refused(a, FixRefusal::kTemplateSmall,
                    format("template %.0f px under min_template_px %.0f", t, options_.min_template_px));
   }
   const int radius_px = static_cast<int>(std::ceil(radius_m / options_.gsd_m));
   const int w = t + 2 * radius_px;
-  const double north = pose.position_ned[0], east = pose.position_ned[1];
+  const double north = pose.position_ned[0] + lever.x(), east = pose.position_ned[1] + lever.y();
   const GeodeticPoint centre = origin.geodetic(north, east);
 
   OrthoFrame frame;
@@ -129,7 +137,7 @@ FixAttempt MapMatcher::attempt(const image_t& image, const pose_t& pose, const m
     FrameOrthoInput input;
     input.image = cv::Mat(image.height, image.width, CV_8UC1, const_cast<uint8_t*>(image.data.data()), image.stride);
     input.world_from_body = world_from_body;
-    input.camera_height_m = h;
+    input.camera_height_m = camera_height;
     input.relief_m = relief_around(map_, origin, north, east, ground, t, options_.gsd_m);
     frame = orthorectify_frame(camera_, input, t, options_.gsd_m);
     window = map_.window(centre.latitude_deg, centre.longitude_deg, w, options_.gsd_m);
@@ -181,7 +189,7 @@ FixAttempt MapMatcher::attempt(const image_t& image, const pose_t& pose, const m
                           a.map_self_similarity, options_.max_map_self_similarity));
   }
   Eigen::Matrix2d covariance;
-  if (!map_fix_covariance(options_, reg, t * t, h, &covariance)) {
+  if (!map_fix_covariance(options_, reg, t * t, camera_height, &covariance)) {
     return refused(a, FixRefusal::kAmbiguous, "the correlation peak is not a maximum (flat along a direction)");
   }
   const double fix_sigma =
@@ -190,8 +198,8 @@ FixAttempt MapMatcher::attempt(const image_t& image, const pose_t& pose, const m
     return refused(a, FixRefusal::kAmbiguous, format("the peak is flat: sigma %.1f m over max_fix_stddev_m %.1f",
                                                      fix_sigma, options_.max_fix_stddev_m));
   }
-  const double fix_north = north - reg.shift_px.y() * options_.gsd_m;
-  const double fix_east = east + reg.shift_px.x() * options_.gsd_m;
+  const double fix_north = north - reg.shift_px.y() * options_.gsd_m - lever.x();
+  const double fix_east = east + reg.shift_px.x() * options_.gsd_m - lever.y();
   const GeodeticPoint at = origin.geodetic(fix_north, fix_east);
   fix.latitude_deg = at.latitude_deg;
   fix.longitude_deg = at.longitude_deg;
@@ -199,7 +207,34 @@ FixAttempt MapMatcher::attempt(const image_t& image, const pose_t& pose, const m
   fix.position_ne[1] = fix_east;
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 2; ++j) fix.covariance_ne[i][j] = covariance(i, j);
+  set_ground(origin, &fix);
   return a;
+}
+
+void MapMatcher::set_ground(const map::LocalProjection& origin, map_fix_t* fix) const {
+  fix->ground_down_m = 0.0;
+  fix->ground_gradient_ne[0] = fix->ground_gradient_ne[1] = 0.0;
+  fix->ground_down_variance = -1.0;
+  const double north = fix->position_ne[0], east = fix->position_ne[1];
+  const auto height_at = [&](double n, double e) {
+    const GeodeticPoint p = origin.geodetic(n, e);
+    return map_.height(p.latitude_deg, p.longitude_deg);
+  };
+  try {
+    // The slope over one comparison pixel each side: the scale the fix's
+    // position is known at.
+    const double step = options_.gsd_m;
+    const double up_north = (height_at(north + step, east) - height_at(north - step, east)) / (2.0 * step);
+    const double up_east = (height_at(north, east + step) - height_at(north, east - step)) / (2.0 * step);
+    fix->ground_down_m = origin.origin().height_m - height_at(north, east);
+    fix->ground_gradient_ne[0] = -up_north;
+    fix->ground_gradient_ne[1] = -up_east;
+    fix->ground_down_variance = options_.dem_stddev_m * options_.dem_stddev_m;
+  } catch (const map::MapError&) {
+    // The DEM ends (or has NoData) right there: the fix stays horizontal.
+    fix->ground_down_m = 0.0;
+    fix->ground_gradient_ne[0] = fix->ground_gradient_ne[1] = 0.0;
+  }
 }
 
 }  // namespace nadir

@@ -1,7 +1,7 @@
 #pragma once
 // One fix attempt, without a bus: a camera frame, the POSE of that frame as
-// the prior, the reference map -> an absolute horizontal fix, or the reason
-// it is refused.
+// the prior, the reference map -> an absolute horizontal fix with the DEM's
+// ground height under it, or the reason it is refused.
 //
 // The frame is orthorectified (frame_ortho.h) over a north-up square below
 // the prior position, using the pose's attitude, its height above ground
@@ -26,6 +26,8 @@
 //                    at the fix fits elsewhere in the window with a correlation
 //                    over max_map_self_similarity (rows of fields, a copy)
 // The fix's covariance: map_fix_covariance.h.
+
+#include <Eigen/Core>
 
 #include <memory>
 #include <string>
@@ -70,19 +72,27 @@ struct FixAttempt {
 
 class MapMatcher {
  public:
-  // Checks the options (ConfigError naming the key).
-  MapMatcher(const MapMatcherOptions& options, const CameraModel& camera, map::ReferenceMap map);
+  // Checks the options (ConfigError naming the key). `camera_lever_arm_m`:
+  // the camera centre from the INS reference point (body frame, camera.lever_arm_m).
+  MapMatcher(const MapMatcherOptions& options, const CameraModel& camera, map::ReferenceMap map,
+             const Eigen::Vector3d& camera_lever_arm_m = Eigen::Vector3d::Zero());
 
-  // `origin`: where the POSE origin (local north/east 0, 0) lies on the Earth.
+  // `origin`: where the POSE origin (local north/east 0, 0) lies on the
+  // Earth, its height that of POSE's down 0.
   FixAttempt attempt(const image_t& image, const pose_t& pose, const map::LocalProjection& origin) const;
 
   const map::ReferenceMap& map() const { return map_; }
   const MapMatcherOptions& options() const { return options_; }
 
  private:
+  // The DEM's ground at the fix's position (MAP_FIX.ground_*); none where the
+  // DEM ends or has NoData.
+  void set_ground(const map::LocalProjection& origin, map_fix_t* fix) const;
+
   MapMatcherOptions options_;
   CameraModel camera_;
   map::ReferenceMap map_;
+  Eigen::Vector3d camera_lever_arm_m_;
 };
 
 }  // namespace nadir

@@ -11,6 +11,7 @@
 #include "common/channels.h"
 #include "common/input_checks.h"
 #include "common/paths.h"
+#include "common/sensor_calibration.h"
 #include "nadir/ins_t.hpp"
 #include "processes/map_matcher/map_matcher.h"
 
@@ -132,7 +133,8 @@ class MapMatcherNode : public Node {
   }
 
   // The INS position interpolated at the first POSE, moved back by that
-  // pose's own position: where local north/east (0, 0) lies.
+  // pose's own position: where local north/east (0, 0) lies, and the height
+  // of POSE's down 0 (the fixes' ground heights are given on that axis).
   bool set_origin(const pose_t& pose) {
     for (size_t i = 1; i < ins_.size(); ++i) {
       const ins_t& a = ins_[i - 1];
@@ -143,8 +145,8 @@ class MapMatcherNode : public Node {
       at.latitude_deg = a.latitude_deg + f * (b.latitude_deg - a.latitude_deg);
       at.longitude_deg = a.longitude_deg + f * (b.longitude_deg - a.longitude_deg);
       at.height_m = a.height_m + f * (b.height_m - a.height_m);
-      const GeodeticPoint origin =
-          map::LocalProjection(at).geodetic(-pose.position_ned[0], -pose.position_ned[1]);
+      GeodeticPoint origin = map::LocalProjection(at).geodetic(-pose.position_ned[0], -pose.position_ned[1]);
+      origin.height_m = at.height_m + pose.position_ned[2];  // the height of POSE's down 0
       origin_.emplace(origin);
       ins_.clear();
       return true;
@@ -188,7 +190,8 @@ std::unique_ptr<Node> make_map_matcher_node(const Config& root, Bus& bus) {
   }
   options.orthophoto = resolve(options.orthophoto);
   options.dem = resolve(options.dem);
-  MapMatcher matcher(options, CameraModel::from_config(root), map::ReferenceMap::open(options.orthophoto, options.dem));
+  MapMatcher matcher(options, CameraModel::from_config(root), map::ReferenceMap::open(options.orthophoto, options.dem),
+                     SensorCalibration::from_config(root).camera_lever_arm_m);
   return std::make_unique<MapMatcherNode>(options, std::move(matcher), InputCheckOptions::from_config(root), bus);
 }
 

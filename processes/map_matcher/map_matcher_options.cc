@@ -7,7 +7,7 @@ const OptionsSchema<MapMatcherOptions>& MapMatcherOptions::schema() {
   static const OptionsSchema<O> schema = [] {
     OptionsSchema<O> s("map_matcher",
                        "Registers camera frames against a reference map (orthophoto + DEM) around the fused pose "
-                       "and publishes absolute horizontal fixes on MAP_FIX; refuses what it cannot trust.");
+                       "and publishes absolute fixes on MAP_FIX (horizontal, with the DEM's ground under them); refuses what it cannot trust.");
     s.text("orthophoto", "reference orthophoto (GeoTIFF, any CRS); relative to the checkout", &O::orthophoto)
         .text("dem", "DEM of heights above the WGS84 ellipsoid (GeoTIFF, any CRS); relative to the checkout",
               &O::dem)
@@ -46,6 +46,10 @@ const OptionsSchema<MapMatcherOptions>& MapMatcherOptions::schema() {
                 &O::attitude_stddev_deg)
         .number("max_tilt_deg", 0.0, 60.0, "deg", "frames tilted further from nadir are not matched",
                 &O::max_tilt_deg)
+        .number("dem_stddev_m", 0.0, 100.0, "m",
+                "the DEM's error at a point, published with each fix's ground height (its error common to all "
+                "heights: yaw_fusion.map_fix.systematic_vertical_stddev_m)",
+                &O::dem_stddev_m)
         .rule("max_search_radius_m", [](const O& o) { return o.max_search_radius_m >= o.min_search_radius_m; },
               "must be at least min_search_radius_m");
     return s;

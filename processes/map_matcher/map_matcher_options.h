@@ -51,6 +51,11 @@ struct MapMatcherOptions {
   double map_stddev_m = 0.3;
   double attitude_stddev_deg = 0.05;
   double max_tilt_deg = 20.0;     // frames tilted further from nadir are not matched
+  // The DEM's error at a point (m, 1 sigma), published with each fix's ground
+  // height (MAP_FIX.ground_down_variance): set it to your DEM's vertical
+  // accuracy. What all its heights share (its datum) is yaw fusion's
+  // map_fix.systematic_vertical_stddev_m.
+  double dem_stddev_m = 0.5;
 
   static MapMatcherOptions from_config(const Config& root);
   void Check() const;  // throws ConfigError naming the key and allowed range

@@ -13,6 +13,7 @@
 
 #include "common/camera_model.h"
 #include "common/config.h"
+#include "common/geometry.h"
 #include "common/paths.h"
 #include "common/channels.h"
 #include "common/lcm_bus.h"
@@ -119,6 +120,52 @@ TEST_F(MapMatcherTest, FixLandsOnTheTruthWithinItsCovariance) {
     EXPECT_LT(std::sqrt(error.dot(cov.inverse() * error)), 3.0) << "error " << error.transpose();
     EXPECT_GT(a.fix.score, 0.35);
     EXPECT_NEAR(a.fix.search_radius_m, 25.0, 1e-9);  // 5 sigma
+  }
+}
+
+// The fix is of the INS reference point the pose is of, not of the camera
+// 1.5 m ahead of it (camera.lever_arm_m), and it carries the DEM's ground
+// under it on POSE's down axis with the slope there.
+TEST_F(MapMatcherTest, FixIsOfThePosesPointWithTheGroundUnderIt) {
+  const Eigen::Vector3d lever_body(1.5, 0.4, 0.3);
+  const MapMatcher with_lever(MapMatcherOptions{}, CameraModel::from_config(world_->config),
+                              map::ReferenceMap::open(dir_->path() + "/orthophoto.tif", dir_->path() + "/dem.tif"),
+                              lever_body);
+  const MapMatcher without_lever = matcher(dir_->path());
+  // POSE's down 0 lies 200 m above the datum (the profile's reference height 300 m).
+  GeodeticPoint at_origin;
+  at_origin.latitude_deg = world_->profile.reference_latitude_deg;
+  at_origin.longitude_deg = world_->profile.reference_longitude_deg;
+  at_origin.height_m = world_->profile.reference_height_m + 200.0;
+  const map::LocalProjection origin_200(at_origin);
+  const struct {
+    double north, east;
+    Eigen::Vector3d rpy;
+  } cases[] = {{150.0, 80.0, {1.0, -2.0, 30.0}}, {300.0, 200.0, {-2.0, 1.5, 210.0}}, {420.0, 260.0, {0.5, 0.5, 95.0}}};
+  for (const auto& c : cases) {
+    const Eigen::Vector3d rpy = c.rpy * M_PI / 180.0;
+    const Eigen::Vector3d lever = rotation_from_rpy(rpy.x(), rpy.y(), rpy.z()) * lever_body;
+    const image_t frame = test::rendered_frame(sim::SimCamera::from_config(world_->config), *world_->terrain,
+                                               c.north + lever.x(), c.east + lever.y(), kHeight - lever.z(), rpy, 11,
+                                               1'000'000);
+    const pose_t prior = pose(c.north, c.east, c.rpy, 3.0, -2.0, 3.0);
+    const FixAttempt a = with_lever.attempt(frame, prior, origin_200);
+    ASSERT_EQ(a.refusal, FixRefusal::kNone) << a.why;
+    const Eigen::Vector2d error(a.fix.position_ne[0] - c.north, a.fix.position_ne[1] - c.east);
+    EXPECT_LT(error.norm(), 0.6) << "at " << c.north << ", " << c.east;
+    const FixAttempt b = without_lever.attempt(frame, prior, origin_200);
+    ASSERT_EQ(b.refusal, FixRefusal::kNone) << b.why;
+    const Eigen::Vector2d camera_error(b.fix.position_ne[0] - c.north, b.fix.position_ne[1] - c.east);
+    EXPECT_GT((camera_error - error).norm(), 1.2) << "the lever arm moves the fix by " << lever.head<2>().norm();
+
+    // The ground: the simulated DEM is the terrain at 1 m, read at the fix.
+    double up_north = 0.0, up_east = 0.0;
+    const double ground =
+        world_->terrain->height(a.fix.position_ne[0], a.fix.position_ne[1], &up_north, &up_east);
+    EXPECT_NEAR(a.fix.ground_down_m, 200.0 - ground, 0.05);
+    EXPECT_NEAR(a.fix.ground_gradient_ne[0], -up_north, 0.02);
+    EXPECT_NEAR(a.fix.ground_gradient_ne[1], -up_east, 0.02);
+    EXPECT_DOUBLE_EQ(a.fix.ground_down_variance, 0.25);  // dem_stddev_m 0.5
   }
 }
 
