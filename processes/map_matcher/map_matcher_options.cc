@@ -46,7 +46,7 @@ const OptionsSchema<MapMatcherOptions>& MapMatcherOptions::schema() {
                 &O::attitude_stddev_deg)
         .number("max_tilt_deg", 0.0, 60.0, "deg", "frames tilted further from nadir are not matched",
                 &O::max_tilt_deg)
-        .number("dem_stddev_m", 0.0, 100.0, "m",
+        .number("dem_stddev_m", 0.01, 100.0, "m",
                 "the DEM's error at a point, published with each fix's ground height (its error common to all "
                 "heights: yaw_fusion.map_fix.systematic_vertical_stddev_m)",
                 &O::dem_stddev_m)

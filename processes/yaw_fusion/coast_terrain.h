@@ -47,6 +47,13 @@ class CoastTerrain {
   // The ground under the beam stepped (a cliff, a building) by this much
   // (down): the plane moves with it.
   void shift(double down_m) { origin_down_ += down_m; }
+  // The vehicle's position was corrected by `shift` (a map fix): the frames
+  // and the plane were placed with it and move with it.
+  void move_with_position(const Eigen::Vector3d& shift) {
+    for (Frame& f : frames_) f.position += shift;
+    origin_ += shift.head<2>();
+    origin_down_ += shift.z();
+  }
   // The ground at `horizontal` is known to be at `ground_down` (seen by a
   // frame): the plane goes through it with its slope, its distance from there.
   void rebase(const Eigen::Vector2d& horizontal, double ground_down) {

@@ -188,6 +188,34 @@ void PoseFilter::apply_horizontal_fix(const Eigen::Vector2d& correction, const E
   p_.topLeftCorner<2, 2>() = block;
 }
 
+void PoseFilter::apply_position_fix(const Eigen::Vector3d& correction, const Eigen::Matrix3d& covariance,
+                                    bool vertical) {
+  if (!vertical) {
+    apply_horizontal_fix(correction.head<2>(), covariance.topLeftCorner<2, 2>());
+    return;
+  }
+  x_.head<3>() += correction;
+  if (terrain_initialised_) x_(kTerrain) += correction.z();
+  origin_levelling_variance_ = 0.0;
+  displacement_.setZero();
+  yaw_bias_.topRows<2>().setZero();
+  yaw_bias_.leftCols<2>().setZero();
+  Eigen::Matrix3d wanted = 0.5 * (covariance + covariance.transpose());
+  wanted.topLeftCorner<2, 2>() -= frame_levelling_variance_ * Eigen::Matrix2d::Identity();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(wanted);
+  const Eigen::Vector3d values = eigen.eigenvalues().cwiseMax(1e-6);
+  const Eigen::Matrix3d block = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
+  const double terrain_variance = p_(kTerrain, kTerrain);
+  p_.topRows<3>().setZero();
+  p_.leftCols<3>().setZero();
+  p_.topLeftCorner<3, 3>() = block;
+  if (terrain_initialised_) {
+    // Down and terrain moved together: the altimeter's constraint between them holds.
+    p_(kTerrain, kDown) = p_(kDown, kTerrain) = block(2, 2);
+    p_(kTerrain, kTerrain) = std::max(terrain_variance, block(2, 2));
+  }
+}
+
 void PoseFilter::reset_yaw(double yaw, double variance) {
   x_(kYaw) = wrap_angle(yaw);
   p_.row(kYaw).setZero();

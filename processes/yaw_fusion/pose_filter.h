@@ -90,6 +90,12 @@ class PoseFilter {
   // part of the yaw bias). The horizontal position's correlation with the
   // other states is dropped, as in set_down.
   void apply_horizontal_fix(const Eigen::Vector2d& correction, const Eigen::Matrix2d& covariance);
+  // A fix of the whole position (north, east, down): as apply_horizontal_fix
+  // for the horizontal, and with `vertical` the down as well (the range
+  // scale's share of the vertical restarts, the terrain state moves with it:
+  // the altimeter's height over it is unchanged). Without `vertical`,
+  // apply_horizontal_fix: the down is left as it is.
+  void apply_position_fix(const Eigen::Vector3d& correction, const Eigen::Matrix3d& covariance, bool vertical);
 
   // Yaw measurement (rad) with its variance. Rejected when the squared
   // innovation exceeds gate_sigma^2 times its variance.

@@ -50,6 +50,13 @@ class SeenGround {
   void note_frame_without_points(int64_t utime);
   void clear() { points_.clear(); }
   size_t size() const { return points_.size(); }
+  // The positions the points were placed with were corrected by `shift` (a map fix).
+  void move_with_position(const Eigen::Vector3d& shift) {
+    for (auto& entry : points_) {
+      entry.second.horizontal += shift.head<2>();
+      entry.second.down += shift.z();
+    }
+  }
 
   struct Height {
     double down = 0.0;      // the ground's down coordinate below the position

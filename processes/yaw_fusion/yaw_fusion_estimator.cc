@@ -1014,9 +1014,16 @@ int32_t YawFusionEstimator::update_attitude(int64_t utime) {
 }
 
 int32_t YawFusionEstimator::update_height(int64_t utime, double fallback_height) {
-  const auto height = altimeter_.height_agl(options_.calibration.exposure_utime(utime),
-                                            static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_,
-                                            options_.altimeter_interpolate);
+  const auto beam = altimeter_.beam_level(options_.calibration.exposure_utime(utime),
+                                          static_cast<int64_t>(options_.max_altimeter_age_s * 1e6), roll_, pitch_,
+                                          options_.altimeter_interpolate);
+  const std::optional<double> height = beam ? std::optional<double>(beam->z()) : std::nullopt;
+  if (beam) {
+    const double c = std::cos(filter_.yaw()), s = std::sin(filter_.yaw());
+    frame_ranges_.emplace_back(utime, Eigen::Vector3d(c * beam->x() - s * beam->y(), s * beam->x() + c * beam->y(),
+                                                      beam->z()));
+    while (frame_ranges_.size() > 512) frame_ranges_.pop_front();
+  }
   const bool level_terrain = options_.altitude_mode == AltitudeMode::kLevelTerrain;
   const bool barometric = options_.altitude_mode == AltitudeMode::kBarometric;
   last_altimeter_height_ = height ? *height : std::numeric_limits<double>::quiet_NaN();
@@ -1117,6 +1124,51 @@ int32_t YawFusionEstimator::apply_due_map_fixes(int64_t utime) {
   return flags;
 }
 
+namespace {
+
+// One measurement of the position at a frame, z = H truth + G b + v (v ~ R),
+// b the map's systematic error (covariance B, never estimated; C the position
+// error's covariance with it), applied to the axes in `moved` only.
+struct FixUpdate {
+  Eigen::MatrixXd h, g, r;
+  Eigen::VectorXd z;
+};
+
+// The frame's position and covariance, the current one, and C, as one fix
+// leaves them (valid for any gain: P - K M' - M K' + K S K').
+struct FixState {
+  Eigen::Vector3d frame_position;
+  Eigen::Matrix3d frame_covariance, now, cross;
+  Eigen::Vector3d correction = Eigen::Vector3d::Zero();
+};
+
+// The Mahalanobis distance of the innovation; applies the update to `state`
+// when it is within `gate`.
+double apply_fix_update(const FixUpdate& u, const Eigen::Matrix3d& bias, const Eigen::Vector3d& moved, double gate,
+                        FixState* state) {
+  const Eigen::VectorXd innovation = u.z - u.h * state->frame_position;
+  // Position error e = estimate - truth: the innovation is -H e_f + G b + v,
+  // so cov(e, innovation) = C G' - P_f H'.
+  const Eigen::MatrixXd m = state->frame_covariance * u.h.transpose() - state->cross * u.g.transpose();
+  Eigen::MatrixXd s = u.h * state->frame_covariance * u.h.transpose() - u.h * state->cross * u.g.transpose() -
+                      u.g * state->cross.transpose() * u.h.transpose() + u.g * bias * u.g.transpose() + u.r;
+  s = 0.5 * (s + s.transpose());
+  const Eigen::MatrixXd s_inverse = s.inverse();
+  const double distance = std::sqrt(std::max(0.0, innovation.dot(s_inverse * innovation)));
+  if (!(distance <= gate)) return distance;
+  const Eigen::MatrixXd gain = moved.asDiagonal() * m * s_inverse;
+  const Eigen::Vector3d correction = gain * innovation;
+  const Eigen::Matrix3d loss = gain * m.transpose() + m * gain.transpose() - gain * s * gain.transpose();
+  state->frame_position += correction;
+  state->correction += correction;
+  state->frame_covariance -= loss;
+  state->now -= loss;
+  state->cross = (Eigen::Matrix3d::Identity() - gain * u.h) * state->cross + gain * u.g * bias;
+  return distance;
+}
+
+}  // namespace
+
 int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
   auto at = std::find_if(published_.begin(), published_.end(),
                          [&](const PublishedPose& p) { return p.utime == fix.utime; });
@@ -1125,46 +1177,81 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
     note_problem(utime_label("MAP_FIX", fix.utime) + "no pose of that frame (a gap, or older than kept), not used");
     return 0;
   }
-  const Eigen::Vector2d z(fix.position_ne[0], fix.position_ne[1]);
-  Eigen::Matrix2d r;
-  r << fix.covariance_ne[0][0], fix.covariance_ne[0][1], fix.covariance_ne[1][0], fix.covariance_ne[1][1];
-  const Eigen::Vector2d innovation = z - at->position;
-  const Eigen::Matrix2d prior = at->covariance;
-  const double systematic = options_.map_fix_systematic_stddev_m;
-  const Eigen::Matrix2d bias = systematic * systematic * Eigen::Matrix2d::Identity();
-  const Eigen::Matrix2d cross = map_error_cross_;
-  // Position error e = estimate - truth, the fix z = truth + b + v: the
-  // innovation is -e_f + b + v, so cov(e, innovation) = C - P_f.
-  const Eigen::Matrix2d m = prior - cross;
-  const Eigen::Matrix2d s = prior - cross - cross.transpose() + bias + r;
-  const Eigen::Matrix2d s_inverse = s.inverse();
-  const double distance = std::sqrt(std::max(0.0, innovation.dot(s_inverse * innovation)));
+  Eigen::Matrix2d r_horizontal;
+  r_horizontal << fix.covariance_ne[0][0], fix.covariance_ne[0][1], fix.covariance_ne[1][0], fix.covariance_ne[1][1];
+  const double horizontal = options_.map_fix_systematic_stddev_m, down = options_.map_fix_systematic_vertical_stddev_m;
+  const Eigen::Matrix3d bias = Eigen::Vector3d(horizontal * horizontal, horizontal * horizontal, down * down).asDiagonal();
+  FixState state{at->position, at->covariance, filter_.reported_position_covariance(), map_error_cross_};
+
+  // The horizontal: moves the horizontal only.
+  FixUpdate h_update{Eigen::MatrixXd::Identity(2, 3), Eigen::MatrixXd::Identity(2, 3), r_horizontal,
+                     Eigen::Vector2d(fix.position_ne[0], fix.position_ne[1])};
+  const Eigen::Vector2d h_innovation = h_update.z - at->position.head<2>();
+  const double distance =
+      apply_fix_update(h_update, bias, Eigen::Vector3d(1.0, 1.0, 0.0), options_.map_fix_gate_sigma, &state);
   if (!(distance <= options_.map_fix_gate_sigma)) {
     ++counters_.map_fixes_rejected;
     char text[160];
     std::snprintf(text, sizeof(text), "innovation (%.2f, %.2f) m is %.1f sigma (map_fix.gate_sigma %.1f), rejected",
-                  innovation.x(), innovation.y(), distance, options_.map_fix_gate_sigma);
+                  h_innovation.x(), h_innovation.y(), distance, options_.map_fix_gate_sigma);
     note_problem(utime_label("MAP_FIX", fix.utime) + text);
     return pose_t::FLAG_MAP_FIX_REJECTED;
   }
-  const Eigen::Matrix2d gain = m * s_inverse;
-  const Eigen::Vector2d correction = gain * innovation;
-  const Eigen::Matrix2d now = filter_.reported_position_covariance().topLeftCorner<2, 2>();
-  Eigen::Matrix2d after = now - gain * m.transpose();
-  after = 0.5 * (after + after.transpose());
-  // The motion since the frame is independent of the error at it, so
-  // `now` >= `prior` and `after` stays positive; guard against rounding.
-  if (!(after.determinant() > 0.0 && after(0, 0) > 0.0)) after = (now.inverse() + (r + bias).inverse()).inverse();
-  map_error_cross_ = (Eigen::Matrix2d::Identity() - gain) * cross + gain * bias;
-  filter_.apply_horizontal_fix(correction, after);
-  const Eigen::Vector3d shift(correction.x(), correction.y(), 0.0);
+
+  // The height, from the ground at the altimeter's spot less the levelled
+  // range: moves the down only. The fix's horizontal error, and the map's,
+  // move the ground read along its slope.
+  const Eigen::Vector2d slope(fix.ground_gradient_ne[0], fix.ground_gradient_ne[1]);
+  bool vertical = options_.map_fix_vertical && fix.ground_down_variance > 0.0 && at->range_ned.allFinite() &&
+                  slope.allFinite() && std::isfinite(fix.ground_down_m);
+  if (vertical) {
+    const double height = at->range_ned.z();
+    FixUpdate v_update{Eigen::MatrixXd::Zero(1, 3), Eigen::MatrixXd::Zero(1, 3), Eigen::MatrixXd(1, 1),
+                       Eigen::VectorXd(1)};
+    v_update.h(0, 2) = 1.0;
+    v_update.g << slope.x(), slope.y(), 1.0;
+    v_update.z(0) = fix.ground_down_m + slope.dot(at->range_ned.head<2>()) - height;
+    const double range_scale = options_.sensor_uncertainty.range_scale_stddev * height;
+    // The spot's place moves with the roll/pitch error by the height times it.
+    const double spot = height * deg_to_rad(options_.sensor_uncertainty.roll_pitch_stddev_deg) * slope.norm();
+    v_update.r(0, 0) = fix.ground_down_variance + slope.dot(r_horizontal * slope) +
+                       square(options_.sensor_uncertainty.range_stddev(height)) + square(range_scale) + square(spot);
+    const double v_innovation = v_update.z(0) - state.frame_position.z();
+    const double v_distance =
+        apply_fix_update(v_update, bias, Eigen::Vector3d(0.0, 0.0, 1.0), options_.map_fix_gate_sigma, &state);
+    if (!(v_distance <= options_.map_fix_gate_sigma)) {
+      vertical = false;
+      ++counters_.map_fix_heights_rejected;
+      char text[160];
+      std::snprintf(text, sizeof(text), "height innovation %.2f m is %.1f sigma (map_fix.gate_sigma %.1f), not used",
+                    v_innovation, v_distance, options_.map_fix_gate_sigma);
+      note_problem(utime_label("MAP_FIX", fix.utime) + text);
+    }
+  }
+  Eigen::Matrix3d after = 0.5 * (state.now + state.now.transpose());
+  // The motion since the frame is independent of the error at it, so `after`
+  // stays positive; guard against rounding.
+  if (!(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(after).eigenvalues().minCoeff() > 0.0)) {
+    after = filter_.reported_position_covariance();
+  }
+  map_error_cross_ = state.cross;
+  filter_.apply_position_fix(state.correction, after, vertical);
+  shift_placed_positions(state.correction, fix.utime);
+  ++counters_.map_fixes_applied;
+  if (vertical) ++counters_.map_fixes_with_height;
+  return pose_t::FLAG_MAP_FIX_APPLIED;
+}
+
+void YawFusionEstimator::shift_placed_positions(const Eigen::Vector3d& shift, int64_t from_utime) {
   for (PublishedPose& p : published_) {
-    if (p.utime >= fix.utime) p.position += correction;
+    if (p.utime >= from_utime) p.position += shift;
   }
   for (auto& p : recent_positions_) p.second += shift;
   for (CoastSample& s : coast_positions_) s.position += shift;
-  ++counters_.map_fixes_applied;
-  return pose_t::FLAG_MAP_FIX_APPLIED;
+  for (PlacedRange& r : recent_ranges_) r.position += shift;
+  coast_terrain_.move_with_position(shift);
+  seen_ground_.move_with_position(shift);
+  last_seen_ground_ += shift;
 }
 
 void YawFusionEstimator::remember_poses(const std::vector<pose_t>& poses, size_t from) {
@@ -1172,9 +1259,16 @@ void YawFusionEstimator::remember_poses(const std::vector<pose_t>& poses, size_t
     const pose_t& p = poses[i];
     PublishedPose entry;
     entry.utime = p.utime;
-    entry.position = {p.position_ned[0], p.position_ned[1]};
-    entry.covariance << p.position_covariance[0][0], p.position_covariance[0][1], p.position_covariance[1][0],
-        p.position_covariance[1][1];
+    entry.position = {p.position_ned[0], p.position_ned[1], p.position_ned[2]};
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) entry.covariance(r, c) = p.position_covariance[r][c];
+    entry.range_ned = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    for (auto it = frame_ranges_.rbegin(); it != frame_ranges_.rend(); ++it) {
+      if (it->first == p.utime) {
+        entry.range_ned = it->second;
+        break;
+      }
+    }
     published_.push_back(entry);
   }
   const int64_t keep = static_cast<int64_t>((options_.map_fix_apply_delay_s + 10.0) * 1e6);

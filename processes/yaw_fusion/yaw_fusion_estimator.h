@@ -43,8 +43,15 @@
 // a consider parameter (Schmidt): never estimated, but C, the position
 // error's covariance with it, is carried from fix to fix (C <- (I - K) C + K B,
 // K = M S^-1), so that a thousand fixes do not average the map's own error
-// away. A fix whose innovation is beyond
-// map_fix.gate_sigma (Mahalanobis) is rejected. The pose it is applied at
+// away. A fix with the DEM's ground under it (map_fix.vertical) is a
+// three-axis measurement: its down is that ground, carried along its slope to
+// the altimeter's spot at t_f, less the levelled range there; the fix's
+// horizontal error moves it along the slope (so its covariance couples the
+// axes, and so does the map's horizontal error through G below), and its
+// variance adds the DEM's and the range's. With z = H x + G b + v (H picks
+// the axes measured, G = [I 0; slope' 1] for three), M = P_f H' - C G',
+// S = H P_f H' - H C G' - G C' H' + G B G' + R, C <- (I - K H) C + K G B. A
+// fix whose innovation is beyond map_fix.gate_sigma (Mahalanobis) is rejected. The pose it is applied at
 // (or rejected at) carries FLAG_MAP_FIX_APPLIED (FLAG_MAP_FIX_REJECTED).
 //
 // Start: the pose origin is the first frame of the first usable delta. Deltas
@@ -122,6 +129,8 @@ struct YawFusionCounters {
   int64_t map_fixes_rejected = 0;          // gated
   int64_t map_fixes_unmatched = 0;         // no pose at the fix's frame (or too old)
   int64_t map_fixes_late = 0;              // came after the pose it was due at
+  int64_t map_fixes_with_height = 0;       // of those applied, with the DEM's ground (map_fix.vertical)
+  int64_t map_fix_heights_rejected = 0;    // applied, but the height gated out (horizontal only)
   int64_t poses = 0;
   std::string last_problem;                // names the channel, utime and reason
 };
@@ -339,13 +348,21 @@ class YawFusionEstimator {
   std::multimap<int64_t, map_fix_t> pending_fixes_;
   struct PublishedPose {
     int64_t utime;
-    Eigen::Vector2d position;
-    Eigen::Matrix2d covariance;
+    Eigen::Vector3d position;
+    Eigen::Matrix3d covariance;
+    // The levelled range at the frame turned to north/east/down (its z the
+    // height above ground); NaN without a range.
+    Eigen::Vector3d range_ned;
   };
   std::deque<PublishedPose> published_;
-  // Covariance of the horizontal position error with the map's systematic
-  // error (the consider parameter of the map fixes): zero until a fix.
-  Eigen::Matrix2d map_error_cross_ = Eigen::Matrix2d::Zero();
+  // update_height's levelled ranges by frame time (north/east/down), for the
+  // poses remember_poses keeps.
+  std::deque<std::pair<int64_t, Eigen::Vector3d>> frame_ranges_;
+  // Covariance of the position error (north, east, down) with the map's
+  // systematic error (the consider parameter of the map fixes): zero until a fix.
+  Eigen::Matrix3d map_error_cross_ = Eigen::Matrix3d::Zero();
+  // A world shift of everything placed with the position (a map fix's correction).
+  void shift_placed_positions(const Eigen::Vector3d& shift, int64_t from_utime);
 };
 
 }  // namespace nadir

@@ -105,6 +105,8 @@ class YawFusionNode : public Node {
     report.counters.emplace_back("map_fixes_invalid", static_cast<double>(c.map_fixes_invalid));
     report.counters.emplace_back("map_fixes_unmatched", static_cast<double>(c.map_fixes_unmatched));
     report.counters.emplace_back("map_fixes_late", static_cast<double>(c.map_fixes_late));
+    report.counters.emplace_back("map_fixes_with_height", static_cast<double>(c.map_fixes_with_height));
+    report.counters.emplace_back("map_fix_heights_rejected", static_cast<double>(c.map_fix_heights_rejected));
     for (int bit = 0; bit < kCoastReasons; ++bit) {
       report.counters.emplace_back(std::string("coast_") + coast_reason_name(bit),
                                    static_cast<double>(c.coast_reasons[bit]));

@@ -108,6 +108,14 @@ const OptionsSchema<YawFusionOptions>& YawFusionOptions::schema() {
         .number("map_fix.systematic_stddev_m", 0.0, 100.0, "m",
                 "the map's error common to all its fixes, each axis: carried, never averaged away by many fixes",
                 &O::map_fix_systematic_stddev_m)
+        .flag("map_fix.vertical",
+              "a fix with the DEM's ground under it fixes the height too (that ground at the altimeter's spot less "
+              "the levelled range)",
+              &O::map_fix_vertical)
+        .number("map_fix.systematic_vertical_stddev_m", 0.0, 100.0, "m",
+                "the error common to all fixes' heights: the DEM's datum and the INS height at the first pose "
+                "(a consider parameter)",
+                &O::map_fix_systematic_vertical_stddev_m)
         .rule("frame_time_tolerance_s", [](const O& o) { return o.frame_time_tolerance_s < 0.5 / o.frame_rate_hz; },
               "must be below half a frame period (camera.rate_hz)")
         .rule("max_time_jump_s",

@@ -111,6 +111,14 @@ struct YawFusionOptions {
   // of another sun), each horizontal axis: fixes are independent of each
   // other only beyond it. Carried as a consider parameter (yaw_fusion_estimator.h).
   double map_fix_systematic_stddev_m = 0.5;
+  // The height too: a fix with the DEM's ground under it (MAP_FIX.ground_*)
+  // fixes the down position of its frame at that ground, carried to the
+  // altimeter's spot along its slope, less the levelled range there. Its
+  // error common to all fixes (the DEM's datum, and the INS height at the
+  // first pose that places POSE's frame on the Earth) is the vertical
+  // consider parameter.
+  bool map_fix_vertical = true;
+  double map_fix_systematic_vertical_stddev_m = 1.0;
 
   // camera.time_offset_us (INS and altimeter read at a frame's exposure time,
   // stamp + offset; poses keep the stamp), altimeter.range_scale/range_bias_m
