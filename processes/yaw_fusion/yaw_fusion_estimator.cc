@@ -12,6 +12,7 @@
 
 #include "common/geometry.h"
 #include "processes/yaw_fusion/delta_integration.h"
+#include "processes/yaw_fusion/fix_consistency.h"
 
 namespace nadir {
 
@@ -43,7 +44,9 @@ YawFusionEstimator::YawFusionEstimator(const YawFusionOptions& options)
       altimeter_jump_candidate_(std::numeric_limits<int64_t>::min()),
       coast_detector_(options.coast),
       coast_terrain_(options.coast.terrain_window_s),
-      seen_ground_(options.coast.seen_ground_window_s) {
+      seen_ground_(options.coast.seen_ground_window_s),
+      horizontal_fix_consistency_(2, options.map_fix_consistency_window),
+      vertical_fix_consistency_(1, options.map_fix_consistency_window) {
   options_.Check();
 }
 
@@ -1143,9 +1146,17 @@ struct FixState {
 };
 
 // The Mahalanobis distance of the innovation; applies the update to `state`
-// when it is within `gate`.
+// when it is within `gate`. `inflation` (>= 1) first scales the pose's own
+// covariance of the axes moved at the frame (FixConsistency), which carries
+// on to the current pose.
 double apply_fix_update(const FixUpdate& u, const Eigen::Matrix3d& bias, const Eigen::Vector3d& moved, double gate,
-                        FixState* state) {
+                        double inflation, FixState* state) {
+  if (inflation > 1.0) {
+    const Eigen::Matrix3d added =
+        (inflation - 1.0) * (moved.asDiagonal() * state->frame_covariance * moved.asDiagonal());
+    state->frame_covariance += added;
+    state->now += added;
+  }
   const Eigen::VectorXd innovation = u.z - u.h * state->frame_position;
   // Position error e = estimate - truth: the innovation is -H e_f + G b + v,
   // so cov(e, innovation) = C G' - P_f H'.
@@ -1187,8 +1198,8 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
   FixUpdate h_update{Eigen::MatrixXd::Identity(2, 3), Eigen::MatrixXd::Identity(2, 3), r_horizontal,
                      Eigen::Vector2d(fix.position_ne[0], fix.position_ne[1])};
   const Eigen::Vector2d h_innovation = h_update.z - at->position.head<2>();
-  const double distance =
-      apply_fix_update(h_update, bias, Eigen::Vector3d(1.0, 1.0, 0.0), options_.map_fix_gate_sigma, &state);
+  const double distance = apply_fix_update(h_update, bias, Eigen::Vector3d(1.0, 1.0, 0.0),
+                                           options_.map_fix_gate_sigma, horizontal_fix_consistency_.inflation(), &state);
   if (!(distance <= options_.map_fix_gate_sigma)) {
     ++counters_.map_fixes_rejected;
     char text[160];
@@ -1197,6 +1208,7 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
     note_problem(utime_label("MAP_FIX", fix.utime) + text);
     return pose_t::FLAG_MAP_FIX_REJECTED;
   }
+  horizontal_fix_consistency_.note(distance * distance);
 
   // The height, from the ground at the altimeter's spot less the levelled
   // range: moves the down only. The fix's horizontal error, and the map's,
@@ -1218,8 +1230,11 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
                        square(options_.sensor_uncertainty.range_stddev(height)) + square(range_scale) + square(spot);
     const double v_innovation = v_update.z(0) - state.frame_position.z();
     const double v_distance =
-        apply_fix_update(v_update, bias, Eigen::Vector3d(0.0, 0.0, 1.0), options_.map_fix_gate_sigma, &state);
-    if (!(v_distance <= options_.map_fix_gate_sigma)) {
+        apply_fix_update(v_update, bias, Eigen::Vector3d(0.0, 0.0, 1.0), options_.map_fix_gate_sigma,
+                         vertical_fix_consistency_.inflation(), &state);
+    if (v_distance <= options_.map_fix_gate_sigma) {
+      vertical_fix_consistency_.note(v_distance * v_distance);
+    } else {
       vertical = false;
       ++counters_.map_fix_heights_rejected;
       char text[160];

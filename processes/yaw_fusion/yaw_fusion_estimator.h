@@ -78,6 +78,7 @@
 #include "processes/yaw_fusion/coast_terrain.h"
 #include "processes/yaw_fusion/coast_vertical_modes.h"
 #include "processes/yaw_fusion/coasting.h"
+#include "processes/yaw_fusion/fix_consistency.h"
 #include "processes/yaw_fusion/delta_integration.h"
 #include "processes/yaw_fusion/pose_filter.h"
 #include "processes/yaw_fusion/seen_ground.h"
@@ -361,6 +362,8 @@ class YawFusionEstimator {
   // Covariance of the position error (north, east, down) with the map's
   // systematic error (the consider parameter of the map fixes): zero until a fix.
   Eigen::Matrix3d map_error_cross_ = Eigen::Matrix3d::Zero();
+  // Whether the pose's covariance holds what the fixes see (fix_consistency.h).
+  FixConsistency horizontal_fix_consistency_, vertical_fix_consistency_;
   // A world shift of everything placed with the position (a map fix's correction).
   void shift_placed_positions(const Eigen::Vector3d& shift, int64_t from_utime);
 };

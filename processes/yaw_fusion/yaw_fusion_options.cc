@@ -116,6 +116,11 @@ const OptionsSchema<YawFusionOptions>& YawFusionOptions::schema() {
                 "the error common to all fixes' heights: the DEM's datum and the INS height at the first pose "
                 "(a consider parameter)",
                 &O::map_fix_systematic_vertical_stddev_m)
+        .number("map_fix.consistency_window", 0, 1000, "fixes",
+                "when the last this many fixes disagree with the pose beyond the chi-square 99 % bound of their "
+                "summed NIS, the pose's covariance is inflated by their mean NIS per axis before the next fix "
+                "(0: never)",
+                &O::map_fix_consistency_window)
         .rule("frame_time_tolerance_s", [](const O& o) { return o.frame_time_tolerance_s < 0.5 / o.frame_rate_hz; },
               "must be below half a frame period (camera.rate_hz)")
         .rule("max_time_jump_s",

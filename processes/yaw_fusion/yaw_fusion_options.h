@@ -119,6 +119,12 @@ struct YawFusionOptions {
   // consider parameter.
   bool map_fix_vertical = true;
   double map_fix_systematic_vertical_stddev_m = 1.0;
+  // Fixes that keep disagreeing with the pose beyond both covariances (the
+  // sum of the last this many fixes' NIS beyond its chi-square 99 %
+  // quantile) inflate the pose's covariance by their mean NIS per degree of
+  // freedom before the next fix (fix_consistency.h); horizontal and height
+  // each on their own. 0: never.
+  int map_fix_consistency_window = 10;
 
   // camera.time_offset_us (INS and altimeter read at a frame's exposure time,
   // stamp + offset; poses keep the stamp), altimeter.range_scale/range_bias_m

@@ -344,9 +344,10 @@ TEST(YawFusionMapFix, TheDemsGroundFixesTheHeight) {
   EXPECT_LT(horizontal_error(flight, fixed.back()).norm(), 1.0);
 
   // A DEM datum that all heights may share (1 m, the default): a
-  // disagreement that persists may be the datum's, so the fixes pull less
-  // (a climb error the covariance does not hold, as here, is only partly
-  // removed) and the sigma stays wider.
+  // disagreement might be the datum's, so each fix pulls less; the climb
+  // error here is beyond the pose's covariance, the fixes keep disagreeing
+  // and the consistency check (map_fix.consistency_window) widens the pose's
+  // sigma until they pull it. The sigma stays wider.
   const auto considered = fly(fixes, 1.0, &c_considered);
   EXPECT_EQ(c_considered.map_fixes_with_height, static_cast<int64_t>(fixes.size()));
   EXPECT_LT(std::abs(vertical_error(considered.back())), std::abs(free_error) - 0.5);
@@ -356,6 +357,70 @@ TEST(YawFusionMapFix, TheDemsGroundFixesTheHeight) {
               free_error, std::sqrt(free.back().position_covariance[2][2]), fixed_error,
               std::sqrt(fixed.back().position_covariance[2][2]), vertical_error(considered.back()),
               std::sqrt(considered.back().position_covariance[2][2]));
+}
+
+}  // namespace
+}  // namespace nadir
+
+namespace nadir {
+namespace {
+
+TEST(YawFusionMapFix, FixesThatKeepDisagreeingInflateThePose) {
+  // The VO's steps scatter five times what their covariance says (a random
+  // walk of about 2 m over 100 s reported as 0.4 m), and the map's error
+  // common to all fixes is carried (0.5 m): without the consistency check
+  // the pose takes the fixes' disagreement as the map's offset and keeps its
+  // error; with it the covariance grows to what the fixes see and the pose
+  // follows them.
+  FlightSpec spec = drifting_flight();
+  spec.translation_stddev_m = 0.05;
+  spec.covariance_translation_stddev_m = 0.01;
+  spec.seed = 11;
+  const SyntheticFlight flight = test::make_flight(spec);
+  const std::vector<map_fix_t> fixes = fixes_every(flight, 14, 0.3, 9);
+  auto fly = [&](int window) {
+    YawFusionOptions options;
+    options.map_fix_consistency_window = window;
+    options.sensor_uncertainty.roll_pitch_stddev_deg = 0.0;
+    YawFusionEstimator estimator{options};
+    return test::run(estimator, with_fixes(flight, fixes, 150'000));
+  };
+  const auto locked = fly(0), adapted = fly(10);
+  ASSERT_EQ(locked.size(), adapted.size());
+  auto stats = [&](const std::vector<pose_t>& poses, double* rms, double* mean_nees) {
+    double sum = 0.0, nees_sum = 0.0;
+    int n = 0;
+    for (const pose_t& p : poses) {
+      if (p.utime < poses.front().utime + 30'000'000) continue;
+      sum += horizontal_error(flight, p).squaredNorm();
+      nees_sum += nees(flight, p);
+      ++n;
+    }
+    *rms = std::sqrt(sum / n);
+    *mean_nees = nees_sum / n;
+  };
+  double locked_rms = 0, locked_nees = 0, adapted_rms = 0, adapted_nees = 0;
+  stats(locked, &locked_rms, &locked_nees);
+  stats(adapted, &adapted_rms, &adapted_nees);
+  std::printf("after 30 s: error %.2f m rms, horizontal NEES %.2f without the check; %.2f m, %.2f with it\n",
+              locked_rms, locked_nees, adapted_rms, adapted_nees);
+  EXPECT_GT(locked_nees, 4.0);  // the lock: over-confident
+  EXPECT_LT(adapted_nees, 3.5);
+  EXPECT_LT(adapted_rms, 0.85 * locked_rms);
+  // A consistent flight is left as it is: the check never fires on
+  // FixesBoundTheDriftWithAnHonestCovariance's flight.
+  const SyntheticFlight honest = test::make_flight(drifting_flight());
+  const std::vector<map_fix_t> honest_fixes = fixes_every(honest, 14, 0.3, 3);
+  YawFusionOptions with_check, without_check;
+  without_check.map_fix_consistency_window = 0;
+  with_check.sensor_uncertainty.roll_pitch_stddev_deg = without_check.sensor_uncertainty.roll_pitch_stddev_deg = 0.0;
+  YawFusionEstimator a{with_check}, b{without_check};
+  const auto pa = test::run(a, with_fixes(honest, honest_fixes, 150'000));
+  const auto pb = test::run(b, with_fixes(honest, honest_fixes, 150'000));
+  ASSERT_EQ(pa.size(), pb.size());
+  int differing = 0;
+  for (size_t i = 0; i < pa.size(); ++i) differing += pa[i].position_ned[0] != pb[i].position_ned[0];
+  EXPECT_LT(differing, static_cast<int>(pa.size()) / 10);
 }
 
 }  // namespace
