@@ -212,9 +212,6 @@ FixAttempt MapMatcher::attempt(const image_t& image, const pose_t& pose, const m
 }
 
 void MapMatcher::set_ground(const map::LocalProjection& origin, map_fix_t* fix) const {
-  fix->ground_down_m = 0.0;
-  fix->ground_gradient_ne[0] = fix->ground_gradient_ne[1] = 0.0;
-  fix->ground_down_variance = -1.0;
   const double north = fix->position_ne[0], east = fix->position_ne[1];
   const auto height_at = [&](double n, double e) {
     const GeodeticPoint p = origin.geodetic(n, e);
@@ -231,9 +228,8 @@ void MapMatcher::set_ground(const map::LocalProjection& origin, map_fix_t* fix) 
     fix->ground_gradient_ne[1] = -up_east;
     fix->ground_down_variance = options_.dem_stddev_m * options_.dem_stddev_m;
   } catch (const map::MapError&) {
-    // The DEM ends (or has NoData) right there: the fix stays horizontal.
-    fix->ground_down_m = 0.0;
-    fix->ground_gradient_ne[0] = fix->ground_gradient_ne[1] = 0.0;
+    // The DEM ends (or has NoData) right there: nothing was written, the fix
+    // stays horizontal (attempt() set the variance to -1).
   }
 }
 

@@ -85,8 +85,8 @@ class MapMatcher {
   const MapMatcherOptions& options() const { return options_; }
 
  private:
-  // The DEM's ground at the fix's position (MAP_FIX.ground_*); none where the
-  // DEM ends or has NoData.
+  // The DEM's ground at the fix's position (MAP_FIX.ground_*); left as it is
+  // (no height) where the DEM ends or has NoData.
   void set_ground(const map::LocalProjection& origin, map_fix_t* fix) const;
 
   MapMatcherOptions options_;

@@ -31,7 +31,6 @@ class FixConsistency {
   double inflation() const;
   // The NIS of a fix that was applied (not one gated out).
   void note(double nis);
-  void clear() { nis_.clear(); }
 
  private:
   int dof_;

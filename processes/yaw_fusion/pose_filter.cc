@@ -171,21 +171,26 @@ void PoseFilter::set_down(double down, double variance) {
   p_(kDown, kDown) = variance;
 }
 
-void PoseFilter::apply_horizontal_fix(const Eigen::Vector2d& correction, const Eigen::Matrix2d& covariance) {
-  x_.head<2>() += correction;
+template <int N>
+void PoseFilter::fix_position(const Eigen::Matrix<double, N, 1>& correction,
+                              const Eigen::Matrix<double, N, N>& covariance) {
+  x_.head<N>() += correction;
   origin_levelling_variance_ = 0.0;
-  displacement_.head<2>().setZero();
+  displacement_.head<N>().setZero();
   yaw_bias_.topRows<2>().setZero();
   yaw_bias_.leftCols<2>().setZero();
   // What the filter itself must hold so that the reported covariance is `covariance`.
-  const Eigen::Matrix2d wanted = 0.5 * (covariance + covariance.transpose()) -
-                                 frame_levelling_variance_ * Eigen::Matrix2d::Identity();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(wanted);
-  const Eigen::Vector2d values = eigen.eigenvalues().cwiseMax(1e-6);
-  const Eigen::Matrix2d block = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
-  p_.topRows<2>().setZero();
-  p_.leftCols<2>().setZero();
-  p_.topLeftCorner<2, 2>() = block;
+  Eigen::Matrix<double, N, N> wanted = 0.5 * (covariance + covariance.transpose());
+  wanted.template topLeftCorner<2, 2>() -= frame_levelling_variance_ * Eigen::Matrix2d::Identity();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eigen(wanted);
+  const Eigen::Matrix<double, N, 1> values = eigen.eigenvalues().cwiseMax(1e-6);
+  p_.topRows<N>().setZero();
+  p_.leftCols<N>().setZero();
+  p_.topLeftCorner<N, N>() = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
+void PoseFilter::apply_horizontal_fix(const Eigen::Vector2d& correction, const Eigen::Matrix2d& covariance) {
+  fix_position<2>(correction, covariance);
 }
 
 void PoseFilter::apply_position_fix(const Eigen::Vector3d& correction, const Eigen::Matrix3d& covariance,
@@ -194,25 +199,13 @@ void PoseFilter::apply_position_fix(const Eigen::Vector3d& correction, const Eig
     apply_horizontal_fix(correction.head<2>(), covariance.topLeftCorner<2, 2>());
     return;
   }
-  x_.head<3>() += correction;
-  if (terrain_initialised_) x_(kTerrain) += correction.z();
-  origin_levelling_variance_ = 0.0;
-  displacement_.setZero();
-  yaw_bias_.topRows<2>().setZero();
-  yaw_bias_.leftCols<2>().setZero();
-  Eigen::Matrix3d wanted = 0.5 * (covariance + covariance.transpose());
-  wanted.topLeftCorner<2, 2>() -= frame_levelling_variance_ * Eigen::Matrix2d::Identity();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(wanted);
-  const Eigen::Vector3d values = eigen.eigenvalues().cwiseMax(1e-6);
-  const Eigen::Matrix3d block = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
   const double terrain_variance = p_(kTerrain, kTerrain);
-  p_.topRows<3>().setZero();
-  p_.leftCols<3>().setZero();
-  p_.topLeftCorner<3, 3>() = block;
+  fix_position<3>(correction, covariance);
   if (terrain_initialised_) {
     // Down and terrain moved together: the altimeter's constraint between them holds.
-    p_(kTerrain, kDown) = p_(kDown, kTerrain) = block(2, 2);
-    p_(kTerrain, kTerrain) = std::max(terrain_variance, block(2, 2));
+    x_(kTerrain) += correction.z();
+    p_(kTerrain, kDown) = p_(kDown, kTerrain) = p_(kDown, kDown);
+    p_(kTerrain, kTerrain) = std::max(terrain_variance, p_(kDown, kDown));
   }
 }
 

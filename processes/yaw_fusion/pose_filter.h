@@ -153,6 +153,12 @@ class PoseFilter {
   const Matrix& covariance() const { return p_; }
 
  private:
+  // A fix of the first N position axes: moves them by `correction`, restarts
+  // the shared errors' share of the position, and sets the filter's block so
+  // that the reported covariance of those axes is `covariance` (their
+  // correlation with the other states dropped).
+  template <int N>
+  void fix_position(const Eigen::Matrix<double, N, 1>& correction, const Eigen::Matrix<double, N, N>& covariance);
   // Joseph-form covariance update for gain k on measurement row h with variance r.
   void joseph_update(const Vector& k, const Eigen::Matrix<double, 1, kSize>& h, double r);
 
