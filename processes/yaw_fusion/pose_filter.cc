@@ -21,6 +21,7 @@ void PoseFilter::initialise(double yaw, double yaw_variance) {
   displacement_.setZero();
   range_scale_variance_ = 0.0;
   yaw_bias_.setZero();
+  yaw_bias_estimate_.setZero();
   have_yaw_levelling_frame_ = false;
   have_heading_drift_ = false;
 }
@@ -34,8 +35,8 @@ void PoseFilter::restore(const Eigen::Vector3d& position, const Eigen::Matrix3d&
 
 Eigen::Vector3d PoseFilter::predict_with_delta(const Eigen::Vector3d& translation, double dyaw,
                                                const Eigen::Matrix4d& covariance) {
-  const double c = std::cos(x_(kYaw));
-  const double s = std::sin(x_(kYaw));
+  const double c = std::cos(yaw());
+  const double s = std::sin(yaw());
   const Eigen::Vector3d world(c * translation.x() - s * translation.y(), s * translation.x() + c * translation.y(),
                               translation.z());
   x_.head<3>() += world;
@@ -130,6 +131,45 @@ void PoseFilter::add_shared_errors(double prev_levelling_variance, double curr_l
   yaw_bias_ = f * yaw_bias_ * f.transpose();
   yaw_bias_(kWalkBias, kWalkBias) += yaw_bias.walk_variance_added;
   yaw_bias_(kMarkovBias, kMarkovBias) += yaw_bias.markov_variance_added;
+  yaw_bias_estimate_(1) *= yaw_bias.markov_decay;
+}
+
+void PoseFilter::correct_yaw_bias(const Eigen::Vector2d& correction, const Eigen::Matrix2d& variance_removed) {
+  yaw_bias_estimate_ += correction;
+  Eigen::Matrix2d bias = yaw_bias_covariance() - 0.5 * (variance_removed + variance_removed.transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(0.5 * (bias + bias.transpose()));
+  bias = eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
+  yaw_bias_.block<2, 2>(kWalkBias, kWalkBias) = bias;
+}
+
+void PoseFilter::hold_yaw_bias_correlation(const Eigen::Matrix2d& cross) {
+  // The position error split as A beta + r, r independent of the bias error
+  // beta: A = cross Sigma^-1 (a pseudo-inverse: a part without variance
+  // explains nothing), the explained part A Sigma A' = cross Sigma^+ cross'.
+  const Eigen::Matrix2d sigma = yaw_bias_covariance();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(sigma);
+  Eigen::Vector2d inverse = Eigen::Vector2d::Zero();
+  const double largest = eigen.eigenvalues().maxCoeff();
+  for (int i = 0; i < 2; ++i) {
+    if (eigen.eigenvalues()(i) > 1e-12 * largest && largest > 0.0) inverse(i) = 1.0 / eigen.eigenvalues()(i);
+  }
+  const Eigen::Matrix2d pseudo_inverse = eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose();
+  Eigen::Matrix2d explained = cross * pseudo_inverse * cross.transpose();
+  explained = 0.5 * (explained + explained.transpose());
+  // What stays in the filter must remain a covariance: explain no more than it holds.
+  const Eigen::Matrix2d held = p_.topLeftCorner<2, 2>();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> rest(held - explained);
+  double scale = 1.0;
+  if (rest.eigenvalues().minCoeff() < 0.0) {
+    // Largest s in [0, 1] with held - s explained >= 0 (generalised eigenvalue).
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> g(explained, held + 1e-12 * Eigen::Matrix2d::Identity());
+    const double top = g.eigenvalues().maxCoeff();
+    scale = top > 0.0 ? std::min(1.0, 0.999 / top) : 0.0;
+  }
+  p_.topLeftCorner<2, 2>() -= scale * explained;
+  yaw_bias_.topLeftCorner<2, 2>() = scale * explained;
+  yaw_bias_.block<2, 2>(0, kWalkBias) = std::sqrt(scale) * cross;
+  yaw_bias_.block<2, 2>(kWalkBias, 0) = std::sqrt(scale) * cross.transpose();
 }
 
 Eigen::Matrix3d PoseFilter::reported_position_covariance() const {

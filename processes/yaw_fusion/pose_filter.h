@@ -21,6 +21,8 @@
 
 #include <cstdint>
 
+#include "common/geometry.h"
+
 namespace nadir {
 
 class PoseFilter {
@@ -146,8 +148,27 @@ class PoseFilter {
            2.0 * yaw_bias_(kWalkBias, kMarkovBias);
   }
 
+  // The INS heading bias (its walk and Gauss-Markov parts, rad) as absolute
+  // fixes estimate it (correct_yaw_bias; 0 without fixes). The yaw state
+  // follows the INS heading, bias and all; yaw() is the heading with the
+  // estimate taken out, and every translation is registered with it. The
+  // shared errors' bias terms are then those of the bias less its estimate.
+  // cov(position error, bias error), rows north/east, columns walk/markov:
+  Eigen::Matrix2d yaw_bias_cross() const { return yaw_bias_.block<2, 2>(0, kWalkBias); }
+  Eigen::Matrix2d yaw_bias_covariance() const { return yaw_bias_.block<2, 2>(kWalkBias, kWalkBias); }
+  double yaw_bias_estimate() const { return yaw_bias_estimate_.sum(); }
+  // Moves the estimate by `correction` (walk, markov) and takes `variance_removed` from its covariance.
+  void correct_yaw_bias(const Eigen::Vector2d& correction, const Eigen::Matrix2d& variance_removed);
+  // After a horizontal fix (apply_position_fix), which leaves the position
+  // uncorrelated with everything: the horizontal position error's
+  // covariance with the bias error is `cross` (as yaw_bias_cross()). The
+  // reported covariance stays what the fix set; the part of it the bias
+  // explains moves into the shared errors, so later fixes see the drift the
+  // bias makes over the whole path, not only since the last fix.
+  void hold_yaw_bias_correlation(const Eigen::Matrix2d& cross);
+
   Eigen::Vector3d position() const { return x_.head<3>(); }
-  double yaw() const { return x_(kYaw); }
+  double yaw() const { return yaw_bias_estimate_.isZero(0.0) ? x_(kYaw) : wrap_angle(x_(kYaw) - yaw_bias_estimate()); }
   double yaw_variance() const { return p_(kYaw, kYaw); }
   Eigen::Matrix3d position_covariance() const { return p_.topLeftCorner<3, 3>(); }
   const Matrix& covariance() const { return p_; }
@@ -179,6 +200,7 @@ class PoseFilter {
   // bias's two parts.
   static constexpr int kWalkBias = 2, kMarkovBias = 3;
   Eigen::Matrix4d yaw_bias_ = Eigen::Matrix4d::Zero();
+  Eigen::Vector2d yaw_bias_estimate_ = Eigen::Vector2d::Zero();  // (walk, markov), rad
 };
 
 }  // namespace nadir

@@ -1143,6 +1143,10 @@ struct FixState {
   Eigen::Vector3d frame_position;
   Eigen::Matrix3d frame_covariance, now, cross;
   Eigen::Vector3d correction = Eigen::Vector3d::Zero();
+  // The last update applied: its innovation, S^-1 and cov(innovation, frame
+  // position error) (k x 3), for states beside the position.
+  Eigen::VectorXd innovation = Eigen::VectorXd();
+  Eigen::MatrixXd s_inverse = Eigen::MatrixXd(), innovation_error = Eigen::MatrixXd();
 };
 
 // The Mahalanobis distance of the innovation; applies the update to `state`
@@ -1167,6 +1171,9 @@ double apply_fix_update(const FixUpdate& u, const Eigen::Matrix3d& bias, const E
   const Eigen::MatrixXd s_inverse = s.inverse();
   const double distance = std::sqrt(std::max(0.0, innovation.dot(s_inverse * innovation)));
   if (!(distance <= gate)) return distance;
+  state->innovation = innovation;
+  state->s_inverse = s_inverse;
+  state->innovation_error = -m.transpose();
   const Eigen::MatrixXd gain = moved.asDiagonal() * m * s_inverse;
   const Eigen::Vector3d correction = gain * innovation;
   const Eigen::Matrix3d loss = gain * m.transpose() + m * gain.transpose() - gain * s * gain.transpose();
@@ -1209,6 +1216,8 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
     return pose_t::FLAG_MAP_FIX_REJECTED;
   }
   horizontal_fix_consistency_.note(distance * distance);
+  const std::optional<Eigen::Matrix2d> bias_cross =
+      estimate_heading_bias(*at, state.innovation, state.s_inverse, state.innovation_error.leftCols<2>().transpose());
 
   // The height, from the ground at the altimeter's spot less the levelled
   // range: moves the down only. The fix's horizontal error, and the map's,
@@ -1251,10 +1260,34 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
   }
   map_error_cross_ = state.cross;
   filter_.apply_position_fix(state.correction, after, vertical);
+  if (bias_cross) filter_.hold_yaw_bias_correlation(*bias_cross);
   shift_placed_positions(state.correction, fix.utime);
   ++counters_.map_fixes_applied;
   if (vertical) ++counters_.map_fixes_with_height;
   return pose_t::FLAG_MAP_FIX_APPLIED;
+}
+
+std::optional<Eigen::Matrix2d> YawFusionEstimator::estimate_heading_bias(const PublishedPose& at,
+                                                                        const Eigen::Vector2d& innovation,
+                                                                        const Eigen::Matrix2d& s_inverse,
+                                                                        const Eigen::Matrix2d& error_innovation) {
+  if (!options_.map_fix_estimates_heading_bias || !(filter_.yaw_bias_covariance().trace() > 0.0)) {
+    return std::nullopt;
+  }
+  // The bias error beta = b - estimate. Its covariance with the frame's
+  // position error: as at the frame, the Gauss-Markov part decayed since.
+  Eigen::Matrix2d frame_cross = at.yaw_bias_cross;
+  if (options_.ins_yaw_bias_correlation_s > 0.0) {
+    frame_cross.col(1) *=
+        std::exp(-static_cast<double>(last_frame_utime_ - at.utime) * 1e-6 / options_.ins_yaw_bias_correlation_s);
+  }
+  // The innovation is -e_f + map error + noise: cov(beta, innovation) = -cov(e_f, beta)'.
+  const Eigen::Matrix2d bias_innovation = -frame_cross.transpose();
+  const Eigen::Matrix2d gain = bias_innovation * s_inverse;
+  const Eigen::Matrix2d now_cross = filter_.yaw_bias_cross();
+  filter_.correct_yaw_bias(gain * innovation, gain * bias_innovation.transpose());
+  // cov(e+, beta+) = cov(e, beta) - cov(e, innovation) S^-1 cov(beta, innovation)'.
+  return Eigen::Matrix2d(now_cross - error_innovation * s_inverse * bias_innovation.transpose());
 }
 
 void YawFusionEstimator::shift_placed_positions(const Eigen::Vector3d& shift, int64_t from_utime) {
@@ -1278,6 +1311,7 @@ void YawFusionEstimator::remember_poses(const std::vector<pose_t>& poses, size_t
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) entry.covariance(r, c) = p.position_covariance[r][c];
     entry.range_ned = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    entry.yaw_bias_cross = filter_.yaw_bias_cross();
     for (auto it = frame_ranges_.rbegin(); it != frame_ranges_.rend(); ++it) {
       if (it->first == p.utime) {
         entry.range_ned = it->second;

@@ -354,8 +354,17 @@ class YawFusionEstimator {
     // The levelled range at the frame turned to north/east/down (its z the
     // height above ground); NaN without a range.
     Eigen::Vector3d range_ned;
+    // PoseFilter::yaw_bias_cross() when the pose was published.
+    Eigen::Matrix2d yaw_bias_cross;
   };
   std::deque<PublishedPose> published_;
+  // With map_fix.estimates_heading_bias: moves the INS heading bias estimate
+  // by a horizontal fix of the pose `at` (its innovation, S^-1 and
+  // cov(position error, innovation) north/east) and returns the position's
+  // covariance with the bias error after the fix (PoseFilter::hold_yaw_bias_correlation).
+  std::optional<Eigen::Matrix2d> estimate_heading_bias(const PublishedPose& at, const Eigen::Vector2d& innovation,
+                                                       const Eigen::Matrix2d& s_inverse,
+                                                       const Eigen::Matrix2d& error_innovation);
   // update_height's levelled ranges by frame time (north/east/down), for the
   // poses remember_poses keeps.
   std::deque<std::pair<int64_t, Eigen::Vector3d>> frame_ranges_;

@@ -121,6 +121,10 @@ const OptionsSchema<YawFusionOptions>& YawFusionOptions::schema() {
                 "summed NIS, the pose's covariance is inflated by their mean NIS per axis before the next fix "
                 "(0: never)",
                 &O::map_fix_consistency_window)
+        .flag("map_fix.estimates_heading_bias",
+              "the horizontal fixes estimate the INS heading bias (from the drift it makes across the track), and "
+              "the heading less that estimate registers every step",
+              &O::map_fix_estimates_heading_bias)
         .rule("frame_time_tolerance_s", [](const O& o) { return o.frame_time_tolerance_s < 0.5 / o.frame_rate_hz; },
               "must be below half a frame period (camera.rate_hz)")
         .rule("max_time_jump_s",

@@ -125,6 +125,11 @@ struct YawFusionOptions {
   // freedom before the next fix (fix_consistency.h); horizontal and height
   // each on their own. 0: never.
   int map_fix_consistency_window = 10;
+  // The horizontal fixes estimate the INS heading bias (ins_yaw_bias_*):
+  // the drift it makes across the track between fixes, over the whole path.
+  // Every translation is then registered with the heading less that
+  // estimate, so the drift stops where the fixes stop (PoseFilter::yaw).
+  bool map_fix_estimates_heading_bias = true;
 
   // camera.time_offset_us (INS and altimeter read at a frame's exposure time,
   // stamp + offset; poses keep the stamp), altimeter.range_scale/range_bias_m

@@ -82,7 +82,8 @@ SyntheticFlight make_flight(const FlightSpec& spec) {
       ins.device_utime = t_us;
       ins.roll = roll_at(t);
       ins.pitch = pitch_at(t);
-      ins.yaw = wrap_angle(heading_at(t) + deg_to_rad(spec.ins_yaw_stddev_deg) * normal(rng));
+      ins.yaw = wrap_angle(heading_at(t) + deg_to_rad(spec.ins_yaw_bias_deg) +
+                           deg_to_rad(spec.ins_yaw_stddev_deg) * normal(rng));
       ins.has_stddev = true;
       ins.attitude_stddev[0] = ins.attitude_stddev[1] = deg_to_rad(0.05);
       ins.attitude_stddev[2] = deg_to_rad(spec.reported_ins_yaw_stddev_deg);

@@ -62,6 +62,7 @@ struct FlightSpec {
   // track does not follow it (sideslip, a helicopter's yaw wander).
   double heading_oscillation_deg = 0.0;
   double heading_oscillation_period_s = 3.0;
+  double ins_yaw_bias_deg = 0.0;        // added to every INS yaw (a heading bias the INS does not report)
   uint32_t seed = 7;
 };
 
