@@ -22,6 +22,9 @@ void PoseFilter::initialise(double yaw, double yaw_variance) {
   range_scale_variance_ = 0.0;
   yaw_bias_.setZero();
   yaw_bias_estimate_.setZero();
+  yaw_bias_corrected_ = false;
+  yaw_bias_unestimated_.setZero();
+  yaw_bias_path_.setZero();
   have_yaw_levelling_frame_ = false;
   have_heading_drift_ = false;
 }
@@ -132,9 +135,19 @@ void PoseFilter::add_shared_errors(double prev_levelling_variance, double curr_l
   yaw_bias_(kWalkBias, kWalkBias) += yaw_bias.walk_variance_added;
   yaw_bias_(kMarkovBias, kMarkovBias) += yaw_bias.markov_variance_added;
   yaw_bias_estimate_(1) *= yaw_bias.markov_decay;
+  yaw_bias_path_ += Eigen::Vector2d(-world_translation.y(), world_translation.x());
+  if (yaw_bias_corrected_) {
+    yaw_bias_unestimated_(0, 1) *= yaw_bias.markov_decay;
+    yaw_bias_unestimated_(1, 0) *= yaw_bias.markov_decay;
+    yaw_bias_unestimated_(1, 1) *= yaw_bias.markov_decay * yaw_bias.markov_decay;
+    yaw_bias_unestimated_(0, 0) += yaw_bias.walk_variance_added;
+    yaw_bias_unestimated_(1, 1) += yaw_bias.markov_variance_added;
+  }
 }
 
 void PoseFilter::correct_yaw_bias(const Eigen::Vector2d& correction, const Eigen::Matrix2d& variance_removed) {
+  if (!yaw_bias_corrected_) yaw_bias_unestimated_ = yaw_bias_covariance();
+  yaw_bias_corrected_ = true;
   yaw_bias_estimate_ += correction;
   Eigen::Matrix2d bias = yaw_bias_covariance() - 0.5 * (variance_removed + variance_removed.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(0.5 * (bias + bias.transpose()));

@@ -143,9 +143,13 @@ class PoseFilter {
   bool has_shared_origin() const { return have_origin_levelling_; }
   // Position covariance and yaw variance with the shared errors.
   Eigen::Matrix3d reported_position_covariance() const;
+  // The reported yaw is the yaw state (fused_yaw): what the fixes estimate
+  // is the heading the steps need, which holds the camera's mounting as
+  // well as the INS bias, so the yaw's variance keeps the bias's own.
   double reported_yaw_variance() const {
-    return p_(kYaw, kYaw) + yaw_bias_(kWalkBias, kWalkBias) + yaw_bias_(kMarkovBias, kMarkovBias) +
-           2.0 * yaw_bias_(kWalkBias, kMarkovBias);
+    const Eigen::Matrix2d& bias =
+        yaw_bias_corrected_ ? yaw_bias_unestimated_ : Eigen::Matrix2d(yaw_bias_.block<2, 2>(kWalkBias, kWalkBias));
+    return p_(kYaw, kYaw) + bias(0, 0) + bias(1, 1) + 2.0 * bias(0, 1);
   }
 
   // The INS heading bias (its walk and Gauss-Markov parts, rad) as absolute
@@ -157,6 +161,13 @@ class PoseFilter {
   Eigen::Matrix2d yaw_bias_cross() const { return yaw_bias_.block<2, 2>(0, kWalkBias); }
   Eigen::Matrix2d yaw_bias_covariance() const { return yaw_bias_.block<2, 2>(kWalkBias, kWalkBias); }
   double yaw_bias_estimate() const { return yaw_bias_estimate_.sum(); }
+  // The sum of the translations turned by 90 deg since the last call: what a
+  // bias error moved the position by since then, per radian.
+  Eigen::Vector2d take_yaw_bias_path() {
+    const Eigen::Vector2d path = yaw_bias_path_;
+    yaw_bias_path_.setZero();
+    return path;
+  }
   // Moves the estimate by `correction` (walk, markov) and takes `variance_removed` from its covariance.
   void correct_yaw_bias(const Eigen::Vector2d& correction, const Eigen::Matrix2d& variance_removed);
   // After a horizontal fix (apply_position_fix), which leaves the position
@@ -168,7 +179,10 @@ class PoseFilter {
   void hold_yaw_bias_correlation(const Eigen::Matrix2d& cross);
 
   Eigen::Vector3d position() const { return x_.head<3>(); }
+  // The heading the steps are registered with.
   double yaw() const { return yaw_bias_estimate_.isZero(0.0) ? x_(kYaw) : wrap_angle(x_(kYaw) - yaw_bias_estimate()); }
+  // The yaw state: the INS heading fused with the VO's turns, its bias in it.
+  double fused_yaw() const { return x_(kYaw); }
   double yaw_variance() const { return p_(kYaw, kYaw); }
   Eigen::Matrix3d position_covariance() const { return p_.topLeftCorner<3, 3>(); }
   const Matrix& covariance() const { return p_; }
@@ -201,6 +215,10 @@ class PoseFilter {
   static constexpr int kWalkBias = 2, kMarkovBias = 3;
   Eigen::Matrix4d yaw_bias_ = Eigen::Matrix4d::Zero();
   Eigen::Vector2d yaw_bias_estimate_ = Eigen::Vector2d::Zero();  // (walk, markov), rad
+  // The bias's covariance as if no fix had estimated it (reported_yaw_variance), once one has.
+  bool yaw_bias_corrected_ = false;
+  Eigen::Vector2d yaw_bias_path_ = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d yaw_bias_unestimated_ = Eigen::Matrix2d::Zero();
 };
 
 }  // namespace nadir

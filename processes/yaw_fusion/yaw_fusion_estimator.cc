@@ -1199,6 +1199,9 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
   r_horizontal << fix.covariance_ne[0][0], fix.covariance_ne[0][1], fix.covariance_ne[1][0], fix.covariance_ne[1][1];
   const double horizontal = options_.map_fix_systematic_stddev_m, down = options_.map_fix_systematic_vertical_stddev_m;
   const Eigen::Matrix3d bias = Eigen::Vector3d(horizontal * horizontal, horizontal * horizontal, down * down).asDiagonal();
+  // What the bias error, correlated with the map's error, moved the position by since the last fix.
+  const Eigen::Vector2d bias_path = filter_.take_yaw_bias_path();
+  map_error_cross_.topRows<2>() += bias_path * (bias_map_cross_.row(0) + bias_map_cross_.row(1));
   FixState state{at->position, at->covariance, filter_.reported_position_covariance(), map_error_cross_};
 
   // The horizontal: moves the horizontal only.
@@ -1217,7 +1220,8 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
   }
   horizontal_fix_consistency_.note(distance * distance);
   const std::optional<Eigen::Matrix2d> bias_cross =
-      estimate_heading_bias(*at, state.innovation, state.s_inverse, state.innovation_error.leftCols<2>().transpose());
+      estimate_heading_bias(*at, state.innovation, state.s_inverse, state.innovation_error.leftCols<2>().transpose(),
+                            bias, map_error_cross_);
 
   // The height, from the ground at the altimeter's spot less the levelled
   // range: moves the down only. The fix's horizontal error, and the map's,
@@ -1267,25 +1271,31 @@ int32_t YawFusionEstimator::apply_map_fix(const map_fix_t& fix) {
   return pose_t::FLAG_MAP_FIX_APPLIED;
 }
 
-std::optional<Eigen::Matrix2d> YawFusionEstimator::estimate_heading_bias(const PublishedPose& at,
-                                                                        const Eigen::Vector2d& innovation,
-                                                                        const Eigen::Matrix2d& s_inverse,
-                                                                        const Eigen::Matrix2d& error_innovation) {
+std::optional<Eigen::Matrix2d> YawFusionEstimator::estimate_heading_bias(
+    const PublishedPose& at, const Eigen::Vector2d& innovation, const Eigen::Matrix2d& s_inverse,
+    const Eigen::Matrix2d& error_innovation, const Eigen::Matrix3d& map_bias, const Eigen::Matrix3d& frame_map_cross) {
   if (!options_.map_fix_estimates_heading_bias || !(filter_.yaw_bias_covariance().trace() > 0.0)) {
     return std::nullopt;
   }
-  // The bias error beta = b - estimate. Its covariance with the frame's
-  // position error: as at the frame, the Gauss-Markov part decayed since.
+  // The Gauss-Markov part decays: its covariances as at the frame, and with the map's error as at the last fix.
+  auto decay_since = [&](int64_t utime) {
+    return options_.ins_yaw_bias_correlation_s > 0.0
+               ? std::exp(-static_cast<double>(last_frame_utime_ - utime) * 1e-6 / options_.ins_yaw_bias_correlation_s)
+               : 1.0;
+  };
   Eigen::Matrix2d frame_cross = at.yaw_bias_cross;
-  if (options_.ins_yaw_bias_correlation_s > 0.0) {
-    frame_cross.col(1) *=
-        std::exp(-static_cast<double>(last_frame_utime_ - at.utime) * 1e-6 / options_.ins_yaw_bias_correlation_s);
-  }
-  // The innovation is -e_f + map error + noise: cov(beta, innovation) = -cov(e_f, beta)'.
-  const Eigen::Matrix2d bias_innovation = -frame_cross.transpose();
+  frame_cross.col(1) *= decay_since(at.utime);
+  bias_map_cross_.row(1) *= decay_since(bias_map_cross_utime_);
+  bias_map_cross_utime_ = last_frame_utime_;
+  // The bias error beta = b - estimate; the innovation is -e_f + (map error) + noise, so
+  // cov(beta, innovation) = -cov(e_f, beta)' + cov(beta, map error).
+  const Eigen::Matrix2d bias_innovation = -frame_cross.transpose() + bias_map_cross_.leftCols<2>();
   const Eigen::Matrix2d gain = bias_innovation * s_inverse;
   const Eigen::Matrix2d now_cross = filter_.yaw_bias_cross();
   filter_.correct_yaw_bias(gain * innovation, gain * bias_innovation.transpose());
+  // cov(innovation, map error) = -cov(e_f, map error) + the map error's own.
+  const Eigen::Matrix<double, 2, 3> innovation_map = -frame_map_cross.topRows<2>() + map_bias.topRows<2>();
+  bias_map_cross_ -= gain * innovation_map;
   // cov(e+, beta+) = cov(e, beta) - cov(e, innovation) S^-1 cov(beta, innovation)'.
   return Eigen::Matrix2d(now_cross - error_innovation * s_inverse * bias_innovation.transpose());
 }
@@ -1336,7 +1346,7 @@ pose_t YawFusionEstimator::make_pose(int64_t utime, int32_t flags) const {
   }
   pose.roll = roll_;
   pose.pitch = pitch_;
-  pose.yaw = filter_.yaw();
+  pose.yaw = filter_.fused_yaw();
   // No POSE field is ever non-finite (a consumer's arithmetic would spread
   // it): an unknown height is -1 and flagged.
   pose.height_agl_m = have_height_ ? height_agl_ : -1.0;

@@ -359,12 +359,21 @@ class YawFusionEstimator {
   };
   std::deque<PublishedPose> published_;
   // With map_fix.estimates_heading_bias: moves the INS heading bias estimate
-  // by a horizontal fix of the pose `at` (its innovation, S^-1 and
-  // cov(position error, innovation) north/east) and returns the position's
-  // covariance with the bias error after the fix (PoseFilter::hold_yaw_bias_correlation).
+  // by a horizontal fix of the pose `at` (its innovation, S^-1,
+  // cov(position error, innovation) north/east, and the map's systematic
+  // error's covariance `map_bias` with the frame's position error's
+  // covariance with it before the fix) and returns the position's covariance
+  // with the bias error after the fix (PoseFilter::hold_yaw_bias_correlation).
   std::optional<Eigen::Matrix2d> estimate_heading_bias(const PublishedPose& at, const Eigen::Vector2d& innovation,
                                                        const Eigen::Matrix2d& s_inverse,
-                                                       const Eigen::Matrix2d& error_innovation);
+                                                       const Eigen::Matrix2d& error_innovation,
+                                                       const Eigen::Matrix3d& map_bias,
+                                                       const Eigen::Matrix3d& frame_map_cross);
+  // The bias error's covariance with the map's systematic error (rows walk,
+  // markov), as of the sensor time beside it: a map's offset seen from a
+  // turning aircraft is not taken for a heading bias twice.
+  Eigen::Matrix<double, 2, 3> bias_map_cross_ = Eigen::Matrix<double, 2, 3>::Zero();
+  int64_t bias_map_cross_utime_ = 0;
   // update_height's levelled ranges by frame time (north/east/down), for the
   // poses remember_poses keeps.
   std::deque<std::pair<int64_t, Eigen::Vector3d>> frame_ranges_;
