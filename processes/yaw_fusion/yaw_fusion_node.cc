@@ -1,5 +1,6 @@
 #include "processes/yaw_fusion/yaw_fusion_node.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -107,6 +108,10 @@ class YawFusionNode : public Node {
     report.counters.emplace_back("map_fixes_late", static_cast<double>(c.map_fixes_late));
     report.counters.emplace_back("map_fixes_with_height", static_cast<double>(c.map_fixes_with_height));
     report.counters.emplace_back("map_fix_heights_rejected", static_cast<double>(c.map_fix_heights_rejected));
+    // The INS heading bias the map fixes estimated (0 without fixes), and what is left of it.
+    const Eigen::Matrix2d bias = f.yaw_bias_covariance();
+    report.counters.emplace_back("heading_bias_estimate_deg", rad_to_deg(f.yaw_bias_estimate()));
+    report.counters.emplace_back("heading_bias_stddev_deg", rad_to_deg(std::sqrt(std::max(0.0, bias.sum()))));
     for (int bit = 0; bit < kCoastReasons; ++bit) {
       report.counters.emplace_back(std::string("coast_") + coast_reason_name(bit),
                                    static_cast<double>(c.coast_reasons[bit]));
