@@ -4,22 +4,30 @@
 # yaw fusion alone replayed again with the bias estimated and without, with all the fixes and with the
 # fixes ending half-way through the flight (studies/map_fixes/fixes_end.py), and once without a map.
 # Prints one line per flight and run: final and 95th-percentile horizontal error, horizontal NEES.
-# Usage: studies/map_fixes/heading_bias.sh standard|realistic PROFILE:SEED...
+# Usage: studies/map_fixes/heading_bias.sh standard|realistic|noisy PROFILE:SEED...
 #   (output in logs/heading_bias/SET-PROFILE-SEED/; `realistic` replays with config/uncertainty/realistic.yaml
-#    and the 97 s calibration, config/installation/realistic_calibrated.yaml)
+#    and the 97 s calibration, config/installation/realistic_calibrated.yaml; `noisy` is the consistency
+#    campaigns' noisy INS and altimeter on the standard set)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 if [ $# -lt 2 ] || [ "$1" = --help ] || [ "$1" = -h ]; then
-  sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 set_name="$1"
 shift
+sim_set="$set_name"
+sim_noise=()
 case "$set_name" in
   standard) overlays=() ;;
   realistic) overlays=(--config-overlay "$root/config/uncertainty/realistic.yaml"
                        --config-overlay "$root/config/installation/realistic_calibrated.yaml") ;;
-  *) echo "heading_bias.sh: sensor set '$set_name' is not standard or realistic" >&2; exit 2 ;;
+  noisy)  # the consistency campaigns' noisy INS and altimeter (config/campaigns/consistency_noisy_whole.yaml)
+    sim_set=standard
+    sim_noise=(--roll-pitch-noise-deg 0.3 --yaw-noise-deg 0.3 --altimeter-noise-pct 0.5)
+    overlays=(--set vo_solver.uncertainty.roll_pitch_stddev_deg=0.3 --set vo_solver.uncertainty.yaw_stddev_deg=0.3
+              --set vo_solver.uncertainty.altimeter_stddev_fraction=0.005) ;;
+  *) echo "heading_bias.sh: sensor set '$set_name' is not standard, realistic or noisy" >&2; exit 2 ;;
 esac
 "$root/launch_scripts/setup.sh" >/dev/null
 export PATH="$root/build/bin:$PATH"
@@ -37,7 +45,8 @@ for flight in "$@"; do
   out="$root/logs/heading_bias/$set_name-$profile-$seed"
   mkdir -p "$out"
   if [ ! -f "$out/sim.lcmlog" ]; then  # written aside and moved: an interrupted run leaves no partial log behind
-    nadir_sim --profile "$profile" --seed "$seed" --sensor-set "$set_name" --out "$out/sim.part.lcmlog" >"$out/sim.txt" 2>&1
+    nadir_sim --profile "$profile" --seed "$seed" --sensor-set "$sim_set" "${sim_noise[@]}" --out "$out/sim.part.lcmlog" \
+      >"$out/sim.txt" 2>&1
     mv "$out/sim.part.lcmlog" "$out/sim.lcmlog"
   fi
   if [ ! -f "$out/map/map.json" ]; then
