@@ -26,7 +26,7 @@ bool map_fix_covariance(const MapMatcherOptions& options, const Registration& re
   Eigen::Matrix2d turn;
   turn << 0.0, -1.0, 1.0, 0.0;
   const double gsd2 = options.gsd_m * options.gsd_m;
-  const double attitude = height_m * deg_to_rad(options.attitude_stddev_deg);
+  const double attitude = height_m * deg_to_rad(std::max(options.attitude_stddev_deg, options.ins_attitude_stddev_deg));
   *covariance_ne = gsd2 * turn * px * turn.transpose() +
                    (options.map_stddev_m * options.map_stddev_m + attitude * attitude) * Eigen::Matrix2d::Identity();
   return true;

@@ -1,5 +1,9 @@
 #include "processes/map_matcher/map_matcher_options.h"
 
+#include <cmath>
+
+#include "common/delta_uncertainty_options.h"
+
 namespace nadir {
 
 const OptionsSchema<MapMatcherOptions>& MapMatcherOptions::schema() {
@@ -42,7 +46,9 @@ const OptionsSchema<MapMatcherOptions>& MapMatcherOptions::schema() {
         .number("min_stddev_px", 0.0, 100.0, "px", "floor on the peak's sigma, each axis", &O::min_stddev_px)
         .number("map_stddev_m", 0.0, 100.0, "m", "the map's error that differs from fix to fix, each horizontal axis (its error common to all fixes: yaw_fusion.map_fix.systematic_stddev_m)",
                 &O::map_stddev_m)
-        .number("attitude_stddev_deg", 0.0, 10.0, "deg", "roll/pitch error projected on the ground",
+        .number("attitude_stddev_deg", 0.0, 10.0, "deg",
+                "roll/pitch error projected on the ground; the INS's described in vo_solver.uncertainty "
+                "(roll_pitch_stddev_deg and roll_pitch_correlated_stddev_deg combined) when that is larger",
                 &O::attitude_stddev_deg)
         .number("max_tilt_deg", 0.0, 60.0, "deg", "frames tilted further from nadir are not matched",
                 &O::max_tilt_deg)
@@ -58,7 +64,10 @@ const OptionsSchema<MapMatcherOptions>& MapMatcherOptions::schema() {
 }
 
 MapMatcherOptions MapMatcherOptions::from_config(const Config& root) {
-  return schema().read(root.section_or_empty("map_matcher"));
+  MapMatcherOptions options = schema().read(root.section_or_empty("map_matcher"));
+  const DeltaUncertaintyOptions ins = DeltaUncertaintyOptions::from_config(root.section_or_empty("vo_solver"));
+  options.ins_attitude_stddev_deg = std::hypot(ins.roll_pitch_stddev_deg, ins.roll_pitch_correlated_stddev_deg);
+  return options;
 }
 
 void MapMatcherOptions::Check() const { schema().check(*this); }

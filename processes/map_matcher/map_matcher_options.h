@@ -50,6 +50,11 @@ struct MapMatcherOptions {
   double min_stddev_px = 0.15;
   double map_stddev_m = 0.3;
   double attitude_stddev_deg = 0.05;
+  // The INS's roll/pitch sigma as the config describes the sensors
+  // (vo_solver.uncertainty: its white and correlated parts combined), set by
+  // from_config: the fix's attitude term uses the larger of the two, so a
+  // noisier INS described there is not forgotten here.
+  double ins_attitude_stddev_deg = 0.0;
   double max_tilt_deg = 20.0;     // frames tilted further from nadir are not matched
   // The DEM's error at a point (m, 1 sigma), published with each fix's ground
   // height (MAP_FIX.ground_down_variance): set it to your DEM's vertical

@@ -123,6 +123,39 @@ TEST_F(MapMatcherTest, FixLandsOnTheTruthWithinItsCovariance) {
   }
 }
 
+// The attitude term of a fix's covariance is the INS's roll/pitch sigma as
+// vo_solver.uncertainty describes it when that is above
+// map_matcher.attitude_stddev_deg: a noisy INS described once is not
+// forgotten by the matcher (its fixes were 2-5x their sigma otherwise).
+TEST_F(MapMatcherTest, FixCarriesTheAttitudeErrorTheConfigGivesTheIns) {
+  auto options_with = [](const std::string& override_text) {
+    Config config = Config::load_file(std::string(NADIR_SOURCE_DIR) + "/config/default.yaml");
+    if (!override_text.empty()) config.apply_override(override_text);
+    return MapMatcherOptions::from_config(config);
+  };
+  const MapMatcherOptions standard = options_with("");
+  const MapMatcherOptions noisy = options_with("vo_solver.uncertainty.roll_pitch_stddev_deg=0.3");
+  const MapMatcherOptions correlated = options_with("vo_solver.uncertainty.roll_pitch_correlated_stddev_deg=0.4");
+  EXPECT_NEAR(standard.ins_attitude_stddev_deg, 0.05, 1e-12);  // the standard INS: the matcher's own 0.05 deg
+  EXPECT_NEAR(noisy.ins_attitude_stddev_deg, 0.3, 1e-12);
+  EXPECT_NEAR(correlated.ins_attitude_stddev_deg, std::hypot(0.05, 0.4), 1e-12);
+  const Eigen::Vector3d rpy(1.0, -2.0, 30.0);
+  const image_t frame = render(150.0, 80.0, rpy);
+  const pose_t prior = pose(150.0, 80.0, rpy, 6.0, -4.0, 5.0);
+  const FixAttempt a = matcher(dir_->path(), standard).attempt(frame, prior, origin());
+  const FixAttempt b = matcher(dir_->path(), noisy).attempt(frame, prior, origin());
+  ASSERT_EQ(a.refusal, FixRefusal::kNone) << a.why;
+  ASSERT_EQ(b.refusal, FixRefusal::kNone) << b.why;
+  // The same match, the covariance larger by the attitude term's difference on each axis.
+  EXPECT_EQ(a.fix.position_ne[0], b.fix.position_ne[0]);
+  EXPECT_EQ(a.fix.position_ne[1], b.fix.position_ne[1]);
+  const double added = std::pow(prior.height_agl_m * 0.3 * M_PI / 180.0, 2) -
+                       std::pow(prior.height_agl_m * 0.05 * M_PI / 180.0, 2);
+  EXPECT_NEAR(b.fix.covariance_ne[0][0] - a.fix.covariance_ne[0][0], added, 1e-9);
+  EXPECT_NEAR(b.fix.covariance_ne[1][1] - a.fix.covariance_ne[1][1], added, 1e-9);
+  EXPECT_NEAR(b.fix.covariance_ne[0][1], a.fix.covariance_ne[0][1], 1e-12);
+}
+
 // The fix is of the INS reference point the pose is of, not of the camera
 // 1.5 m ahead of it (camera.lever_arm_m), and it carries the DEM's ground
 // under it on POSE's down axis with the slope there.
