@@ -11,6 +11,7 @@
 #include "common/channels.h"
 #include "common/input_checks.h"
 #include "common/paths.h"
+#include "common/pose_origin.h"
 #include "common/sensor_calibration.h"
 #include "nadir/ins_t.hpp"
 #include "processes/map_matcher/map_matcher.h"
@@ -42,8 +43,8 @@ class MapMatcherNode : public Node {
     });
     bus_.subscribe<ins_t>(channels::kIns, [this](const ins_t& msg) {
       if (!origin_ && gate_.admit(channels::kIns, msg)) {
-        ins_.push_back(msg);
-        while (ins_.size() > 400) ins_.pop_front();
+        pose_origin_.add_ins(msg);
+        take_origin();
       }
     });
     bus_.subscribe<pose_t>(channels::kPose, [this](const pose_t& msg) { on_pose(msg); });
@@ -116,7 +117,11 @@ class MapMatcherNode : public Node {
       last_refusal_ = "POSE utime " + std::to_string(pose.utime) + ": non-finite values, not used";
       return;
     }
-    if (!origin_ && !set_origin(pose)) return;
+    if (!origin_) {
+      pose_origin_.add_pose(pose);
+      take_origin();
+      if (!origin_) return;
+    }
     const int64_t max_age = static_cast<int64_t>(options_.max_frame_age_s * 1e6);
     recent_poses_.push_back(pose);
     while (recent_poses_.size() > 2 && recent_poses_.front().utime < pose.utime - max_age) recent_poses_.pop_front();
@@ -132,26 +137,10 @@ class MapMatcherNode : public Node {
     }
   }
 
-  // The INS position interpolated at the first POSE, moved back by that
-  // pose's own position: where local north/east (0, 0) lies, and the height
-  // of POSE's down 0 (the fixes' ground heights are given on that axis).
-  bool set_origin(const pose_t& pose) {
-    for (size_t i = 1; i < ins_.size(); ++i) {
-      const ins_t& a = ins_[i - 1];
-      const ins_t& b = ins_[i];
-      if (a.utime > pose.utime || b.utime < pose.utime || b.utime <= a.utime) continue;
-      const double f = double(pose.utime - a.utime) / double(b.utime - a.utime);
-      GeodeticPoint at;
-      at.latitude_deg = a.latitude_deg + f * (b.latitude_deg - a.latitude_deg);
-      at.longitude_deg = a.longitude_deg + f * (b.longitude_deg - a.longitude_deg);
-      at.height_m = a.height_m + f * (b.height_m - a.height_m);
-      GeodeticPoint origin = map::LocalProjection(at).geodetic(-pose.position_ned[0], -pose.position_ned[1]);
-      origin.height_m = at.height_m + pose.position_ned[2];  // the height of POSE's down 0
-      origin_.emplace(origin);
-      ins_.clear();
-      return true;
-    }
-    return false;
+  // Where local north/east (0, 0) lies, and the height of POSE's down 0 (the
+  // fixes' ground heights are given on that axis): common/pose_origin.h.
+  void take_origin() {
+    if (pose_origin_.known()) origin_.emplace(pose_origin_.origin());
   }
 
   void drop_oldest(const std::string& why) {
@@ -170,7 +159,7 @@ class MapMatcherNode : public Node {
   InputGate gate_;
   Bus& bus_;
   std::deque<image_t> candidates_;
-  std::deque<ins_t> ins_;
+  PoseOrigin pose_origin_;
   std::deque<pose_t> recent_poses_;  // the last max_frame_age_s of POSE
   std::optional<map::LocalProjection> origin_;
   bool have_candidate_time_ = false;

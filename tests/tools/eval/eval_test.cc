@@ -144,6 +144,43 @@ TEST(Eval, PairFootprintsFromTheSolversCamera) {
   EXPECT_NEAR(r.metrics.pair_error_pct_median, 0.0, 1e-6);
 }
 
+TEST(Eval, AFirstFrameExposedJustBeforeTheTruthStartsIsStillTheOrigin) {
+  // The simulator's first frame is exposed 30 us before its first truth
+  // sample. That pose is POSE's origin; the second one already carries the
+  // first pair's error, here (0.5, -1.0) m, which every later pose keeps. An
+  // evaluation anchored at the second pose would call the flight perfect.
+  testing::TempDir dir("eval_first_frame");
+  {
+    LogWriter w(dir.file("flight.lcmlog"));
+    const int64_t t0 = 1767225600000000;
+    for (int i = 0; i <= 1000; ++i) {  // truth at 100 Hz for 10 s
+      ground_truth_t g{};
+      g.utime = t0 + i * 10000;
+      g.kind = ground_truth_t::KIND_INS;
+      g.position_ned[0] = 100.0 + 20.0 * i * 0.01;
+      g.position_ned[2] = -150.0;
+      g.velocity_ned[0] = 20.0;
+      g.height_agl_m = 150.0;
+      put(w, channels::kGroundTruth, g);
+    }
+    for (int k = 0; k < 100; ++k) {  // poses at 10 Hz from 30 us before the truth
+      pose_t p{};
+      p.utime = t0 - 30 + k * 100000;
+      const double flown = 20.0 * static_cast<double>(p.utime - (t0 - 30)) * 1e-6;
+      p.position_ned[0] = flown + (k > 0 ? 0.5 : 0.0);
+      p.position_ned[1] = k > 0 ? -1.0 : 0.0;
+      put(w, channels::kPose, p);
+    }
+    w.flush();
+  }
+  const EvalResult r = evaluate(load_eval_data(dir.file("flight.lcmlog"), ""));
+  ASSERT_EQ(r.samples.size(), 100u);
+  EXPECT_EQ(r.samples[0].error_h_m, 0.0);
+  EXPECT_NEAR(r.samples[1].error_h_m, std::hypot(0.5, 1.0), 1e-6);
+  EXPECT_NEAR(r.metrics.final_error_h_m, std::hypot(0.5, 1.0), 1e-6);
+  EXPECT_NEAR(r.metrics.distance_m, 20.0 * 9.9, 1e-6);
+}
+
 TEST(Eval, TruthFromASeparateLog) {
   testing::TempDir dir("eval");
   write_flight(dir.file("truth.lcmlog"), true);
