@@ -6,7 +6,7 @@
 // first, as in a lockstep replay), the frame is matched with that pose as the
 // prior (map_matcher.h) and an accepted fix is published on MAP_FIX. A candidate whose POSE has not come within max_frame_age_s is
 // dropped. Where the local frame of POSE lies on the Earth: the INS position
-// at the first POSE (the GNSS-aided solution at the start), read once; no
+// at the first POSE's sensor time (the GNSS-aided solution at the start; common/pose_origin.h); no
 // later INS position is used. Refusals are counted per reason in STATUS,
 // the last one named in its detail.
 

@@ -37,6 +37,7 @@ EvalResult evaluate(const EvalData& data) {
   TruthAt previous{};
   double distance = 0;
   double sum_v2 = 0, sum_yaw2 = 0, sum_e2_h = 0, sum_e2_v = 0;
+  int64_t velocity_samples = 0;
   std::vector<float> latencies;
   NeesSummary nees_h(kChi2Dof2Pct95), nees_yaw(kChi2Dof1Pct95);
   ProtectionLevelSummary protection;
@@ -81,10 +82,14 @@ EvalResult evaluate(const EvalData& data) {
       protection.add(s.error_h_m, p.horizontal_protection_level_m);
     }
     s.protection_level_m = p.horizontal_protection_level_m;
-    const double v_h = std::hypot(s.velocity_error[0], s.velocity_error[1]);
-    sum_v2 += v_h * v_h;
+    // The origin's velocity is not an estimate yet (no pair before it).
+    if (&p != first) {
+      const double v_h = std::hypot(s.velocity_error[0], s.velocity_error[1]);
+      sum_v2 += v_h * v_h;
+      ++velocity_samples;
+      m.max_velocity_error_h = std::max(m.max_velocity_error_h, v_h);
+    }
     sum_yaw2 += s.yaw_error_deg * s.yaw_error_deg;
-    m.max_velocity_error_h = std::max(m.max_velocity_error_h, i == 0 ? 0.0 : v_h);
     m.max_error_h_m = std::max(m.max_error_h_m, s.error_h_m);
     sum_e2_h += s.error_h_m * s.error_h_m;
     sum_e2_v += s.error_v_m * s.error_v_m;
@@ -115,7 +120,7 @@ EvalResult evaluate(const EvalData& data) {
     m.error_pct_v = 100.0 * std::fabs(m.final_error_v_m) / m.distance_m;
     m.error_pct_3d = 100.0 * m.final_error_3d_m / m.distance_m;
   }
-  m.rms_velocity_error_h = std::sqrt(sum_v2 / n);
+  m.rms_velocity_error_h = std::sqrt(sum_v2 / static_cast<double>(std::max<int64_t>(1, velocity_samples)));
   m.rms_error_h_m = std::sqrt(sum_e2_h / n);
   m.rms_error_3d_m = std::sqrt((sum_e2_h + sum_e2_v) / n);
   if (m.distance_m > 0) m.rms_error_pct_3d = 100.0 * m.rms_error_3d_m / m.distance_m;

@@ -169,6 +169,7 @@ TEST(Eval, AFirstFrameExposedJustBeforeTheTruthStartsIsStillTheOrigin) {
       const double flown = 20.0 * static_cast<double>(p.utime - (t0 - 30)) * 1e-6;
       p.position_ned[0] = flown + (k > 0 ? 0.5 : 0.0);
       p.position_ned[1] = k > 0 ? -1.0 : 0.0;
+      p.velocity_ned[0] = k > 0 ? 20.0 : 0.0;  // the origin has no velocity yet
       put(w, channels::kPose, p);
     }
     w.flush();
@@ -179,6 +180,8 @@ TEST(Eval, AFirstFrameExposedJustBeforeTheTruthStartsIsStillTheOrigin) {
   EXPECT_NEAR(r.samples[1].error_h_m, std::hypot(0.5, 1.0), 1e-6);
   EXPECT_NEAR(r.metrics.final_error_h_m, std::hypot(0.5, 1.0), 1e-6);
   EXPECT_NEAR(r.metrics.distance_m, 20.0 * 9.9, 1e-6);
+  EXPECT_NEAR(r.metrics.rms_velocity_error_h, 0.0, 1e-9);  // the origin's velocity is no estimate
+  EXPECT_NEAR(r.metrics.max_velocity_error_h, 0.0, 1e-9);
 }
 
 TEST(Eval, TruthFromASeparateLog) {
