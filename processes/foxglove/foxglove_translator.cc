@@ -220,10 +220,7 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
   if (!origin_known_ && channel == ch::kIns) {
     ins_t m;
     std::string ignored;  // an INS that does not decode is reported on its own topic
-    if (decode_message(data, size, &m, &ignored)) {
-      last_ins_ = {m.latitude_deg, m.longitude_deg, m.height_m};
-      have_ins_ = true;
-    }
+    if (decode_message(data, size, &m, &ignored)) pose_origin_.add_ins(m);
   }
   if (!truth_origin_known_ && channel == ch::kGroundTruth) {
     ground_truth_t m;
@@ -233,8 +230,13 @@ bool FoxgloveTranslator::translate(const std::string& channel, const uint8_t* da
       if (recent_truth_.size() > kRecentTruth) recent_truth_.pop_front();
     }
   }
-  if (!origin_known_ && channel == ch::kPose && have_ins_) {
-    pose_track_ = truth_track_ = GeodeticTrack(last_ins_);
+  if (!origin_known_ && channel == ch::kPose) {
+    pose_t m;
+    std::string ignored;  // a POSE that does not decode is reported below
+    if (decode_message(data, size, &m, &ignored)) pose_origin_.add_pose(m);
+  }
+  if (!origin_known_ && pose_origin_.known()) {
+    pose_track_ = truth_track_ = GeodeticTrack(pose_origin_.origin());
     origin_known_ = true;
   }
   if (!truth_origin_known_ && channel == ch::kPose && !recent_truth_.empty()) {

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "common/geodetic.h"
+#include "common/pose_origin.h"
 
 namespace nadir {
 
@@ -37,9 +38,10 @@ struct FoxgloveMessage {
 };
 
 struct FoxgloveTranslatorOptions {
-  // POSE's NED origin on the globe: the INS position at the first POSE (the
-  // NED origin is the position at the first frame), or `origin` when
-  // origin_from_ins is false. Until the INS gives it, no LocationFix.
+  // POSE's NED origin on the globe: the INS position at the first POSE's
+  // sensor time (common/pose_origin.h; the NED origin is the position at the
+  // first frame), or `origin` when origin_from_ins is false. Until the INS
+  // gives it, no LocationFix.
   bool origin_from_ins = true;
   GeodeticPoint origin;
   double image_rate_hz = 0.0;  // CAMERA_IMAGE at most this often (sensor time); 0: every frame
@@ -68,8 +70,7 @@ class FoxgloveTranslator {
   // The estimate's and the truth's paths on the globe from the origin.
   GeodeticTrack pose_track_, truth_track_;
   bool origin_known_ = false;
-  bool have_ins_ = false;
-  GeodeticPoint last_ins_;
+  PoseOrigin pose_origin_;
   // The truth's recent positions until the first POSE (interpolated at its
   // time: truth and POSE need not arrive in time order), then the truth's NED
   // less POSE's there.

@@ -2,8 +2,11 @@
 """Checks a nadir_eval series.csv for reliability tests.
 
   check_series.py SERIES.csv --max-velocity-error 5
-      every pose's velocity error is within +-5 m/s of the truth (per axis), from
-      the second pose on (the first has no motion yet: its velocity is zero)
+      every pose's velocity error is within +-5 m/s of the truth (per axis) after
+      the first second: the first pose has no motion yet (its velocity is zero), and
+      the first second's steps are solved with the INS attitude alone, each frame's
+      attitude noise on the ground (~0.25 m at 200 m, standard sensors) over 0.07 s,
+      until the tracked features have depths of their own
   check_series.py SERIES.csv --restart-after T
       after time T (s) no pose restarts at the origin (FLAG_INITIALIZING) and
       every pose's horizontal error is within 3 sigma of what it reports
@@ -28,8 +31,9 @@ def main():
         sys.exit(f"check_series: {a.series} has no poses")
     bad = []
     if a.max_velocity_error is not None:
-        worst = max(max(abs(r[k]) for k in ("vel_err_n", "vel_err_e", "vel_err_d")) for r in rows[1:])
-        print(f"check_series: largest velocity error {worst:.2f} m/s over {len(rows)} poses")
+        settled = [r for r in rows if r["t_s"] >= 1.0]
+        worst = max(max(abs(r[k]) for k in ("vel_err_n", "vel_err_e", "vel_err_d")) for r in settled)
+        print(f"check_series: largest velocity error {worst:.2f} m/s over {len(settled)} poses after the first second")
         if worst > a.max_velocity_error:
             bad.append(f"velocity error {worst:.2f} m/s > {a.max_velocity_error}")
     if a.restart_after is not None:

@@ -94,17 +94,22 @@ TEST(FoxgloveTranslator, HeadingNorthPointsTheBodyAlongEnuY) {
 
 TEST(FoxgloveTranslator, OriginFromTheInsAtTheFirstPose) {
   FoxgloveTranslator t(FoxgloveTranslatorOptions{});  // origin_from_ins
-  EXPECT_EQ(translate(t, channels::kPose, encode_message(pose_at(0, 0, 0, 0))).count("POSE/fix"), 0u);
+  // The INS before the first POSE (1.5 s), then the first POSE: the origin
+  // waits for the INS sample after it.
   ins_t ins{};
-  ins.utime = 1;
+  ins.utime = 1'490'000;
   ins.latitude_deg = 40.5;
   ins.longitude_deg = -80.0;
   ins.height_m = 300.0;
   translate(t, channels::kIns, encode_message(ins));
+  EXPECT_EQ(translate(t, channels::kPose, encode_message(pose_at(0, 0, 0, 0))).count("POSE/fix"), 0u);
+  ins.utime = 1'510'000;
+  ins.latitude_deg = 40.5002;  // north at ~2.2 km/s between the two samples: the pose lies half-way
+  translate(t, channels::kIns, encode_message(ins));
   auto v = translate(t, channels::kPose, encode_message(pose_at(0, 0, 0, 0)));
   ASSERT_EQ(v.count("POSE/fix"), 1u);
-  EXPECT_DOUBLE_EQ(v["POSE/fix"]["latitude"].get<double>(), 40.5);
-  EXPECT_DOUBLE_EQ(v["POSE/fix"]["longitude"].get<double>(), -80.0);
+  EXPECT_NEAR(v["POSE/fix"]["latitude"].get<double>(), 40.5001, 1e-9);
+  EXPECT_NEAR(v["POSE/fix"]["longitude"].get<double>(), -80.0, 1e-9);
 }
 
 std::vector<uint8_t> base64_decode(const std::string& text) {
