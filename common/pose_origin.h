@@ -10,8 +10,9 @@
 // lockstep replay, a live run), so the origin is known once an INS sample at
 // or after the pose's time has been seen: the position is interpolated
 // between the samples around the pose, or moved along the nearest sample's
-// velocity when the INS starts within max_extrapolation_s after the pose. A pose the INS cannot place (no sample within that time on one side)
-// is passed over and the next one is tried; such a pose is counted.
+// velocity when the INS starts within max_extrapolation_s after the pose. A
+// pose the INS cannot place (no sample within that time on one side) is
+// passed over and the next one is tried; such a pose is counted.
 
 #include <cstdint>
 #include <deque>
