@@ -34,7 +34,23 @@ FoxgloveNode::FoxgloveNode(const FoxgloveOptions& options, Bus& bus) : translato
   std::vector<FoxgloveChannel> channels;
   for (const FoxgloveTopic& t : translator_.topics())
     channels.push_back({t.name, t.schema_name, foxglove_schemas::schema_text(t.schema_name)});
-  server_ = std::make_unique<FoxgloveServer>(server_options(options), std::move(channels));
+  FoxgloveServerOptions server = server_options(options);
+  try {
+    server_ = std::make_unique<FoxgloveServer>(server, channels);
+  } catch (const std::runtime_error& e) {
+    // The port is taken (another replay or process set being watched): a
+    // viewer's port is no reason to stop the flight, so any free one is used
+    // and named. An address that cannot be listened on at all still throws.
+    if (server.port == 0) throw;
+    server.port = 0;
+    try {
+      server_ = std::make_unique<FoxgloveServer>(server, std::move(channels));
+    } catch (const std::runtime_error&) {
+      throw e;  // not the port: the first error says what is wrong
+    }
+    port_note_ = "port " + std::to_string(options.port) + " was taken, serving on " + std::to_string(server_->port());
+    std::printf("nadir_foxglove: %s (%s)\n", port_note_.c_str(), e.what());
+  }
   // Where to point Foxglove (and, with port 0, which port was chosen).
   std::printf("nadir_foxglove: serving ws://%s:%d\n", options.address.c_str(), server_->port());
   std::fflush(stdout);
@@ -76,6 +92,8 @@ StatusReport FoxgloveNode::status() const {
     r.detail = c.last_event.empty() ? "messages dropped for slow clients" : c.last_event;
   } else if (!last_decode_error_.empty() && undecodable_ > 0) {
     r.detail = "undecodable: " + last_decode_error_;
+  } else if (!port_note_.empty()) {
+    r.detail = port_note_;
   }
   last_counts_ = c;
   r.counters = {{"port", static_cast<double>(server_->port())},

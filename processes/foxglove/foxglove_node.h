@@ -33,6 +33,7 @@ class FoxgloveNode : public Node {
   int64_t received_ = 0;
   int64_t undecodable_ = 0;
   std::string last_decode_error_;
+  std::string port_note_;  // set when the configured port was taken and another was used
   std::vector<FoxgloveMessage> scratch_;
   mutable FoxgloveServerCounts last_counts_;  // at the previous status(): what changed since
 };

@@ -66,7 +66,8 @@ class MapMatcherNode : public Node {
       report.detail = last_refusal_;
     }
     report.counters = {{"attempts", double(attempts_)}, {"fixes", double(published_)},
-                       {"poses_invalid", double(poses_invalid_)}};
+                       {"poses_invalid", double(poses_invalid_)},
+                       {"origin_poses_passed_over", double(pose_origin_.poses_passed_over())}};
     for (int i = 1; i < kFixRefusals; ++i) {
       report.counters.emplace_back(std::string("refused_") + fix_refusal_name(static_cast<FixRefusal>(i)),
                                    double(refusals_[i]));

@@ -40,4 +40,18 @@ ok = stay["connected"] and len(stay["pose"]) > 0 and leave["connected"] and leav
 sys.exit(0 if ok else 1)
 PY
 [ $? = 0 ] || fail "the clients did not both connect (and one leave)"
+
+# Another program holds the port: the replay still runs, served on a free port it names.
+/usr/bin/python3 -c 'import socket, sys, time
+s = socket.socket(); s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1); s.bind(("127.0.0.1", 8765)); s.listen(); print("held", flush=True); time.sleep(120)' \
+  >"$work/holder.txt" 2>&1 &
+holder=$!
+for _ in $(seq 50); do grep -q held "$work/holder.txt" 2>/dev/null && break; sleep 0.1; done
+grep -q held "$work/holder.txt" || { cat "$work/holder.txt"; fail "could not hold port 8765 for the test"; }
+nadir_replay --in "$work/sim.lcmlog" --out "$work/taken.lcmlog" --nodes tracker,vo_solver,yaw_fusion,foxglove \
+  >"$work/taken.txt" 2>&1 || { cat "$work/taken.txt"; kill "$holder"; fail "nadir_replay failed with port 8765 taken"; }
+kill "$holder"
+grep "nadir_foxglove: port 8765 was taken, serving on" "$work/taken.txt" || { cat "$work/taken.txt"; fail "no note of the port taken"; }
+grep -E "serving ws://127.0.0.1:[0-9]+" "$work/taken.txt" | grep -v ":8765" >/dev/null || fail "not served on another port"
+[ "$(digest "$work/plain.lcmlog")" = "$(digest "$work/taken.lcmlog")" ] || fail "POSE digests differ with the port taken"
 echo PASS

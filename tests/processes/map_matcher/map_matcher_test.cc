@@ -6,6 +6,7 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -287,6 +288,12 @@ TEST_F(MapMatcherTest, NodePublishesFixesAndRefusesBadInput) {
   std::vector<map_fix_t> fixes;
   bus.subscribe<map_fix_t>(channels::kMapFix, [&](const map_fix_t& f) { fixes.push_back(f); });
   const std::unique_ptr<Node> node = make_map_matcher_node(config, bus);
+  // A pose 300 ms before the INS starts: too early to be placed, passed over
+  // (the next one, at the origin, becomes it) and counted in STATUS.
+  pose_t too_early = pose(0.0, 0.0, Eigen::Vector3d(1.0, -1.0, 130.0), 0.0, 0.0, 0.0);
+  too_early.utime = 100'000;
+  bus.publish(channels::kPose, too_early);
+  pump();
   // The INS around the first pose: the reference point (the local origin).
   for (int64_t t : {400'000, 1'400'000}) {
     ins_t ins{};
@@ -317,6 +324,10 @@ TEST_F(MapMatcherTest, NodePublishesFixesAndRefusesBadInput) {
   const StatusReport status = node->status();
   EXPECT_EQ(status.published, 1);
   EXPECT_EQ(status.errors, 1);  // the NaN pose
+  const auto passed_over = std::find_if(status.counters.begin(), status.counters.end(),
+                                        [](const auto& c) { return c.first == "origin_poses_passed_over"; });
+  ASSERT_NE(passed_over, status.counters.end());
+  EXPECT_EQ(passed_over->second, 1.0);
 
   Config no_map = fresh();
   try {
