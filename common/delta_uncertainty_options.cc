@@ -41,6 +41,10 @@ const OptionsSchema<DeltaUncertaintyOptions>& DeltaUncertaintyOptions::schema() 
         .number("feature_depth_walk_across_m_per_sqrt_m", 0.0, 10.0, "m/sqrt(m)",
                 "feature_depth variant's model error across the step, random walk in the distance flown",
                 &O::feature_depth_walk_across_m_per_sqrt_m)
+        .number("feature_depth_relief_heights", 0.0, 100.0, "heights",
+                "feature_depth: along-step variance per metre added over relief, the altimeter anchor's model "
+                "variance (relative) x height x this; 0 = off",
+                &O::feature_depth_relief_heights)
         .number("dyaw_model_stddev_deg", 0.0, 10.0, "deg", "model error of each heading change",
                 &O::dyaw_model_stddev_deg)
         .number("heading_drift_deg_per_s_per_deg", 0.0, 10.0, "deg/s per deg",

@@ -56,6 +56,21 @@ struct DeltaUncertaintyOptions {
   // Describe the terrain flown: rougher ground needs more.
   double feature_depth_walk_along_m_per_sqrt_m = 0.006;
   double feature_depth_walk_across_m_per_sqrt_m = 0.002;
+  // ... and the part of it that follows the relief under the aircraft. Each
+  // pair's scale comes from the altimeter's spot on a surface fitted to the
+  // own depths near it; over relief the ground at the spot departs from that
+  // surface by about the own depths' misfit to it (their relative variance
+  // beyond their own sigmas, the anchor's model variance), and that error
+  // holds while the spot crosses the same ground. Along the step, per metre:
+  // model variance x height x this (heights the error holds over). 0: off.
+  // Fitted with the walk above on ten whole simulated flights (test1-3,
+  // rough_120, rough_250, test2 and test3 over relief x3 / x2.5, seeds
+  // 5001-5011): the windows' mean square along error against the distance
+  // their own depths solved and the sum of this term, by least squares, gives
+  // the walk 0.0060 m/sqrt(m) again and 0.086, rounded up. On test1-3's relief
+  // the own depths hold the surface and the term is zero.
+  // (docs/research/2026-12-relief-sigma.md)
+  double feature_depth_relief_heights = 0.09;
   double dyaw_model_stddev_deg = 0.005;
   // The heading change chained over many deltas drifts when the INS
   // roll/pitch is noisy: the solver's fit of the ground tilt is biased by the

@@ -188,8 +188,14 @@ Eigen::Matrix<double, kSensorInputs, kSensorInputs> sensor_input_covariance(cons
   return variance.asDiagonal();
 }
 
+double relief_along_variance_per_m(const Estimate& est, Variant variant, const UncertaintyOptions& options) {
+  if (variant != Variant::kFeatureDepth) return 0.0;
+  const double v = options.feature_depth_relief_heights * est.anchor_model_variance * est.altitude_m;
+  return std::isfinite(v) && v > 0.0 ? v : 0.0;
+}
+
 Eigen::Matrix2d relief_walk_covariance(const Eigen::Vector2d& step, Variant variant,
-                                       const UncertaintyOptions& options) {
+                                       const UncertaintyOptions& options, double relief_along_m2_per_m) {
   const double length = step.norm();
   if (!(length > 0.0) || !std::isfinite(length)) return Eigen::Matrix2d::Zero();
   const Eigen::Vector2d along = step / length;
@@ -198,7 +204,7 @@ Eigen::Matrix2d relief_walk_covariance(const Eigen::Vector2d& step, Variant vari
   const double a = own_depths ? options.feature_depth_walk_along_m_per_sqrt_m : options.relief_walk_along_m_per_sqrt_m;
   const double c =
       own_depths ? options.feature_depth_walk_across_m_per_sqrt_m : options.relief_walk_across_m_per_sqrt_m;
-  return length * (a * a * along_part + c * c * (Eigen::Matrix2d::Identity() - along_part));
+  return length * ((a * a + relief_along_m2_per_m) * along_part + c * c * (Eigen::Matrix2d::Identity() - along_part));
 }
 
 Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, const SolverOptions& solver,
@@ -227,7 +233,13 @@ Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, co
   cov(3, 3) += levelling_yaw_variance_rad2(pair.prev_pitch, prev_rp) + levelling_yaw_variance_rad2(pair.curr_pitch, curr_rp);
   // `flow` takes its heading change from the INS: both frames' yaw noise.
   if (solver.variant == Variant::kFlow) cov(3, 3) += 2 * variance_rad2(options.yaw_stddev_deg);
-  cov.topLeftCorner<2, 2>() += relief_walk_covariance(est.translation.head<2>(), solver.variant, options);
+  // A feature_depth pair its own depths did not solve (the first pairs of a
+  // track set, too few depths near the beam) is the one-plane solve's, with
+  // its model error.
+  const Variant solved_by =
+      solver.variant == Variant::kFeatureDepth && !est.own_depths_used ? Variant::kPaper : solver.variant;
+  cov.topLeftCorner<2, 2>() += relief_walk_covariance(est.translation.head<2>(), solved_by, options,
+                                                      relief_along_variance_per_m(est, solved_by, options));
   cov(3, 3) += variance_rad2(options.dyaw_model_stddev_deg);
   return 0.5 * (cov + cov.transpose());
 }

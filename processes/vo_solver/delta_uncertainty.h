@@ -73,9 +73,16 @@ Eigen::Matrix4d sensor_covariance(const FramePair& pair, const Estimate& est, co
 // The model error of one delta with horizontal translation `step` (level
 // frame): the walks' variance per metre times its length, along and across
 // it. The walks are the variant's: feature_depth_walk_* for feature_depth,
-// relief_walk_* for the one-plane variants.
+// relief_walk_* for the one-plane variants. `relief_along_m2_per_m` is added
+// to the along-step variance per metre (feature_depth's relief part,
+// relief_along_variance_per_m).
 Eigen::Matrix2d relief_walk_covariance(const Eigen::Vector2d& step, Variant variant,
-                                       const UncertaintyOptions& options);
+                                       const UncertaintyOptions& options, double relief_along_m2_per_m = 0.0);
+
+// feature_depth: the along-step variance per metre that the relief under the
+// altimeter's spot adds (feature_depth_relief_heights x the anchor's model
+// variance x the height); 0 for the other variants.
+double relief_along_variance_per_m(const Estimate& est, Variant variant, const UncertaintyOptions& options);
 
 // The hook of vo_solver_node: adds sensor_covariance to est->covariance.
 void add_sensor_uncertainty(const FramePair& pair, const SolverOptions& solver, const UncertaintyOptions& options,

@@ -636,6 +636,7 @@ Estimate solve_feature_depth(const FramePair& pair, const SolverOptions& options
   est.scale_carried = scale_carried;
   est.scale_variance = scale_sigma * scale_sigma;
   est.patch_misfit = misfit;
+  est.anchor_model_variance = scale_carried ? 0.0 : model_variance;
   errors(motion);
   double sum_sq = 0, sum_w = 0;
   for (size_t i = 0; i < m; ++i) {

@@ -152,6 +152,10 @@ struct Estimate {
   // How far the patch missed the own depths, in their sigmas (the young
   // features' weight went down by its square where above 1); 0 where unused.
   double patch_misfit = 0.0;
+  // The own depths' relative variance about the surface the altimeter
+  // anchored them on, beyond their own sigmas (relief the surface does not
+  // follow); 0 where no anchor was fitted (carried scale, paper alone).
+  double anchor_model_variance = 0.0;
   std::vector<char> used_own_depth;
   // feature_depth with ins_tilt_sigma_deg > 0: the tilt of curr's
   // INS-levelled frame against prev's beyond what the INS roll/pitch say

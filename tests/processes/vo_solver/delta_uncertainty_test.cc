@@ -283,6 +283,51 @@ TEST(DeltaUncertainty, FeatureDepthHasItsOwnModelError) {
   EXPECT_NEAR(along.dot(own * along), 0.004 * 0.004 * 5.0, 1e-15);
   EXPECT_NEAR(across.dot(own * across), 0.002 * 0.002 * 5.0, 1e-15);
   EXPECT_NEAR(across.dot(own * along), 0.0, 1e-15);
+
+  // The relief part: the anchor's model variance x height x heights, along the step only.
+  Estimate est;
+  est.anchor_model_variance = 4e-5;
+  est.altitude_m = 120.0;
+  u.feature_depth_relief_heights = 0.0;
+  EXPECT_EQ(relief_along_variance_per_m(est, Variant::kFeatureDepth, u), 0.0);  // off
+  u.feature_depth_relief_heights = 0.5;
+  const double relief = relief_along_variance_per_m(est, Variant::kFeatureDepth, u);
+  EXPECT_NEAR(relief, 0.5 * 4e-5 * 120.0, 1e-15);
+  EXPECT_EQ(relief_along_variance_per_m(est, Variant::kPaper, u), 0.0);
+  const Eigen::Matrix2d rough = relief_walk_covariance(step, Variant::kFeatureDepth, u, relief);
+  EXPECT_NEAR(along.dot(rough * along), (0.004 * 0.004 + relief) * 5.0, 1e-15);
+  EXPECT_NEAR(across.dot(rough * across), 0.002 * 0.002 * 5.0, 1e-15);
+  est.altitude_m = std::nan("");
+  EXPECT_EQ(relief_along_variance_per_m(est, Variant::kFeatureDepth, u), 0.0);
+}
+
+// A feature_depth pair that its own depths did not solve (no depths yet: the
+// paper's model alone) carries the one-plane walk; one they solved carries
+// feature_depth's own, with the relief part from its anchor.
+TEST(DeltaUncertainty, FeatureDepthPairSolvedByThePaperAloneCarriesThePapersWalk) {
+  const testing::Scene scene = testing::make_scene(pair_spec());
+  SolverOptions options;
+  options.variant = Variant::kFeatureDepth;
+  Estimate est = solve(scene.pair, options);
+  ASSERT_FALSE(est.own_depths_used);  // a single pair: no track has a depth
+  UncertaintyOptions u;
+  u.relief_walk_along_m_per_sqrt_m = 0.05;
+  u.relief_walk_across_m_per_sqrt_m = 0.01;
+  u.feature_depth_walk_along_m_per_sqrt_m = 0.004;
+  u.feature_depth_walk_across_m_per_sqrt_m = 0.002;
+  u.feature_depth_relief_heights = 0.5;
+  est.anchor_model_variance = 1e-5;  // not the paper's: left out
+  const Eigen::Matrix4d paper_alone = sensor_covariance(scene.pair, est, options, u);
+  est.own_depths_used = true;
+  const Eigen::Matrix4d own = sensor_covariance(scene.pair, est, options, u);
+  const Eigen::Vector2d step = est.translation.head<2>();
+  const Eigen::Vector2d along = step.normalized(), across(-along.y(), along.x());
+  const Eigen::Matrix2d difference = (paper_alone - own).topLeftCorner<2, 2>();
+  const double relief = 0.5 * 1e-5 * est.altitude_m;
+  EXPECT_NEAR(along.dot(difference * along), (0.05 * 0.05 - 0.004 * 0.004 - relief) * step.norm(), 1e-12);
+  EXPECT_NEAR(across.dot(difference * across), (0.01 * 0.01 - 0.002 * 0.002) * step.norm(), 1e-12);
+  const Eigen::Matrix2d rest = (paper_alone - own).bottomRightCorner<2, 2>();
+  EXPECT_NEAR(rest.norm(), 0.0, 1e-15);
 }
 
 // Each frame's levelling term is its attitude's error: the white noise scaled

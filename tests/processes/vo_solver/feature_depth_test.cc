@@ -352,6 +352,44 @@ TEST(FeatureDepth, TrackAnchorFollowsSharpCrests) {
   for (int k = 1; k <= 45; ++k) EXPECT_EQ(b.estimates[k].translation, t.estimates[k].translation) << "frame " << k;
 }
 
+TEST(FeatureDepth, AnchorModelVarianceIsTheReliefTheSurfaceMisses) {
+  // Noise-free. Over smooth ridges the quadratic around the beam holds the
+  // own depths: no model variance. Over kinked crests it cannot, and the
+  // pairs whose scale the crests put off carry the misfit: the steps more
+  // than 0.5 % off all have a model variance, and its root is of the size of
+  // their error (measured: largest root 0.70 %, worst step 1.40 % off).
+  auto run_spec = [](const TerrainSpec& spec, std::vector<double>* variance, std::vector<double>* step_error) {
+    const SolverOptions options = exact_options();
+    TerrainSequence seq{spec};
+    FeatureDepthMap map(options);
+    const SequenceRun r = run(seq, 240, options, &map);
+    for (int k = 120; k <= 240; ++k) {
+      const Eigen::Vector3d truth = r.pairs[k].translation;
+      variance->push_back(r.estimates[k].anchor_model_variance);
+      step_error->push_back((r.estimates[k].translation - truth).norm() / truth.norm());
+    }
+  };
+  TerrainSpec smooth;
+  smooth.relief_m = 0.0;
+  smooth.ridge_amplitude_m = 2.0;
+  smooth.ridge_wavelength_m = 400.0;
+  std::vector<double> smooth_variance, smooth_error, kinked_variance, kinked_error;
+  run_spec(smooth, &smooth_variance, &smooth_error);
+  run_spec(kinked_crests(), &kinked_variance, &kinked_error);
+  for (double v : smooth_variance) EXPECT_LT(v, 1e-8);
+  double worst_error = 0, largest_sigma = 0;
+  for (size_t i = 0; i < kinked_variance.size(); ++i) {
+    if (kinked_error[i] > 0.005) {
+      EXPECT_GT(kinked_variance[i], 1e-6) << "pair " << i << " " << kinked_error[i];
+    }
+    worst_error = std::max(worst_error, kinked_error[i]);
+    largest_sigma = std::max(largest_sigma, std::sqrt(kinked_variance[i]));
+  }
+  EXPECT_GT(worst_error, 0.01);
+  EXPECT_GT(largest_sigma, 0.3 * worst_error);
+  EXPECT_LT(largest_sigma, 3.0 * worst_error);
+}
+
 TEST(FeatureDepth, ScaleFilterDiscountsAnchorsTheSurfaceCannotHold) {
   // The kinked crests of TrackAnchorFollowsSharpCrests, noise-free. Each
   // pair's altimeter scale fused with the one the own depths carry, by their
