@@ -23,7 +23,7 @@ while (($#)); do
     --reuse) export NADIR_REUSE=1; shift ;;
     --sim) shift; [ ${#flights[@]} -gt 0 ] || { echo "relief_sigma: error: --sim before any PROFILE:SEED" >&2; exit 2; }
            while (($#)) && [[ "$1" != *:* || "$1" == -* ]]; do sim_options[${flights[-1]}]+=" $1"; shift; done ;;
-    -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "relief_sigma: error: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) flights+=("$1"); shift ;;
   esac
