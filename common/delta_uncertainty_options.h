@@ -64,8 +64,8 @@ struct DeltaUncertaintyOptions {
   // holds while the spot crosses the same ground. Along the step, per metre:
   // model variance x height x this (heights the error holds over). 0: off.
   // Fitted with the walk above on ten whole simulated flights (test1-3,
-  // rough_120, rough_250, test2 and test3 over relief x3 / x2.5, seeds
-  // 5001-5011): the windows' mean square along error against the distance
+  // rough_120, rough_250, test2 and test3 over relief x3 / x2.5, a low
+  // helicopter; seeds 5001-5012): the windows' mean square along error against the distance
   // their own depths solved and the sum of this term, by least squares, gives
   // the walk 0.0060 m/sqrt(m) again and 0.086, rounded up. On test1-3's relief
   // the own depths hold the surface and the term is zero.
