@@ -6,6 +6,12 @@
 
 namespace nadir {
 
+std::optional<double> StatusReport::counter(const std::string& name) const {
+  for (const auto& [key, value] : counters)
+    if (key == name) return value;
+  return std::nullopt;
+}
+
 void LatencyWindow::add_ms(double latency_ms) {
   period_.push_back(static_cast<float>(latency_ms));
   if (history_.size() < 1000000) history_.push_back(static_cast<float>(latency_ms));

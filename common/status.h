@@ -2,6 +2,7 @@
 // What a node reports once a second, and the STATUS message built from it.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,6 +21,9 @@ struct StatusReport {
   int64_t errors = 0;
   // Process-specific counters and estimator state, e.g. {"clock_offset_us", 12.5}.
   std::vector<std::pair<std::string, double>> counters;
+
+  // The value of the counter called name; empty when the report has none.
+  std::optional<double> counter(const std::string& name) const;
 };
 
 // Latencies (sensor time -> publish) collected over one status period.

@@ -64,16 +64,10 @@ TEST(InputGate, ImpossibleInsValuesAreRejectedAndCountedByReason) {
   EXPECT_EQ(gate.rejected(), 5);
   StatusReport report;
   gate.add_counters(&report);
-  auto counter = [&](const std::string& name) {
-    for (const auto& [key, value] : report.counters) {
-      if (key == name) return value;
-    }
-    return -1.0;
-  };
-  EXPECT_EQ(counter("rejected.INS.attitude"), 3);
-  EXPECT_EQ(counter("rejected.INS.attitude_step"), 1);
-  EXPECT_EQ(counter("rejected.INS.rates"), 1);
-  EXPECT_EQ(counter("rejected_inputs"), 5);
+  EXPECT_EQ(report.counter("rejected.INS.attitude"), 3);
+  EXPECT_EQ(report.counter("rejected.INS.attitude_step"), 1);
+  EXPECT_EQ(report.counter("rejected.INS.rates"), 1);
+  EXPECT_EQ(report.counter("rejected_inputs"), 5);
 }
 
 TEST(InputGate, GroundPointsWithBadSizesOrValuesAreRejectedAndCounted) {
@@ -102,13 +96,8 @@ TEST(InputGate, GroundPointsWithBadSizesOrValuesAreRejectedAndCounted) {
   EXPECT_TRUE(gate.admit(channels::kVoGround, empty));  // nothing seen: nothing wrong
   StatusReport report;
   gate.add_counters(&report);
-  double sizes = -1, non_finite = -1;
-  for (const auto& [key, value] : report.counters) {
-    if (key == "rejected.VO_GROUND.size") sizes = value;
-    if (key == "rejected.VO_GROUND.non_finite") non_finite = value;
-  }
-  EXPECT_EQ(sizes, 1);
-  EXPECT_EQ(non_finite, 2);
+  EXPECT_EQ(report.counter("rejected.VO_GROUND.size"), 1);
+  EXPECT_EQ(report.counter("rejected.VO_GROUND.non_finite"), 2);
 }
 
 // An INS that reports 3 deg of white roll/pitch noise per sample (the

@@ -447,12 +447,9 @@ TEST(FakeCameraCapture, SustainedCaptureDropsNoFrame) {
   while (bus->handle(0) > 0) {
   }
   const StatusReport status = capture.status();
-  double underruns = -1, failures = -1, completed = -1;
-  for (const auto& [name, value] : status.counters) {
-    if (name == "stream_underruns") underruns = value;
-    if (name == "stream_failures") failures = value;
-    if (name == "stream_completed") completed = value;
-  }
+  const double underruns = status.counter("stream_underruns").value_or(-1);
+  const double failures = status.counter("stream_failures").value_or(-1);
+  const double completed = status.counter("stream_completed").value_or(-1);
   std::printf("sustained capture: %.0f s, %lld triggers, %lld images, dropped %lld, stream completed %.0f "
               "failures %.0f underruns %.0f\n",
               seconds, static_cast<long long>(triggers), static_cast<long long>(images),

@@ -324,10 +324,7 @@ TEST_F(MapMatcherTest, NodePublishesFixesAndRefusesBadInput) {
   const StatusReport status = node->status();
   EXPECT_EQ(status.published, 1);
   EXPECT_EQ(status.errors, 1);  // the NaN pose
-  const auto passed_over = std::find_if(status.counters.begin(), status.counters.end(),
-                                        [](const auto& c) { return c.first == "origin_poses_passed_over"; });
-  ASSERT_NE(passed_over, status.counters.end());
-  EXPECT_EQ(passed_over->second, 1.0);
+  EXPECT_EQ(status.counter("origin_poses_passed_over"), 1.0);
 
   Config no_map = fresh();
   try {

@@ -173,11 +173,7 @@ TEST(MavlinkBridgeRunner, SerialLinkOverAPseudoTerminalWithAReplug) {
   after.ins = trusted;
   expect_times_mapped(after, rebooted.boot_us(), 50);
   const StatusReport status = runner.status();
-  double reopens = -1;
-  for (const auto& [name, value] : status.counters) {
-    if (name == "serial_reopens") reopens = value;
-  }
-  EXPECT_EQ(reopens, 1.0);
+  EXPECT_EQ(status.counter("serial_reopens"), 1.0);
   EXPECT_EQ(runner.bridge().rejected_frames(), 0);
 }
 

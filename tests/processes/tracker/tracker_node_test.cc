@@ -66,12 +66,7 @@ class Harness {
     pump();
   }
   StatusReport status() const { return node_->status(); }
-  double counter(const std::string& name) const {
-    for (const auto& [key, value] : status().counters)
-      if (key == name) return value;
-    ADD_FAILURE() << "no counter " << name;
-    return -1;
-  }
+  std::optional<double> counter(const std::string& name) const { return status().counter(name); }
   const BusErrorCounts& bus_errors() const { return bus_.error_counts(); }
 
   std::vector<tracks_t> tracks;

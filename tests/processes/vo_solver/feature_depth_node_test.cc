@@ -140,14 +140,6 @@ NodeRun run_node(const std::string& variant, int frames, int dropped_frame, doub
   return result;
 }
 
-double counter(const StatusReport& r, const std::string& name) {
-  for (const auto& [key, value] : r.counters) {
-    if (key == name) return value;
-  }
-  ADD_FAILURE() << "no counter " << name;
-  return -1;
-}
-
 // Frames from..to (skipping `dropped`): exact within 1e-5 m and rad.
 void expect_exact(const NodeRun& run, const vo::testing::TerrainSequence& seq, int from, int to, int dropped) {
   for (int k = from; k <= to; ++k) {
@@ -194,8 +186,8 @@ TEST(FeatureDepthNode, ExactOverReliefAndKeptOverADroppedFrame) {
   // Twice the baseline: 1.6 mm off here against the paper's centimetres.
   EXPECT_LT((Eigen::Vector3d(over_drop.dx, over_drop.dy, over_drop.dz) - truth.translation).norm(), 5e-3);
   EXPECT_GT(std::hypot(paper_over_drop.dx - truth.translation.x(), paper_over_drop.dy - truth.translation.y()), 1e-2);
-  EXPECT_EQ(counter(depth.status, "own_depth_resets"), 0);
-  EXPECT_GT(counter(depth.status, "own_depths"), 100);
+  EXPECT_EQ(depth.status.counter("own_depth_resets"), 0);
+  EXPECT_GT(depth.status.counter("own_depths"), 100);
 }
 
 // VO_GROUND: each solved frame's trusted points, published just before its
@@ -226,7 +218,7 @@ TEST(FeatureDepthNode, GroundPointsAreTheWorldPointsInTheFramesLevelFrame) {
     }
     EXPECT_LT(worst, 0.01) << "frame " << k;  // the depth filter: ~7 mm at 150 m
   }
-  EXPECT_GT(counter(run.status, "ground_frames_published"), 100);
+  EXPECT_GT(run.status.counter("ground_frames_published"), 100);
   // The paper variant has no own depths: no VO_GROUND.
   EXPECT_TRUE(run_node("paper", 20, -1).ground.empty());
 }
@@ -243,8 +235,8 @@ TEST(FeatureDepthNode, ClearedByATimeGap) {
   EXPECT_EQ(at_gap.dx, paper_gap.dx);
   EXPECT_EQ(at_gap.dy, paper_gap.dy);
   EXPECT_EQ(at_gap.dz, paper_gap.dz);
-  EXPECT_GE(counter(depth.status, "own_depth_resets"), 1);
-  EXPECT_GT(counter(depth.status, "own_depths"), 100);  // rebuilt after the gap
+  EXPECT_GE(depth.status.counter("own_depth_resets"), 1);
+  EXPECT_GT(depth.status.counter("own_depths"), 100);  // rebuilt after the gap
 }
 
 TEST(FeatureDepthNode, ARangeSampledBeforeItsFrameIsMovedToTheFrame) {
