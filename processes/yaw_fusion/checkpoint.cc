@@ -11,22 +11,29 @@
 
 namespace nadir {
 
-std::optional<pose_t> PoseCheckpoint::load(std::string* problem) const {
+yaw_fusion_checkpoint_t checkpoint_without_bias(const pose_t& pose) {
+  yaw_fusion_checkpoint_t checkpoint{};
+  checkpoint.pose = pose;
+  checkpoint.has_heading_bias = false;
+  return checkpoint;
+}
+
+std::optional<yaw_fusion_checkpoint_t> PoseCheckpoint::load(std::string* problem) const {
   std::ifstream in(path_, std::ios::binary);
   if (!in) return std::nullopt;
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  pose_t pose;
+  yaw_fusion_checkpoint_t checkpoint;
   std::string reason;
-  if (!decode_message(bytes.data(), bytes.size(), &pose, &reason)) {
-    *problem = path_ + ": not a POSE checkpoint (" + reason + "), starting afresh";
-    return std::nullopt;
-  }
-  return pose;
+  if (decode_message(bytes.data(), bytes.size(), &checkpoint, &reason)) return checkpoint;
+  pose_t pose;
+  std::string pose_reason;
+  if (decode_message(bytes.data(), bytes.size(), &pose, &pose_reason)) return checkpoint_without_bias(pose);
+  *problem = path_ + ": not a yaw fusion checkpoint (" + reason + "), starting afresh";
+  return std::nullopt;
 }
 
-void PoseCheckpoint::save(const pose_t& pose) {
-  std::vector<uint8_t> bytes(static_cast<size_t>(pose.getEncodedSize()));
-  pose.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+void PoseCheckpoint::save(const yaw_fusion_checkpoint_t& checkpoint) {
+  const std::vector<uint8_t> bytes = encode_message(checkpoint);
   const std::string tmp = path_ + ".tmp";
   FILE* f = std::fopen(tmp.c_str(), "wb");
   bool ok = f != nullptr && std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();

@@ -64,7 +64,7 @@ Eigen::Vector3d integrate_delta(PoseFilter* filter, const vo_delta_t& delta, con
   filter->apply_heading_drift(dt, u.heading_drift_stddev_rad_s(), u.heading_drift_time_s);
 
   filter->add_shared_errors(prev_levelling, curr_levelling, world, range_scale_variance,
-                            yaw_bias_step(options, dt, !filter->has_shared_origin()));
+                            yaw_bias_step(options, dt, !filter->yaw_bias_started()));
   return world;
 }
 

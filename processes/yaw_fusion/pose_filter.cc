@@ -23,6 +23,7 @@ void PoseFilter::initialise(double yaw, double yaw_variance) {
   yaw_bias_.setZero();
   yaw_bias_estimate_.setZero();
   yaw_bias_corrected_ = false;
+  yaw_bias_started_ = false;
   yaw_bias_unestimated_.setZero();
   yaw_bias_path_.setZero();
   have_yaw_levelling_frame_ = false;
@@ -123,6 +124,7 @@ void PoseFilter::add_shared_errors(double prev_levelling_variance, double curr_l
     have_origin_levelling_ = true;
   }
   frame_levelling_variance_ = curr_levelling_variance;
+  yaw_bias_started_ = true;
   displacement_ += world_translation;
   range_scale_variance_ = range_scale_variance;
   // The translation was registered with the yaw of the previous frame, which
@@ -153,6 +155,27 @@ void PoseFilter::correct_yaw_bias(const Eigen::Vector2d& correction, const Eigen
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(0.5 * (bias + bias.transpose()));
   bias = eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
   yaw_bias_.block<2, 2>(kWalkBias, kWalkBias) = bias;
+}
+
+PoseFilter::YawBiasState PoseFilter::yaw_bias_state() const {
+  YawBiasState state;
+  state.estimate = yaw_bias_estimate_;
+  state.covariance = yaw_bias_covariance();
+  state.estimated = yaw_bias_corrected_;
+  state.prior_covariance = yaw_bias_corrected_ ? yaw_bias_unestimated_ : Eigen::Matrix2d(yaw_bias_covariance());
+  return state;
+}
+
+void PoseFilter::restore_yaw_bias(const YawBiasState& state) {
+  yaw_bias_.setZero();
+  yaw_bias_.block<2, 2>(kWalkBias, kWalkBias) = 0.5 * (state.covariance + state.covariance.transpose());
+  yaw_bias_estimate_ = state.estimate;
+  yaw_bias_corrected_ = state.estimated;
+  yaw_bias_unestimated_ = state.estimated
+                              ? Eigen::Matrix2d(0.5 * (state.prior_covariance + state.prior_covariance.transpose()))
+                              : Eigen::Matrix2d::Zero();
+  yaw_bias_path_.setZero();
+  yaw_bias_started_ = true;
 }
 
 void PoseFilter::hold_yaw_bias_correlation(const Eigen::Matrix2d& cross) {

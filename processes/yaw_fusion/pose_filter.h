@@ -139,8 +139,9 @@ class PoseFilter {
   void add_shared_errors(double prev_levelling_variance, double curr_levelling_variance,
                          const Eigen::Vector3d& world_translation, double range_scale_variance,
                          const YawBiasStep& yaw_bias);
-  // False until the first add_shared_errors after initialise / restore.
-  bool has_shared_origin() const { return have_origin_levelling_; }
+  // False until the heading bias's prior is in: the first add_shared_errors
+  // after initialise / restore, or restore_yaw_bias.
+  bool yaw_bias_started() const { return yaw_bias_started_; }
   // Position covariance and yaw variance with the shared errors.
   Eigen::Matrix3d reported_position_covariance() const;
   // The reported yaw is the yaw state (fused_yaw): what the fixes estimate
@@ -177,6 +178,19 @@ class PoseFilter {
   // explains moves into the shared errors, so later fixes see the drift the
   // bias makes over the whole path, not only since the last fix.
   void hold_yaw_bias_correlation(const Eigen::Matrix2d& cross);
+
+  // The heading bias part of the filter, as a checkpoint keeps it.
+  struct YawBiasState {
+    Eigen::Vector2d estimate = Eigen::Vector2d::Zero();          // (walk, markov), rad
+    Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();        // of the estimate's error
+    bool estimated = false;                                      // a fix has moved the estimate
+    Eigen::Matrix2d prior_covariance = Eigen::Matrix2d::Zero();  // the bias's, as if none had (when estimated)
+  };
+  YawBiasState yaw_bias_state() const;
+  // After restore(): the heading bias as a previous run left it, its error
+  // uncorrelated with the position (whose restored covariance holds what the
+  // bias did to it); the prior is not added again.
+  void restore_yaw_bias(const YawBiasState& state);
 
   Eigen::Vector3d position() const { return x_.head<3>(); }
   // The heading the steps are registered with.
@@ -217,6 +231,7 @@ class PoseFilter {
   Eigen::Vector2d yaw_bias_estimate_ = Eigen::Vector2d::Zero();  // (walk, markov), rad
   // The bias's covariance as if no fix had estimated it (reported_yaw_variance), once one has.
   bool yaw_bias_corrected_ = false;
+  bool yaw_bias_started_ = false;
   Eigen::Vector2d yaw_bias_path_ = Eigen::Vector2d::Zero();
   Eigen::Matrix2d yaw_bias_unestimated_ = Eigen::Matrix2d::Zero();
 };

@@ -408,8 +408,24 @@ vo_delta_t YawFusionEstimator::bridge_delta(const vo_delta_t& delta) const {
   return bridged;
 }
 
+yaw_fusion_checkpoint_t YawFusionEstimator::checkpoint(const pose_t& pose) const {
+  yaw_fusion_checkpoint_t out = checkpoint_without_bias(pose);
+  const PoseFilter::YawBiasState bias = filter_.yaw_bias_state();
+  out.has_heading_bias = true;
+  out.heading_bias_estimated = bias.estimated;
+  for (int i = 0; i < 2; ++i) {
+    out.heading_bias_rad[i] = bias.estimate(i);
+    for (int j = 0; j < 2; ++j) {
+      out.heading_bias_covariance[i][j] = bias.covariance(i, j);
+      out.heading_bias_prior_covariance[i][j] = bias.prior_covariance(i, j);
+    }
+  }
+  return out;
+}
+
 bool YawFusionEstimator::resume(int64_t t0) {
-  const pose_t last = *resume_;
+  const yaw_fusion_checkpoint_t saved = *resume_;
+  const pose_t& last = saved.pose;
   resume_.reset();
   const double dt = static_cast<double>(t0 - last.utime) * 1e-6;
   if (dt < 0.0 || dt > options_.gap_max_duration_s) {
@@ -434,6 +450,23 @@ bool YawFusionEstimator::resume(int64_t t0) {
   covariance += Eigen::Matrix3d::Identity() * square(options_.gap_velocity_stddev_mps * dt);
   const double yaw_variance = last.yaw_variance + square(deg_to_rad(options_.gap_yaw_rate_stddev_dps) * dt);
   filter_.restore(position, covariance, last.yaw, yaw_variance);
+  if (saved.has_heading_bias) {
+    PoseFilter::YawBiasState bias;
+    bias.estimated = saved.heading_bias_estimated;
+    for (int i = 0; i < 2; ++i) {
+      bias.estimate(i) = saved.heading_bias_rad[i];
+      for (int j = 0; j < 2; ++j) {
+        bias.covariance(i, j) = saved.heading_bias_covariance[i][j];
+        bias.prior_covariance(i, j) = saved.heading_bias_prior_covariance[i][j];
+      }
+    }
+    if (!bias.estimate.allFinite() || !bias.covariance.allFinite() || !bias.prior_covariance.allFinite()) {
+      note_problem("checkpoint POSE utime " + std::to_string(last.utime) +
+                   " holds a non-finite heading bias: the bias starts again from its prior");
+    } else {
+      filter_.restore_yaw_bias(bias);
+    }
+  }
   velocity_out_ = velocity;
   last_velocity_ = velocity;
   frames_ = last.frames;

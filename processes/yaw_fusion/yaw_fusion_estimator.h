@@ -75,6 +75,7 @@
 #include "nadir/map_fix_t.hpp"
 #include "nadir/pose_t.hpp"
 #include "nadir/vo_delta_t.hpp"
+#include "processes/yaw_fusion/checkpoint.h"
 #include "processes/yaw_fusion/coast_terrain.h"
 #include "processes/yaw_fusion/coast_vertical_modes.h"
 #include "processes/yaw_fusion/coasting.h"
@@ -156,8 +157,14 @@ class YawFusionEstimator {
   // (at most gap.max_propagation_s), its covariance grown as for a VO gap, and
   // that pose is flagged FLAG_VO_GAP. Ignored (fresh start, named in
   // last_problem) when the first delta is before `last` or more than
-  // gap.max_duration_s after it.
-  void resume_from(const pose_t& last) { resume_ = last; }
+  // gap.max_duration_s after it. A checkpoint with the heading bias
+  // (heading_bias_* of a yaw_fusion_checkpoint_t) restores the bias that map
+  // fixes estimated; without it the bias starts again from its prior.
+  void resume_from(const pose_t& last) { resume_from(checkpoint_without_bias(last)); }
+  void resume_from(const yaw_fusion_checkpoint_t& last) { resume_ = last; }
+  // What a checkpoint keeps after `pose` was published: the pose and the
+  // heading bias as it is now.
+  yaw_fusion_checkpoint_t checkpoint(const pose_t& pose) const;
 
   const YawFusionCounters& counters() const { return counters_; }
   const PoseFilter& filter() const { return filter_; }
@@ -285,7 +292,7 @@ class YawFusionEstimator {
   int good_consecutive_altimeter_rejections_ = 0;  // ... as at last_good_utime_ (with good_filter_)
   double good_altimeter_height_ = std::numeric_limits<double>::quiet_NaN();  // last_altimeter_height_ then
   int64_t frames_ = 0;
-  std::optional<pose_t> resume_;
+  std::optional<yaw_fusion_checkpoint_t> resume_;
   // Coasting: the velocity held in the level vehicle frame (x forward, y right,
   // z down) at the last integrated frame, whose time starts the coast.
   CoastDetector coast_detector_;

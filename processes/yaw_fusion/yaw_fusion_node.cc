@@ -24,7 +24,7 @@ class YawFusionNode : public Node {
       : bus_(bus), estimator_(options), gate_(checks) {
     if (!checkpoint_path.empty()) {
       checkpoint_ = std::make_unique<PoseCheckpoint>(checkpoint_path);
-      const std::optional<pose_t> last = checkpoint_->load(&checkpoint_problem_);
+      const std::optional<yaw_fusion_checkpoint_t> last = checkpoint_->load(&checkpoint_problem_);
       if (last) estimator_.resume_from(*last);
     }
     bus_.subscribe<vo_delta_t>(channels::kVoDelta, [this](const vo_delta_t& msg) {
@@ -132,7 +132,7 @@ class YawFusionNode : public Node {
     for (const pose_t& pose : poses) {
       bus_.publish(channels::kPose, pose);
       ++published_;
-      if (checkpoint_) checkpoint_->save(pose);
+      if (checkpoint_) checkpoint_->save(estimator_.checkpoint(pose));
     }
   }
 

@@ -444,28 +444,50 @@ FlightSpec long_turning_flight() {
   return spec;
 }
 
+// long_turning_flight with the INS heading 0.1 deg off all flight, and fixes
+// of 0.3 m every second for its first 100 s (none after fixes_end).
+struct BiasedHeadingFlight {
+  SyntheticFlight flight;
+  std::vector<map_fix_t> fixes;
+  int64_t fixes_end = 0;
+};
+BiasedHeadingFlight biased_heading_flight() {
+  FlightSpec spec = long_turning_flight();
+  spec.ins_yaw_bias_deg = 0.1;
+  BiasedHeadingFlight out{test::make_flight(spec), {}, 0};
+  out.fixes = fixes_every(out.flight, 14, 0.3, 11);
+  out.fixes_end = out.flight.truth.front().utime + 100'000'000;
+  out.fixes.erase(std::remove_if(out.fixes.begin(), out.fixes.end(),
+                                 [&](const map_fix_t& f) { return f.utime > out.fixes_end; }),
+                  out.fixes.end());
+  return out;
+}
+
+// What yaw fusion is told of biased_heading_flight: an exact map and INS
+// roll/pitch, a heading bias of 0.1 deg (constant) with a small walk.
+YawFusionOptions biased_heading_options(bool estimate_bias) {
+  YawFusionOptions options;
+  options.map_fix_systematic_stddev_m = 0.0;
+  options.sensor_uncertainty.roll_pitch_stddev_deg = 0.0;
+  options.ins_yaw_bias_stddev_deg = 0.1;
+  options.ins_yaw_bias_walk_deg_per_sqrt_s = 0.0005;
+  options.map_fix_estimates_heading_bias = estimate_bias;
+  return options;
+}
+
 TEST(YawFusionMapFix, FixesEstimateTheInsHeadingBiasAndTheDriftStopsWithThem) {
   // 200 s at 30 m/s through turns; the INS heading is 0.1 deg off all flight
   // (yaw_fusion.ins_yaw_bias_stddev_deg says 0.1, constant). Fixes of 0.3 m
   // every second for the first 100 s, then none: what the last 3 km drift
   // across the track is what is left of the bias.
-  FlightSpec spec = long_turning_flight();
-  spec.ins_yaw_bias_deg = 0.1;
-  const SyntheticFlight flight = test::make_flight(spec);
-  std::vector<map_fix_t> fixes = fixes_every(flight, 14, 0.3, 11);
-  const int64_t fixes_end = flight.truth.front().utime + 100'000'000;
-  fixes.erase(std::remove_if(fixes.begin(), fixes.end(), [&](const map_fix_t& f) { return f.utime > fixes_end; }),
-              fixes.end());
+  const BiasedHeadingFlight biased = biased_heading_flight();
+  const SyntheticFlight& flight = biased.flight;
+  const std::vector<map_fix_t>& fixes = biased.fixes;
+  const int64_t fixes_end = biased.fixes_end;
 
   double bias_estimate_deg = 0.0;
   auto fly = [&](bool estimate) {
-    YawFusionOptions options;
-    options.map_fix_systematic_stddev_m = 0.0;
-    options.sensor_uncertainty.roll_pitch_stddev_deg = 0.0;
-    options.ins_yaw_bias_stddev_deg = 0.1;
-    options.ins_yaw_bias_walk_deg_per_sqrt_s = 0.0005;
-    options.map_fix_estimates_heading_bias = estimate;
-    YawFusionEstimator estimator{options};
+    YawFusionEstimator estimator{biased_heading_options(estimate)};
     const auto poses = test::run(estimator, with_fixes(flight, fixes, 150'000));
     bias_estimate_deg = rad_to_deg(estimator.filter().yaw_bias_estimate());
     return poses;
@@ -506,6 +528,63 @@ TEST(YawFusionMapFix, FixesEstimateTheInsHeadingBiasAndTheDriftStopsWithThem) {
               estimated_error,
               std::sqrt(estimated.back().position_covariance[0][0] + estimated.back().position_covariance[1][1]),
               bias_estimate_deg, held_error, nees_sum / counted);
+}
+
+TEST(YawFusionMapFix, ARestartKeepsTheHeadingBiasTheFixesEstimated) {
+  // The flight above, its fixes over the first 100 s. Yaw fusion is killed
+  // 10 s after the last fix and restarted 1 s later from its checkpoint. With
+  // the bias in the checkpoint the pose goes on as it would have; from a bare
+  // POSE (a checkpoint written before the bias was kept) the bias starts
+  // again from its prior and the pose drifts with the INS's 0.1 deg.
+  const BiasedHeadingFlight biased = biased_heading_flight();
+  const SyntheticFlight& flight = biased.flight;
+  const YawFusionOptions options = biased_heading_options(true);
+  const std::vector<TimedMessage> messages = with_fixes(flight, biased.fixes, 150'000);
+  const int64_t killed = biased.fixes_end + 10'000'000;
+  const int64_t restarted = killed + 1'000'000;
+  std::vector<TimedMessage> before, after;
+  for (const TimedMessage& m : messages) {
+    if (m.utime <= killed) before.push_back(m);
+    if (m.utime >= restarted) after.push_back(m);
+  }
+  YawFusionEstimator uninterrupted{options};
+  test::run(uninterrupted, messages);
+  YawFusionEstimator first_run{options};
+  const auto first_poses = test::run(first_run, before);
+  ASSERT_FALSE(first_poses.empty());
+  const yaw_fusion_checkpoint_t checkpoint = first_run.checkpoint(first_poses.back());
+  ASSERT_TRUE(checkpoint.has_heading_bias);
+  EXPECT_TRUE(checkpoint.heading_bias_estimated);
+  EXPECT_NEAR(rad_to_deg(checkpoint.heading_bias_rad[0] + checkpoint.heading_bias_rad[1]), 0.1, 0.03);
+
+  auto resume = [&](bool with_bias, double* bias_deg) {
+    YawFusionEstimator run{options};
+    if (with_bias) {
+      run.resume_from(checkpoint);
+    } else {
+      run.resume_from(checkpoint.pose);
+    }
+    const auto poses = test::run(run, after);
+    EXPECT_EQ(run.counters().resumed, 1);
+    *bias_deg = rad_to_deg(run.filter().yaw_bias_estimate());
+    return poses;
+  };
+  double kept_bias_deg = 0.0, bare_bias_deg = 0.0;
+  const auto kept = resume(true, &kept_bias_deg);
+  const auto bare = resume(false, &bare_bias_deg);
+  ASSERT_GT(kept.size(), 1000u);
+  ASSERT_EQ(kept.size(), bare.size());
+  EXPECT_NEAR(kept_bias_deg, rad_to_deg(uninterrupted.filter().yaw_bias_estimate()), 0.002);
+  EXPECT_EQ(bare_bias_deg, 0.0);
+  // Drift over the ~2.6 km after the restart.
+  const double kept_drift = (horizontal_error(flight, kept.back()) - horizontal_error(flight, kept.front())).norm();
+  const double bare_drift = (horizontal_error(flight, bare.back()) - horizontal_error(flight, bare.front())).norm();
+  std::printf("after a restart 10 s past the last fix: %.2f m of drift with the heading bias kept, %.2f m from a "
+              "bare POSE; NEES at the end %.2f\n",
+              kept_drift, bare_drift, nees(flight, kept.back()));
+  EXPECT_LT(kept_drift, 1.0);
+  EXPECT_GT(bare_drift, 3.0);
+  EXPECT_LT(nees(flight, kept.back()), 13.8);
 }
 
 TEST(YawFusionMapFix, AMapsOffsetSeenThroughTurnsIsNotTakenForAHeadingBias) {
