@@ -460,9 +460,13 @@ bool YawFusionEstimator::resume(int64_t t0) {
         bias.prior_covariance(i, j) = saved.heading_bias_prior_covariance[i][j];
       }
     }
-    if (!bias.estimate.allFinite() || !bias.covariance.allFinite() || !bias.prior_covariance.allFinite()) {
+    const bool usable = bias.estimate.allFinite() && bias.covariance.allFinite() &&
+                        bias.prior_covariance.allFinite() && bias.covariance.diagonal().minCoeff() >= 0.0 &&
+                        bias.prior_covariance.diagonal().minCoeff() >= 0.0;
+    if (!usable) {
       note_problem("checkpoint POSE utime " + std::to_string(last.utime) +
-                   " holds a non-finite heading bias: the bias starts again from its prior");
+                   " holds a heading bias that is not finite or has a negative variance: the bias starts again "
+                   "from its prior");
     } else {
       filter_.restore_yaw_bias(bias);
     }

@@ -585,6 +585,20 @@ TEST(YawFusionMapFix, ARestartKeepsTheHeadingBiasTheFixesEstimated) {
   EXPECT_LT(kept_drift, 1.0);
   EXPECT_GT(bare_drift, 3.0);
   EXPECT_LT(nees(flight, kept.back()), 13.8);
+
+  // A checkpoint whose bias is damaged still gives the position; the bias
+  // starts from its prior, and STATUS says why.
+  yaw_fusion_checkpoint_t damaged = checkpoint;
+  damaged.heading_bias_covariance[1][1] = -1.0;
+  YawFusionEstimator damaged_run{options};
+  damaged_run.resume_from(damaged);
+  const auto damaged_poses = test::run(damaged_run, after);
+  ASSERT_EQ(damaged_poses.size(), kept.size());
+  EXPECT_EQ(damaged_run.counters().resumed, 1);
+  EXPECT_EQ(damaged_poses.front().position_ned[0], bare.front().position_ned[0]);
+  EXPECT_EQ(damaged_run.filter().yaw_bias_estimate(), 0.0);
+  EXPECT_NE(damaged_run.counters().last_problem.find("heading bias"), std::string::npos)
+      << damaged_run.counters().last_problem;
 }
 
 TEST(YawFusionMapFix, AMapsOffsetSeenThroughTurnsIsNotTakenForAHeadingBias) {
